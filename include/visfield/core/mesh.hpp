@@ -1,0 +1,40 @@
+#pragma once
+/// \file Indexed triangle meshes.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "visfield/core/bounds.hpp"
+#include "visfield/core/vec.hpp"
+
+namespace vf {
+
+/// Vertex indices of one triangle.
+using TriangleIndices = std::array<std::uint32_t, 3>;
+
+/// A triangle mesh: shared vertex positions plus index triples, in the mesh's own (object) space.
+/// Owns its arrays; immutable once handed to a Scene. Not thread-safe to mutate.
+struct TriangleMesh {
+  std::string name;                          ///< For messages: usually the source file name.
+  std::vector<Vec3f> positions;              ///< Vertex positions.
+  std::vector<TriangleIndices> triangles;    ///< Index triples into positions.
+  std::vector<std::uint32_t> material_ids;   ///< Per triangle index into Scene::materials, or empty (all use material 0).
+
+  /// Bounds of the referenced and unreferenced vertices alike; O(V).
+  Bounds3f bounds() const;
+  /// Number of triangles with exactly zero area (coincident or collinear corners); O(T).
+  std::size_t count_degenerate() const;
+  /// Bytes held by the arrays.
+  std::size_t memory_bytes() const;
+};
+
+/// True when triangle (a, b, c) has zero area in float arithmetic (degenerate, kept out of accelerators).
+bool is_degenerate_triangle(const Vec3f& a, const Vec3f& b, const Vec3f& c);
+
+/// Checks a mesh for NaN/Inf positions, out-of-range indices and emptiness; throws vf::Error naming
+/// `what` (a file name) and the first problem found. O(V + T).
+void validate_mesh(const TriangleMesh& mesh, const std::string& what);
+
+}  // namespace vf

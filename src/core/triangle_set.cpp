@@ -1,0 +1,53 @@
+#include "visfield/core/triangle_set.hpp"
+
+#include <tbb/parallel_for.h>
+
+namespace vf {
+
+std::size_t TriangleSet::memory_bytes() const {
+  return triangles.capacity() * sizeof(triangles[0]) + (prim.capacity() + instance.capacity()) * sizeof(std::uint32_t);
+}
+
+TriangleSet flatten(const Scene& scene) {
+  TriangleSet set;
+  const std::size_t total = scene.instanced_triangle_count();
+  set.triangles.resize(total);
+  std::vector<std::uint8_t> keep(total, 0);
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const TriangleMesh& mesh = scene.meshes[inst.mesh];
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096), [&](const auto& range) {
+      for (std::size_t t = range.begin(); t != range.end(); ++t) {
+        const TriangleIndices& idx = mesh.triangles[t];
+        auto& out = set.triangles[offset + t];
+        for (int k = 0; k < 3; ++k) out[k] = inst.transform.apply_point(mesh.positions[idx[k]]);
+        keep[offset + t] = is_degenerate_triangle(out[0], out[1], out[2]) ? 0 : 1;
+      }
+    });
+    offset += mesh.triangles.size();
+  }
+  // Compact in order, serially: keeps the output independent of scheduling.
+  std::size_t kept = 0;
+  offset = 0;
+  set.prim.reserve(total);
+  set.instance.reserve(total);
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const std::size_t count = scene.meshes[scene.instances[i].mesh].triangles.size();
+    for (std::size_t t = 0; t < count; ++t) {
+      const std::size_t g = offset + t;
+      if (!keep[g]) continue;
+      set.triangles[kept++] = set.triangles[g];
+      set.prim.push_back(static_cast<std::uint32_t>(t));
+      set.instance.push_back(static_cast<std::uint32_t>(i));
+      for (const Vec3f& p : set.triangles[kept - 1]) set.bounds.extend(p);
+    }
+    offset += count;
+  }
+  set.degenerate_count = total - kept;
+  set.triangles.resize(kept);
+  set.triangles.shrink_to_fit();
+  return set;
+}
+
+}  // namespace vf
