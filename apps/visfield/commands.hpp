@@ -1,0 +1,18 @@
+#pragma once
+/// \file The visfield subcommands; each registers its options and, when chosen, sets the action.
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace vf::cli {
+
+/// What main() runs after parsing: returns the process exit code; may throw vf::Error.
+using Action = std::function<int()>;
+
+/// `visfield render <scene> ...`: an image with the chosen integrator and structure.
+void register_render_command(CLI::App& app, Action& action);
+/// `visfield info <scene> ...`: counts, bounds, degenerate triangles and the built structure's memory.
+void register_info_command(CLI::App& app, Action& action);
+
+}  // namespace vf::cli

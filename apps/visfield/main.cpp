@@ -1,0 +1,44 @@
+// visfield: the command-line tool. Parses the subcommand, runs it, and turns every failure into one
+// line on stderr and a non-zero exit code (2 for bad command lines, 1 for bad input or I/O).
+#include <iostream>
+#include <new>
+#include <string>
+
+#include "commands.hpp"
+#include "visfield/core/error.hpp"
+
+namespace {
+
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"visfield: fast ray-scene visibility queries (AO, shadows) with exact structures and visibility fields"};
+  app.require_subcommand(1);
+  vf::cli::Action action;
+  vf::cli::register_render_command(app, action);
+  vf::cli::register_info_command(app, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
+    return 2;
+  }
+  try {
+    return action();
+  } catch (const vf::Error& e) {
+    std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
+  } catch (const std::bad_alloc&) {
+    std::cerr << "visfield: error: out of memory\n";
+  } catch (const std::exception& e) {
+    std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
+  }
+  return 1;
+}

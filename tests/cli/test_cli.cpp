@@ -1,0 +1,111 @@
+// End-to-end tests of the visfield command line: what a user types, what comes out.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "support/run_command.hpp"
+#include "visfield/io/image_io.hpp"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_command;
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(VISFIELD_TEST_BINARY_DIR) / "cli-work" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  test::CommandResult visfield(const std::string& args) { return run_command(std::string(VISFIELD_EXE) + " " + args, dir_); }
+  // Bad input: non-zero exit, exactly one line on stderr mentioning `needle`, and no files left behind.
+  void expect_clean_failure(const std::string& args, const std::string& needle) {
+    const auto r = visfield(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(test::line_count(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name.ends_with(".obj") || name.ends_with(".json")) << "left behind: " << name << " by " << args;
+    }
+  }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
+  fs::path dir_;
+};
+
+TEST_F(Cli, RendersBuiltinSceneToPngAndReportsRaysPerSecond) {
+  const auto r = visfield("render builtin:cornell --width 48 --height 32 --ao-rays 8 --out ao.png --no-progress");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote "), std::string::npos);
+  EXPECT_NE(r.out.find("Mrays/s"), std::string::npos);
+  const Image image = read_image(dir_ / "ao.png");
+  EXPECT_EQ(image.width, 48);
+  EXPECT_EQ(image.height, 32);
+  // An AO image of a closed room is neither all black nor all white.
+  float lo = 1.0f, hi = 0.0f;
+  for (const Vec3f& p : image.pixels) {
+    lo = std::min(lo, p.x);
+    hi = std::max(hi, p.x);
+  }
+  EXPECT_LT(lo, 0.5f);
+  EXPECT_GT(hi, 0.5f);
+}
+
+TEST_F(Cli, ImageDoesNotDependOnThreadCount) {
+  const std::string common = "render builtin:boxes:size=8 --width 40 --height 30 --ao-rays 6 --no-progress --out ";
+  ASSERT_EQ(visfield(common + "one.exr --threads 1").exit_code, 0);
+  ASSERT_EQ(visfield(common + "two.exr --threads 2").exit_code, 0);
+  const Image a = read_image(dir_ / "one.exr"), b = read_image(dir_ / "two.exr");
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << "pixel " << i;
+}
+
+TEST_F(Cli, InfoPrintsCountsAndStructureMemory) {
+  const auto r = visfield("info builtin:soup:size=500,seed=3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("500 kept"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("memory:"), std::string::npos);
+  EXPECT_NE(r.out.find("degenerate:"), std::string::npos);
+}
+
+TEST_F(Cli, WarnsAboutDegenerateTriangles) {
+  write("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+  const auto r = visfield("info flat.obj");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("1 zero-area triangles"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, BadCommandLinesFailWithOneLine) {
+  expect_clean_failure("render builtin:cornell --ao-rays 0", "--ao-rays");
+  expect_clean_failure("render builtin:cornell --spp -3", "--spp");
+  expect_clean_failure("render builtin:cornell --width abc", "--width");
+  expect_clean_failure("render builtin:cornell --accel octree", "--accel");
+  expect_clean_failure("render builtin:cornell --max-distance -1", "--max-distance");
+  expect_clean_failure("render builtin:cornell --out picture.bmp", "picture.bmp");
+  expect_clean_failure("render", "scene");
+  expect_clean_failure("frobnicate", "frobnicate");
+}
+
+TEST_F(Cli, BadInputFilesFailWithOneLineAndNoOutput) {
+  expect_clean_failure("render missing.ply --out x.png", "missing.ply");
+  write("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  expect_clean_failure("render bad_index.obj --out x.png --no-progress", "bad_index.obj");
+  write("nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_clean_failure("render nan.obj --out x.png --no-progress", "nan.obj");
+  write("broken.json", "{\"meshes\": [");
+  expect_clean_failure("render broken.json --out x.png --no-progress", "broken.json");
+  expect_clean_failure("render builtin:nosuchscene --out x.png", "nosuchscene");
+  expect_clean_failure("render builtin:soup:size=banana --out x.png", "size");
+}
+
+TEST_F(Cli, UnwritableOutputFailsCleanly) {
+  expect_clean_failure("render builtin:boxes:size=2 --width 8 --height 8 --ao-rays 1 --no-progress --out no/such/dir/x.png",
+                       "x.png");
+}
+
+}  // namespace
+}  // namespace vf
