@@ -1,6 +1,7 @@
 #pragma once
 /// \file Writing images: PNG (8-bit sRGB, stb) and EXR (linear float, OpenEXR), atomically.
 
+#include <cstdint>
 #include <filesystem>
 
 #include "visfield/core/image.hpp"
@@ -14,6 +15,14 @@ namespace vf {
 void write_image(const std::filesystem::path& path, const Image& image);
 
 /// Reads a PNG or EXR written by write_image back into linear float RGB (for tests and compare).
+/// PNG values are decoded from sRGB; EXR channels R, G, B are read as float (missing ones are 0).
+/// Throws vf::Error naming the file on a missing, unreadable or malformed file.
 Image read_image(const std::filesystem::path& path);
+
+/// Linear value to an 8-bit sRGB code: clamped to [0, 1] (NaN as 0), sRGB transfer curve, rounded.
+std::uint8_t encode_srgb8(float linear);
+
+/// 8-bit sRGB code to its linear value in [0, 1] (exact inverse of the transfer curve).
+float decode_srgb8(std::uint8_t code);
 
 }  // namespace vf

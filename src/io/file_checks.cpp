@@ -1,0 +1,47 @@
+#include "file_checks.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "visfield/core/error.hpp"
+
+namespace vf::io_detail {
+
+void require_readable_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw Error(path.string() + ": no such file");
+  if (std::filesystem::is_directory(status)) throw Error(path.string() + ": is a directory, not a file");
+  if (!std::filesystem::is_regular_file(status)) throw Error(path.string() + ": not a regular file");
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) throw Error(path.string() + ": cannot open: " + std::strerror(errno));
+  std::fclose(file);
+}
+
+std::string one_line(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  bool pending_space = false;
+  for (char c : text) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      pending_space = true;
+      continue;
+    }
+    if (pending_space && !out.empty()) out += ' ';
+    pending_space = false;
+    // Control characters would garble a terminal line; show them as '?'.
+    out += std::iscntrl(static_cast<unsigned char>(c)) ? '?' : c;
+  }
+  return out;
+}
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace vf::io_detail

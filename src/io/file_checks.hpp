@@ -1,0 +1,22 @@
+#pragma once
+// Private helpers of the io module: checks on input paths and one-line error text.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace vf::io_detail {
+
+/// Throws vf::Error ("<path>: no such file", "<path>: is a directory, not a file", "<path>: cannot
+/// open: <reason>") unless `path` names a regular file this process can open for reading.
+void require_readable_file(const std::filesystem::path& path);
+
+/// `text` with every run of whitespace (line breaks included) collapsed to one space, leading and
+/// trailing whitespace dropped and control characters shown as '?': third-party error strings made
+/// fit for a one-line message.
+std::string one_line(std::string_view text);
+
+/// The extension of `path` without the dot, lower-cased ("" when there is none).
+std::string lower_extension(const std::filesystem::path& path);
+
+}  // namespace vf::io_detail

@@ -1,0 +1,86 @@
+#include "visfield/io/scene_file.hpp"
+
+#include "file_checks.hpp"
+#include "json_field.hpp"
+#include "scene_json_objects.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/io/mesh_loader.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf {
+namespace {
+
+// Loads every entry of "meshes" (paths relative to `folder`) into `scene`, recording their names.
+void load_meshes(const io_detail::JsonField& meshes, const std::filesystem::path& folder, Scene& scene,
+                 io_detail::SceneNames& names) {
+  for (const io_detail::JsonField& entry : meshes.elements(1)) {
+    entry.require_object({"name", "path"});
+    const io_detail::JsonField path_field = entry.member("path");
+    const std::filesystem::path path = folder / path_field.as_string();
+    const std::optional<io_detail::JsonField> name_field = entry.optional_member("name");
+    const std::string name = name_field ? name_field->as_string() : path.stem().string();
+    if (names.meshes.contains(name))
+      (name_field ? *name_field : path_field).fail("a mesh named \"" + name + "\" is already declared");
+    LoadedMesh loaded;
+    try {
+      loaded = load_mesh(path);
+    } catch (const Error& e) {
+      path_field.fail(e.what());
+    }
+    loaded.mesh.name = name;
+    names.meshes.emplace(name, add_mesh(scene, std::move(loaded)));
+  }
+}
+
+void parse_materials(const io_detail::JsonField& materials, Scene& scene, io_detail::SceneNames& names) {
+  for (const io_detail::JsonField& entry : materials.elements()) {
+    Material material = io_detail::parse_material(entry);
+    if (names.materials.contains(material.name))
+      entry.member("name").fail("a material named \"" + material.name + "\" is already declared");
+    names.materials.emplace(material.name, static_cast<std::uint32_t>(scene.materials.size()));
+    scene.materials.push_back(std::move(material));
+  }
+}
+
+}  // namespace
+
+Scene load_scene_file(const std::filesystem::path& path) {
+  const nlohmann::json document = io_detail::parse_json_file(path);
+  const io_detail::JsonField root(document, path.string());
+  root.require_object({"name", "meshes", "materials", "instances", "camera", "lights"});
+
+  Scene scene;
+  const std::optional<io_detail::JsonField> name = root.optional_member("name");
+  scene.name = name ? name->as_string() : path.stem().string();
+  io_detail::SceneNames names;
+  // Materials first, so the file's own materials keep indices 1.. whatever the meshes bring along.
+  if (const std::optional<io_detail::JsonField> materials = root.optional_member("materials"))
+    parse_materials(*materials, scene, names);
+  load_meshes(root.member("meshes"), path.parent_path(), scene, names);
+
+  if (const std::optional<io_detail::JsonField> instances = root.optional_member("instances")) {
+    for (const io_detail::JsonField& entry : instances->elements(1))
+      scene.instances.push_back(io_detail::parse_instance(entry, names));
+  } else {
+    for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) scene.instances.push_back(Instance{m, Transform{}, {}});
+  }
+  if (const std::optional<io_detail::JsonField> camera = root.optional_member("camera"))
+    scene.camera = io_detail::parse_camera(*camera);
+  if (const std::optional<io_detail::JsonField> lights = root.optional_member("lights"))
+    for (const io_detail::JsonField& entry : lights->elements()) io_detail::parse_light(entry, scene);
+  return scene;
+}
+
+Scene load_scene(const std::string& spec) {
+  if (spec.empty()) throw Error("empty scene argument (expected builtin:NAME, a .json scene file or a mesh file)");
+  if (spec.starts_with("builtin:")) return parse_builtin_scene(spec);
+  const std::filesystem::path path(spec);
+  if (io_detail::lower_extension(path) == "json") return load_scene_file(path);
+  Scene scene;
+  scene.name = path.stem().string();
+  const std::uint32_t mesh = add_mesh(scene, load_mesh(path));
+  scene.instances.push_back(Instance{mesh, Transform{}, {}});
+  return scene;
+}
+
+}  // namespace vf

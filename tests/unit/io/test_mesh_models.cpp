@@ -1,0 +1,112 @@
+// The shared real-world models: every one loads with the manifest's triangle count.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "visfield/io/mesh_loader.hpp"
+
+namespace vf {
+namespace {
+
+const std::filesystem::path kModels = VISFIELD_MODELS_DIR;
+
+#define REQUIRE_MODELS()                                                              \
+  if (!std::filesystem::exists(kModels / "manifest.tsv")) GTEST_SKIP() << "no shared models at " << kModels
+
+struct ManifestEntry {
+  std::string file;
+  std::size_t triangles = 0;
+};
+
+std::vector<ManifestEntry> read_manifest() {
+  std::ifstream in(kModels / "manifest.tsv");
+  std::vector<ManifestEntry> entries;
+  std::string line;
+  std::getline(in, line);  // header: file, triangles, vertices, sha256
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    ManifestEntry e;
+    if (fields >> e.file >> e.triangles) entries.push_back(e);
+  }
+  return entries;
+}
+
+TEST(MeshModels, EveryModelLoadsWithTheManifestTriangleCount) {
+  REQUIRE_MODELS();
+  const std::vector<ManifestEntry> entries = read_manifest();
+  ASSERT_GE(entries.size(), 10u);
+  for (const ManifestEntry& e : entries) {
+    SCOPED_TRACE(e.file);
+    const LoadedMesh loaded = load_mesh(kModels / e.file);
+    EXPECT_EQ(loaded.mesh.triangles.size(), e.triangles);
+    EXPECT_EQ(loaded.mesh.name, e.file);
+    EXPECT_TRUE(loaded.mesh.material_ids.empty() || loaded.mesh.material_ids.size() == e.triangles);
+  }
+}
+
+TEST(MeshModels, SponzaKeepsItsSixZeroAreaTriangles) {
+  REQUIRE_MODELS();
+  const LoadedMesh sponza = load_mesh(kModels / "sponza.obj");
+  EXPECT_EQ(sponza.mesh.triangles.size(), 66450u);
+  EXPECT_EQ(sponza.mesh.count_degenerate(), 6u);
+  EXPECT_EQ(sponza.materials.size(), 20u);  // the .mtl's textures are absent and ignored
+}
+
+TEST(MeshModels, CornellBoxNegativeIndicesCrlfTabsAndMaterials) {
+  REQUIRE_MODELS();
+  const LoadedMesh box = load_mesh(kModels / "CornellBox-Original.obj");
+  ASSERT_EQ(box.mesh.triangles.size(), 36u);
+  const Bounds3f b = box.mesh.bounds();
+  EXPECT_NEAR(b.lo.x, -1.02f, 1e-6f);
+  EXPECT_NEAR(b.hi.y, 1.99f, 1e-6f);
+  EXPECT_NEAR(b.lo.z, -1.04f, 1e-6f);
+  ASSERT_EQ(box.materials.size(), 8u);
+  ASSERT_EQ(box.mesh.material_ids.size(), 36u);
+  const auto light = std::find_if(box.materials.begin(), box.materials.end(), [](const Material& m) { return m.name == "light"; });
+  ASSERT_NE(light, box.materials.end());
+  EXPECT_FLOAT_EQ(light->emission.x, 17.0f);
+  EXPECT_FLOAT_EQ(light->emission.y, 12.0f);
+  EXPECT_FLOAT_EQ(light->emission.z, 4.0f);
+  EXPECT_FLOAT_EQ(light->diffuse.x, 0.78f);
+  const auto light_index = static_cast<std::uint32_t>(light - box.materials.begin());
+  EXPECT_EQ(std::count(box.mesh.material_ids.begin(), box.mesh.material_ids.end(), light_index), 2);
+  const auto left = std::find_if(box.materials.begin(), box.materials.end(), [](const Material& m) { return m.name == "leftWall"; });
+  ASSERT_NE(left, box.materials.end());
+  EXPECT_FLOAT_EQ(left->diffuse.x, 0.63f);
+  EXPECT_FLOAT_EQ(left->diffuse.z, 0.05f);
+}
+
+TEST(MeshModels, BigEndianArmadilloHasTheDocumentedBounds) {
+  REQUIRE_MODELS();
+  const LoadedMesh armadillo = load_mesh(kModels / "Armadillo.ply");
+  EXPECT_EQ(armadillo.mesh.positions.size(), 172974u);
+  const Bounds3f b = armadillo.mesh.bounds();
+  EXPECT_NEAR(b.lo.x, -63.5001f, 1e-3f);
+  EXPECT_NEAR(b.lo.y, -54.2415f, 1e-3f);
+  EXPECT_NEAR(b.lo.z, -57.7145f, 1e-3f);
+  EXPECT_NEAR(b.hi.x, 63.5001f, 1e-3f);
+  EXPECT_NEAR(b.hi.y, 97.0804f, 1e-3f);
+  EXPECT_NEAR(b.hi.z, 57.714f, 1e-3f);
+  EXPECT_TRUE(armadillo.materials.empty());  // PLY defines no materials
+  EXPECT_TRUE(armadillo.mesh.material_ids.empty());
+}
+
+TEST(MeshModels, ConferenceBoundsAndMaterials) {
+  REQUIRE_MODELS();
+  const LoadedMesh conference = load_mesh(kModels / "conference.obj");
+  const Bounds3f b = conference.mesh.bounds();
+  EXPECT_NEAR(b.lo.x, -1020.13f, 1e-2f);
+  EXPECT_NEAR(b.hi.x, 1685.81f, 1e-2f);
+  EXPECT_NEAR(b.hi.y, 650.293f, 1e-2f);
+  EXPECT_EQ(conference.materials.size(), 35u);
+  // Specular Ks and Phong exponent Ns 40 become a glossy lobe.
+  EXPECT_TRUE(std::any_of(conference.materials.begin(), conference.materials.end(),
+                          [](const Material& m) { return m.specular.x > 0.1f && m.roughness > 0.0f && m.roughness < 1.0f; }));
+}
+
+}  // namespace
+}  // namespace vf
