@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace vf {
@@ -12,11 +13,15 @@ namespace vf {
 /// seconds and only when enabled; tick() is thread-safe and cheap (an atomic add).
 class ProgressBar {
  public:
+  /// A bar for a job of `total` units; prints nothing unless `enabled` and the job outlives `delay_s`.
   ProgressBar(std::string label, std::size_t total, bool enabled, double delay_s = 1.0);
+  /// Calls finish().
   ~ProgressBar();
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
   /// Records `n` more units done; redraws at most ~10 times a second.
   void tick(std::size_t n = 1);
-  /// Draws 100% (if the bar was shown) and ends the line.
+  /// Draws 100% (if the bar was shown) and ends the line; later calls do nothing. Call from one thread.
   void finish();
 
  private:

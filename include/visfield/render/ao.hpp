@@ -1,0 +1,83 @@
+#pragma once
+/// \file Ambient occlusion over any Accelerator: per pixel, the fraction of cosine-weighted directions
+/// from the first visible surface that reach max_distance (or the sky) unoccluded. Grey, no albedo.
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include "visfield/accel/accelerator.hpp"
+#include "visfield/core/image.hpp"
+#include "visfield/core/scene.hpp"
+#include "visfield/render/camera.hpp"
+#include "visfield/render/render_stats.hpp"
+#include "visfield/render/sample_rays.hpp"
+#include "visfield/render/tiles.hpp"
+
+namespace vf {
+
+/// Parameters of render_ao.
+struct AoOptions {
+  int spp = 1;                 ///< Primary samples per pixel (>= 1): the pixel centre when 1, jittered when more.
+  int ao_rays = 64;            ///< Occlusion rays per primary hit (>= 1).
+  float max_distance = std::numeric_limits<float>::infinity();  ///< Occluders farther than this do not count (> 0).
+  std::uint64_t seed = 1;      ///< The image depends on this seed only, never on threads or tiles.
+  int tile_size = 16;          ///< Tile edge in pixels (>= 1): the unit of parallel work and of progress.
+  bool progress = true;        ///< Progress bar on stderr for renders that take over ~1 s.
+};
+
+/// Value of a pixel sample whose primary ray misses everything: an unoccluded white sky.
+inline constexpr float kAoBackground = 1.0f;
+
+/// Throws vf::Error naming the field when an option is out of range.
+void validate_ao_options(const AoOptions& options);
+
+/// Ambient occlusion of one primary hit: the fraction of `ao_rays` rays from `point` (drawn from `rng`
+/// by ao_ray()) that accel.occluded() reports clear.
+template <Accelerator A>
+float ambient_occlusion(const A& accel, const SurfacePoint& point, Rng& rng, int ao_rays, float max_distance) {
+  int clear = 0;
+  for (int k = 0; k < ao_rays; ++k) clear += accel.occluded(ao_ray(point, rng, max_distance)) ? 0 : 1;
+  return static_cast<float>(clear) / static_cast<float>(ao_rays);
+}
+
+/// Renders `camera`'s view of `scene` (traced through `accel`, built over flatten(scene)) with ambient
+/// occlusion: per pixel and sample s, Rng(seed, pixel, s) draws the jitter and the AO directions; the
+/// pixel is the mean over samples of the unoccluded fraction, or kAoBackground on a miss. Parallel over
+/// tiles; identical images for any thread count. `stats` (optional) gets every ray traced and the wall
+/// time. Throws vf::Error on bad options or camera. Cost: width*height*spp*(1 + ao_rays * hit fraction) queries.
+template <Accelerator A>
+Image render_ao(const A& accel, const Scene& scene, const Camera& camera, const AoOptions& opt, RenderStats* stats = nullptr) {
+  validate_ao_options(opt);
+  const PinholeCamera pinhole(camera);
+  const float scale = spawn_scale(scene);
+  Image image(pinhole.width(), pinhole.height());
+  auto shade_tile = [&](const ImageTile& tile) -> std::uint64_t {
+    std::uint64_t rays = 0;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) + x;
+        float sum = 0.0f;
+        for (int s = 0; s < opt.spp; ++s) {
+          Rng rng(opt.seed, pixel, static_cast<std::uint64_t>(s));
+          const Ray primary = pixel_ray(pinhole, x, y, opt.spp > 1, rng);
+          ++rays;
+          const std::optional<Hit> hit = accel.intersect(primary);
+          if (!hit) {
+            sum += kAoBackground;
+            continue;
+          }
+          const SurfacePoint point = surface_point(scene, scale, primary, *hit);
+          sum += ambient_occlusion(accel, point, rng, opt.ao_rays, opt.max_distance);
+          rays += static_cast<std::uint64_t>(opt.ao_rays);
+        }
+        image.at(x, y) = Vec3f(sum / static_cast<float>(opt.spp));
+      }
+    }
+    return rays;
+  };
+  for_each_tile(image.width, image.height, opt.tile_size, "ao", opt.progress, shade_tile, stats);
+  return image;
+}
+
+}  // namespace vf

@@ -1,0 +1,72 @@
+#pragma once
+/// \file The rays renderers and ray-set generators trace, built one way in one place: primary rays per
+/// pixel sample, the surface point secondary rays start from, ambient-occlusion rays and shadow rays.
+/// Every function draws its random numbers from a caller-owned Rng keyed by (seed, pixel, sample), so
+/// results never depend on threads or tile order.
+
+#include <vector>
+
+#include "visfield/core/ray.hpp"
+#include "visfield/core/rng.hpp"
+#include "visfield/core/scene.hpp"
+#include "visfield/render/camera.hpp"
+
+namespace vf {
+
+/// Primary ray through the centre of pixel (x, y).
+Ray pixel_center_ray(const PinholeCamera& camera, int x, int y);
+
+/// Primary ray of pixel (x, y): pixel_center_ray() when `jitter` is false (no numbers drawn), else
+/// through a uniform random point of the pixel (two numbers drawn from `rng`).
+Ray pixel_ray(const PinholeCamera& camera, int x, int y, bool jitter, Rng& rng);
+
+/// A hit prepared for spawning secondary rays. Plain value.
+struct SurfacePoint {
+  Vec3f position;   ///< The hit point lifted off the surface by spawn_offset() along `normal`.
+  Vec3f normal;     ///< Unit geometric normal, flipped to face the incoming ray's origin.
+  Vec3f tangent;    ///< Completes an orthonormal frame (tangent, bitangent, normal).
+  Vec3f bitangent;  ///< Completes an orthonormal frame (tangent, bitangent, normal).
+};
+
+/// Largest coordinate magnitude of the scene's bounds, the scene-size term of spawn_offset(); O(instances),
+/// compute once per render.
+float spawn_scale(const Scene& scene);
+
+/// Distance a hit point is lifted along its normal before secondary rays leave it. Float error in the hit
+/// point grows with the magnitude of the coordinates involved: the ray origin and hit distance (covering
+/// the hit point itself) and the triangle's vertices (bounded by the scene scale). The offset is about
+/// 80 float ulps of the first and 8 ulps of the second, far above the error of the watertight test and
+/// far below any feature size of sensible scenes, so secondary rays neither re-hit their own surface nor
+/// skip a nearby one.
+float spawn_offset(const Ray& ray, float hit_t, float scene_scale);
+
+/// Surface point of `hit` (found by tracing `ray`) in `scene`; scene_scale from spawn_scale(scene).
+SurfacePoint surface_point(const Scene& scene, float scene_scale, const Ray& ray, const Hit& hit);
+
+/// The next ambient-occlusion ray from `point`: cosine-weighted about its normal (two numbers drawn from
+/// `rng`), unit direction, t in [0, max_distance].
+Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance);
+
+/// The points shadow rays aim at: every point and sphere light of a scene, or, when it has none, one
+/// point above (+y) its bounds, one bounds extent over the top. Immutable; thread-safe.
+class LightTargets {
+ public:
+  /// Collects the lights of `scene`; O(lights + instances).
+  explicit LightTargets(const Scene& scene);
+  /// A point on a light chosen uniformly among them (three numbers drawn from `rng`): the light position
+  /// for point lights, a uniform point on the hemisphere of a sphere light that faces `from`.
+  Vec3f sample(const Vec3f& from, Rng& rng) const;
+
+ private:
+  struct Target {
+    Vec3f center;
+    float radius = 0.0f;
+  };
+  std::vector<Target> targets_;
+};
+
+/// Shadow ray from `point` towards `target`: unit direction, t in [0, just short of the target]
+/// (distance * (1 - 1e-4)) so geometry the light point sits on does not count as an occluder.
+Ray shadow_ray(const SurfacePoint& point, const Vec3f& target);
+
+}  // namespace vf

@@ -1,0 +1,125 @@
+#include "visfield/render/ray_sets.hpp"
+
+#include <unistd.h>
+
+#include <sstream>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "visfield/core/error.hpp"
+#include "visfield/core/rng.hpp"
+#include "visfield/core/sampling.hpp"
+#include "visfield/render/camera.hpp"
+#include "visfield/render/sample_rays.hpp"
+
+namespace vf {
+namespace {
+
+// Refuses, before allocating, a ray set larger than half the machine's physical memory.
+void check_fits_in_memory(std::size_t count, const char* what) {
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return;
+  const double budget = 0.5 * static_cast<double>(pages) * static_cast<double>(page_size);
+  const double bytes = static_cast<double>(count) * sizeof(Ray);
+  if (bytes > budget) {
+    std::ostringstream msg;
+    msg << what << ": " << count << " rays would need " << bytes / (1 << 30) << " GiB, more than half of this machine's "
+        << 2.0 * budget / (1 << 30) << " GiB of memory";
+    throw Error(msg.str());
+  }
+}
+
+// Start index of each hit pixel's rays in the output, and the total; pixels are taken in order.
+std::vector<std::size_t> hit_offsets(std::span<const Ray> primary, std::span<const Hit> hits, std::size_t rays_per_hit,
+                                     std::size_t& total) {
+  if (primary.size() != hits.size())
+    throw Error("ray sets: " + std::to_string(primary.size()) + " primary rays but " + std::to_string(hits.size()) + " hits");
+  std::vector<std::size_t> offsets(hits.size());
+  total = 0;
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    offsets[i] = total;
+    if (hits[i].prim != kInvalidId) total += rays_per_hit;
+  }
+  return offsets;
+}
+
+}  // namespace
+
+std::vector<Ray> make_primary_rays(const Scene& /*scene*/, const Camera& camera) {
+  const PinholeCamera pinhole(camera);
+  const auto width = static_cast<std::size_t>(pinhole.width());
+  const std::size_t count = width * static_cast<std::size_t>(pinhole.height());
+  check_fits_in_memory(count, "primary rays");
+  std::vector<Ray> rays(count);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      rays[i] = pixel_center_ray(pinhole, static_cast<int>(i % width), static_cast<int>(i / width));
+  });
+  return rays;
+}
+
+std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
+                                   int rays_per_hit, float max_distance, std::uint64_t seed) {
+  if (rays_per_hit < 1) throw Error("ao rays: rays per hit must be at least 1, got " + std::to_string(rays_per_hit));
+  if (!(max_distance > 0.0f)) throw Error("ao rays: max_distance must be positive, got " + std::to_string(max_distance));
+  std::size_t total = 0;
+  const std::vector<std::size_t> offsets = hit_offsets(primary, hits, static_cast<std::size_t>(rays_per_hit), total);
+  check_fits_in_memory(total, "ao rays");
+  const float scale = spawn_scale(scene);
+  std::vector<Ray> rays(total);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
+      if (hits[pixel].prim == kInvalidId) continue;
+      // The same stream and the same calls as render_ao's first (only) sample of this pixel.
+      Rng rng(seed, pixel, 0);
+      const SurfacePoint point = surface_point(scene, scale, primary[pixel], hits[pixel]);
+      for (int k = 0; k < rays_per_hit; ++k) rays[offsets[pixel] + static_cast<std::size_t>(k)] = ao_ray(point, rng, max_distance);
+    }
+  });
+  return rays;
+}
+
+std::vector<Ray> shadow_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
+                                       std::uint64_t seed) {
+  std::size_t total = 0;
+  const std::vector<std::size_t> offsets = hit_offsets(primary, hits, 1, total);
+  const float scale = spawn_scale(scene);
+  const LightTargets lights(scene);
+  std::vector<Ray> rays(total);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
+      if (hits[pixel].prim == kInvalidId) continue;
+      Rng rng(seed, pixel, 0);
+      const SurfacePoint point = surface_point(scene, scale, primary[pixel], hits[pixel]);
+      rays[offsets[pixel]] = shadow_ray(point, lights.sample(point.position, rng));
+    }
+  });
+  return rays;
+}
+
+std::vector<Ray> make_random_rays(const Bounds3f& bounds, std::size_t count, std::uint64_t seed) {
+  if (bounds.empty()) throw Error("random rays: the scene bounds are empty");
+  check_fits_in_memory(count, "random rays");
+  const Vec3f center = bounds.center();
+  const float half_diagonal = 0.5f * length(bounds.extent());
+  const float radius = half_diagonal > 0.0f ? half_diagonal : 1.0f;  // a single point gets a unit sphere
+  std::vector<Ray> rays(count);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      Rng rng(seed, i);
+      Vec3f a, b;
+      float distance = 0.0f;
+      do {  // two coincident points (probability ~2^-40) would give no direction: draw again
+        const float s0 = rng.uniform(), t0 = rng.uniform(), s1 = rng.uniform(), t1 = rng.uniform();
+        a = center + uniform_sphere(s0, t0) * radius;
+        b = center + uniform_sphere(s1, t1) * radius;
+        distance = length(b - a);
+      } while (!(distance > 1e-6f * radius));
+      rays[i] = Ray{a, (b - a) * (1.0f / distance), 0.0f, distance};
+    }
+  });
+  return rays;
+}
+
+}  // namespace vf

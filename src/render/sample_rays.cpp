@@ -1,0 +1,85 @@
+#include "visfield/render/sample_rays.hpp"
+
+#include <cmath>
+
+#include "visfield/core/sampling.hpp"
+
+namespace vf {
+namespace {
+
+constexpr float kRayRelativeOffset = 1e-5f;    // ~80 ulps of the ray's coordinate magnitudes
+constexpr float kSceneRelativeOffset = 1e-6f;  // ~8 ulps of the largest scene coordinate
+constexpr float kShadowShortfall = 1e-4f;      // shadow rays stop this fraction short of the light
+
+}  // namespace
+
+Ray pixel_center_ray(const PinholeCamera& camera, int x, int y) {
+  return camera.generate(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+}
+
+Ray pixel_ray(const PinholeCamera& camera, int x, int y, bool jitter, Rng& rng) {
+  if (!jitter) return pixel_center_ray(camera, x, y);
+  const float dx = rng.uniform();
+  const float dy = rng.uniform();
+  return camera.generate(static_cast<float>(x) + dx, static_cast<float>(y) + dy);
+}
+
+float spawn_scale(const Scene& scene) {
+  const Bounds3f b = scene.bounds();
+  if (b.empty()) return 0.0f;
+  return max_component(max(abs(b.lo), abs(b.hi)));
+}
+
+float spawn_offset(const Ray& ray, float hit_t, float scene_scale) {
+  const float ray_scale = max_component(abs(ray.org)) + std::fabs(hit_t) * length(ray.dir);
+  return kRayRelativeOffset * ray_scale + kSceneRelativeOffset * scene_scale;
+}
+
+SurfacePoint surface_point(const Scene& scene, float scene_scale, const Ray& ray, const Hit& hit) {
+  SurfacePoint point;
+  point.normal = scene.geometric_normal(hit.instance, hit.prim);
+  if (dot(point.normal, ray.dir) > 0.0f) point.normal = -point.normal;
+  const Vec3f hit_point = ray.org + ray.dir * hit.t;
+  point.position = hit_point + point.normal * spawn_offset(ray, hit.t, scene_scale);
+  orthonormal_basis(point.normal, point.tangent, point.bitangent);
+  return point;
+}
+
+Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance) {
+  const float s = rng.uniform();
+  const float t = rng.uniform();
+  const Vec3f local = cosine_hemisphere(s, t);
+  const Vec3f dir = point.tangent * local.x + point.bitangent * local.y + point.normal * local.z;
+  return Ray{point.position, dir, 0.0f, max_distance};
+}
+
+LightTargets::LightTargets(const Scene& scene) {
+  for (const PointLight& light : scene.point_lights) targets_.push_back({light.position, 0.0f});
+  for (const SphereLight& light : scene.sphere_lights) targets_.push_back({light.center, light.radius});
+  if (targets_.empty()) {
+    const Bounds3f b = scene.bounds();
+    const Vec3f center = b.empty() ? Vec3f{0.0f} : b.center();
+    const float lift = b.empty() ? 1.0f : std::fmax(max_component(b.extent()), 1e-3f);
+    const float top = b.empty() ? 0.0f : b.hi.y;
+    targets_.push_back({{center.x, top + lift, center.z}, 0.0f});
+  }
+}
+
+Vec3f LightTargets::sample(const Vec3f& from, Rng& rng) const {
+  const Target& target = targets_[rng.next_u32() % targets_.size()];
+  const float s = rng.uniform();
+  const float t = rng.uniform();
+  if (target.radius <= 0.0f) return target.center;
+  Vec3f w = uniform_sphere(s, t);
+  if (dot(w, from - target.center) < 0.0f) w = -w;
+  return target.center + w * target.radius;
+}
+
+Ray shadow_ray(const SurfacePoint& point, const Vec3f& target) {
+  const Vec3f to_target = target - point.position;
+  const float distance = length(to_target);
+  if (!(distance > 0.0f)) return Ray{point.position, point.normal, 0.0f, 0.0f};
+  return Ray{point.position, to_target * (1.0f / distance), 0.0f, distance * (1.0f - kShadowShortfall)};
+}
+
+}  // namespace vf

@@ -1,0 +1,126 @@
+// The table of built-in scenes: names, descriptions, size ranges, and the "builtin:" spec parser.
+
+#include <charconv>
+#include <functional>
+#include <sstream>
+
+#include "generators.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf {
+namespace {
+
+struct BuiltinEntry {
+  const char* name;
+  const char* description;
+  std::size_t default_size;
+  std::size_t min_size;
+  std::size_t triangles_per_size_unit;  // how many triangles one unit of `size` costs (bounds the size)
+  std::function<Scene(std::uint64_t seed, std::size_t size)> make;
+};
+
+const std::vector<BuiltinEntry>& entries() {
+  static const std::vector<BuiltinEntry> table = {
+      {"soup", "size random triangles (default 100000) in the unit cube, as in the VLF-RT scaling test", 100000, 1, 1,
+       scenes::make_soup_scene},
+      {"stadium",
+       "a torus knot of size triangles (default 50000, even) inside an open arena ~100x larger; seed unused",
+       50000, 18, 1, [](std::uint64_t, std::size_t size) { return scenes::make_stadium_scene(size); }},
+      {"sphere", "a sphere of size triangles (default 20000, even) on a ground plane; seed unused", 20000, 8, 1,
+       [](std::uint64_t, std::size_t size) { return scenes::make_sphere_scene(size); }},
+      {"boxes", "a pyramid of size boxes (default 64), 12 triangles each, on a ground plane; seed jitters them", 64,
+       1, 12, scenes::make_boxes_scene},
+      {"cornell",
+       "a Cornell-like room with a sphere of size triangles (default 4000, even) and two boxes; seed unused", 4000,
+       8, 1, [](std::uint64_t, std::size_t size) { return scenes::make_cornell_scene(size); }},
+  };
+  return table;
+}
+
+std::string joined_names() {
+  std::string names;
+  for (const BuiltinEntry& e : entries()) names += (names.empty() ? "" : ", ") + std::string(e.name);
+  return names;
+}
+
+const BuiltinEntry& find_entry(const std::string& name) {
+  for (const BuiltinEntry& e : entries())
+    if (name == e.name) return e;
+  throw Error("builtin:" + name + ": unknown built-in scene (valid names: " + joined_names() + ")");
+}
+
+// Non-negative decimal integer filling all of `text`, else vf::Error naming `what`.
+std::uint64_t parse_unsigned(const std::string& text, const std::string& what) {
+  std::uint64_t value = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (text.empty() || ec != std::errc{} || ptr != end)
+    throw Error(what + "=" + text + ": expected a non-negative integer" +
+                (ec == std::errc::result_out_of_range ? " below 2^64" : ""));
+  return value;
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_scene_names() {
+  std::vector<std::string> names;
+  for (const BuiltinEntry& e : entries()) names.emplace_back(e.name);
+  return names;
+}
+
+std::string builtin_scene_description(const std::string& name) { return find_entry(name).description; }
+
+Scene make_builtin_scene(const std::string& name, const BuiltinParams& params) {
+  const BuiltinEntry& entry = find_entry(name);
+  const std::size_t size = params.size == 0 ? entry.default_size : params.size;
+  const std::size_t max_size = kMaxBuiltinTriangles / entry.triangles_per_size_unit;
+  if (size < entry.min_size || size > max_size) {
+    std::ostringstream msg;
+    msg << "builtin:" << name << ": size " << size << " is out of range [" << entry.min_size << ", " << max_size
+        << "] (at most " << kMaxBuiltinTriangles << " triangles)";
+    throw Error(msg.str());
+  }
+  Scene scene = entry.make(params.seed, size);
+  scene.name = "builtin:" + name + ":size=" + std::to_string(size) + ",seed=" + std::to_string(params.seed);
+  return scene;
+}
+
+Scene parse_builtin_scene(const std::string& spec) {
+  const std::string prefix = "builtin:";
+  if (spec.rfind(prefix, 0) != 0)
+    throw Error("'" + spec + "': a built-in scene is written builtin:NAME[:key=value,...]");
+  const std::string rest = spec.substr(prefix.size());
+  const std::size_t colon = rest.find(':');
+  const std::string name = rest.substr(0, colon);
+  const BuiltinEntry& entry = find_entry(name);
+  BuiltinParams params;
+  if (colon != std::string::npos) {
+    const std::string where = prefix + name;
+    std::istringstream items(rest.substr(colon + 1));
+    std::string item;
+    bool seen_seed = false, seen_size = false;
+    while (std::getline(items, item, ',')) {
+      const std::size_t eq = item.find('=');
+      if (eq == std::string::npos)
+        throw Error(where + ": parameter '" + item + "' is not key=value (keys: seed, size)");
+      const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+      if (key == "seed" && !seen_seed) {
+        params.seed = parse_unsigned(value, where + ": seed");
+        seen_seed = true;
+      } else if (key == "size" && !seen_size) {
+        params.size = static_cast<std::size_t>(parse_unsigned(value, where + ": size"));
+        seen_size = true;
+      } else if (key == "seed" || key == "size") {
+        throw Error(where + ": " + key + " is given twice");
+      } else {
+        throw Error(where + ": unknown key '" + key + "' (valid keys: seed, size)");
+      }
+    }
+    if (rest.back() == ',' || rest.size() == colon + 1)
+      throw Error(where + ": empty parameter list entry (write builtin:" + name + ":key=value,...)");
+  }
+  return make_builtin_scene(entry.name, params);
+}
+
+}  // namespace vf

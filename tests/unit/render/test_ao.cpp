@@ -1,0 +1,180 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "brute_accel.hpp"
+#include "test_scenes.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/render/ao.hpp"
+#include "visfield/render/ray_sets.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf {
+namespace {
+
+using test::BruteAccel;
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+AoOptions quiet_options(int ao_rays) {
+  AoOptions opt;
+  opt.ao_rays = ao_rays;
+  opt.progress = false;
+  return opt;
+}
+
+TEST(RenderAo, UnoccludedPlaneIsWhite) {
+  const Scene scene = test::plane_scene(1000.0f);
+  const BruteAccel accel(scene);
+  const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 32, 24, 60.0f);
+  RenderStats stats;
+  const Image image = render_ao(accel, scene, camera, quiet_options(16), &stats);
+  ASSERT_EQ(image.width, 32);
+  ASSERT_EQ(image.height, 24);
+  for (const Vec3f& p : image.pixels) EXPECT_EQ(p, Vec3f{1.0f});
+  EXPECT_EQ(stats.rays, 32u * 24u * (1u + 16u));  // every pixel hits the plane
+}
+
+TEST(RenderAo, InsideAClosedBoxEverythingIsOccluded) {
+  const Scene scene = test::closed_box_scene();
+  const BruteAccel accel(scene);
+  const Camera camera = test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 24, 24, 60.0f);
+  const Image image = render_ao(accel, scene, camera, quiet_options(32));
+  for (const Vec3f& p : image.pixels) EXPECT_EQ(p, Vec3f{0.0f});
+}
+
+TEST(RenderAo, MaxDistanceIgnoresFartherOccluders) {
+  // Inside the box the visible floor is at least 0.42 from any wall: with max_distance 0.4 nothing counts.
+  const Scene scene = test::closed_box_scene();
+  const BruteAccel accel(scene);
+  const Camera camera = test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 16, 16, 60.0f);
+  AoOptions opt = quiet_options(32);
+  opt.max_distance = 0.4f;
+  for (const Vec3f& p : render_ao(accel, scene, camera, opt).pixels) EXPECT_EQ(p, Vec3f{1.0f});
+}
+
+// Cosine-weighted visible fraction at distance d from an infinite wall on an infinite floor, counting
+// occluders within r. Cosine-weighted directions project to uniform points on the unit disk; the wall
+// blocks those with x <= -d/r (a circular segment), or every direction towards it when r is infinite.
+double crease_ao(double d, double r) {
+  if (std::isinf(r)) return 0.5;
+  const double a = d / r;
+  if (a >= 1.0) return 1.0;
+  const double segment = std::acos(a) - a * std::sqrt(1.0 - a * a);
+  return 1.0 - segment / std::numbers::pi;
+}
+
+TEST(RenderAo, CreaseMatchesTheAnalyticVisibleFraction) {
+  const Scene scene = test::crease_scene(1000.0f);
+  const BruteAccel accel(scene);
+  const int ao_rays = 40000;  // binomial sigma <= 0.0025
+  struct Case {
+    float d, r;
+  };
+  for (const Case c : {Case{0.01f, kInfinity}, Case{1.0f, kInfinity}, Case{1.0f, 2.0f}, Case{0.5f, 2.0f},
+                       Case{0.02f, 2.0f}, Case{3.0f, 2.0f}}) {
+    SCOPED_TRACE(testing::Message() << "d = " << c.d << ", max_distance = " << c.r);
+    // A one-pixel camera with a tiny field of view looks straight down at (d, 0, 0).
+    const Camera camera = test::camera_looking_at({c.d, 5, 0}, {c.d, 0, 0}, 1, 1, 0.01f);
+    AoOptions opt = quiet_options(ao_rays);
+    opt.max_distance = c.r;
+    const float value = render_ao(accel, scene, camera, opt).pixels[0].x;
+    const double expected = crease_ao(c.d, c.r);
+    if (expected == 1.0) {
+      EXPECT_EQ(value, 1.0f);  // no direction reaches the wall within max_distance
+    } else {
+      EXPECT_GT(value, 0.0f);
+      EXPECT_LT(value, 1.0f);
+      EXPECT_NEAR(value, expected, 0.01);
+    }
+  }
+}
+
+TEST(RenderAo, ImageDoesNotDependOnThreadsOrTiles) {
+  const Scene scene = make_builtin_scene("cornell", {.size = 200});
+  const BruteAccel accel(scene);
+  const Camera camera = scene.camera_or_default(40, 30);
+  AoOptions opt = quiet_options(8);
+  opt.spp = 2;
+  opt.seed = 11;
+  Image one_thread, two_threads;
+  {
+    const ThreadLimit limit(1);
+    opt.tile_size = 16;
+    one_thread = render_ao(accel, scene, camera, opt);
+  }
+  {
+    const ThreadLimit limit(2);
+    opt.tile_size = 5;
+    two_threads = render_ao(accel, scene, camera, opt);
+  }
+  EXPECT_EQ(one_thread.pixels, two_threads.pixels);
+  std::size_t grey = 0;
+  for (const Vec3f& p : one_thread.pixels) grey += p.x > 0.0f && p.x < 1.0f;
+  EXPECT_GT(grey, one_thread.pixels.size() / 2);  // the room is mostly partly occluded: the test has teeth
+  opt.seed = 12;
+  EXPECT_NE(render_ao(accel, scene, camera, opt).pixels, one_thread.pixels);
+}
+
+TEST(RenderAo, JitterChangesNothingInUniformScenes) {
+  AoOptions opt = quiet_options(8);
+  for (int spp : {1, 4}) {
+    opt.spp = spp;
+    const Scene plane = test::plane_scene(1000.0f);
+    for (const Vec3f& p : render_ao(BruteAccel(plane), plane, test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 12, 9, 60.0f), opt).pixels)
+      EXPECT_EQ(p, Vec3f{1.0f});
+    const Scene box = test::closed_box_scene();
+    for (const Vec3f& p : render_ao(BruteAccel(box), box, test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 12, 9, 60.0f), opt).pixels)
+      EXPECT_EQ(p, Vec3f{0.0f});
+  }
+}
+
+TEST(RenderAo, StatsCountEveryRayTraced) {
+  // A small plane seen from far: some pixels miss (1 ray), the others hit (1 + ao_rays rays).
+  const Scene scene = test::plane_scene(2.0f);
+  const BruteAccel accel(scene);
+  const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 30, 20, 60.0f);
+  std::size_t hits = 0;
+  for (const Ray& ray : make_primary_rays(scene, camera)) hits += accel.intersect(ray).has_value();
+  ASSERT_GT(hits, 0u);
+  ASSERT_LT(hits, 600u);
+  RenderStats stats;
+  const Image image = render_ao(accel, scene, camera, quiet_options(5), &stats);
+  EXPECT_EQ(stats.rays, 600u + 5u * hits);
+  EXPECT_EQ(stats.width, 30);
+  EXPECT_EQ(stats.height, 20);
+  EXPECT_GE(stats.seconds, 0.0);
+  for (const Vec3f& p : image.pixels) EXPECT_EQ(p, Vec3f{kAoBackground});  // misses are sky, the plane is open
+
+  // With jitter, on a plane that fills the view: width * height * spp * (1 + ao_rays).
+  const Scene big = test::plane_scene(1000.0f);
+  AoOptions opt = quiet_options(5);
+  opt.spp = 3;
+  render_ao(BruteAccel(big), big, camera, opt, &stats);
+  EXPECT_EQ(stats.rays, 600u * 3u * (1u + 5u));
+}
+
+TEST(RenderAo, BadOptionsAreRefused) {
+  const Scene scene = test::plane_scene(1.0f);
+  const BruteAccel accel(scene);
+  const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 4, 4, 60.0f);
+  auto refused = [&](auto change) {
+    AoOptions opt = quiet_options(4);
+    change(opt);
+    EXPECT_THROW(render_ao(accel, scene, camera, opt), Error);
+  };
+  refused([](AoOptions& o) { o.spp = 0; });
+  refused([](AoOptions& o) { o.ao_rays = 0; });
+  refused([](AoOptions& o) { o.max_distance = 0.0f; });
+  refused([](AoOptions& o) { o.max_distance = std::nanf(""); });
+  refused([](AoOptions& o) { o.tile_size = 0; });
+  Camera bad = camera;
+  bad.width = 0;
+  EXPECT_THROW(render_ao(accel, scene, bad, quiet_options(4)), Error);
+}
+
+}  // namespace
+}  // namespace vf
