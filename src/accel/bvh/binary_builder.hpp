@@ -1,0 +1,36 @@
+#pragma once
+/// \file Binned SAH construction of a binary BVH (build-only, private to the accel module).
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "visfield/accel/bvh.hpp"
+#include "visfield/core/bounds.hpp"
+#include "visfield/core/triangle_set.hpp"
+
+namespace vf::bvh {
+
+/// A node of the binary tree; a leaf when it has no children, then it covers
+/// order[begin, begin + count) of its BinaryTree.
+struct BinaryNode {
+  Bounds3f bounds;
+  std::unique_ptr<BinaryNode> left, right;
+  std::uint32_t begin = 0, count = 0;
+
+  bool is_leaf() const { return left == nullptr; }
+};
+
+/// The binary tree and the triangle order its leaves index into.
+struct BinaryTree {
+  std::unique_ptr<BinaryNode> root;  ///< Null for an empty set.
+  std::vector<std::uint32_t> order;  ///< TriangleSet indices, grouped by leaf.
+};
+
+/// Builds the binary SAH tree over `set`: `config.bin_count` bins over the centroid bounds of each
+/// node, leaf costs counted in blocks of `leaf_width` triangles, leaves of at most
+/// config.max_leaf_size triangles, no leaf deeper than kMaxBinaryDepth. Parallel over TBB's threads;
+/// the tree does not depend on the thread count.
+BinaryTree build_binary_tree(const TriangleSet& set, const BvhConfig& config, int leaf_width);
+
+}  // namespace vf::bvh

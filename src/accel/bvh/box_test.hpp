@@ -1,0 +1,62 @@
+#pragma once
+/// \file The conservative ray-box test of the 8-wide BVH nodes (private to the accel module).
+///
+/// Box tests are conservative (Ize 2013, "Robust BVH ray traversal"): the far distances are scaled
+/// by 1 + 2^-16, more than the 1 + 2*gamma(4) that covers the rounding of the subtraction, the
+/// reciprocal, the product and the scaling itself, so a box the ray enters is never culled because
+/// of rounding; the rest is slack for the triangle test's own rounding (see also the box margin in
+/// collapse.cpp). A zero direction component gives an infinite reciprocal; the resulting
+/// 0 * inf = NaN (origin exactly on a slab plane) is discarded by ordering the min/max operands so
+/// that the running interval wins, i.e. that axis does not restrict the interval, which is exact:
+/// such a ray stays in the plane. The t interval a box must meet is the ray's, widened by a relative
+/// 2^-16 (widen_down, widen_up), so that a triangle whose computed t lies a few ulps outside its
+/// box's exact interval is still tested.
+
+#include <cmath>
+
+#include "bvh/bvh_impl.hpp"
+#include "simd/lanes.hpp"
+
+namespace vf::bvh {
+
+using V8 = simd::Lanes<8>;
+
+inline constexpr float kFarScale = 1.0f + 0x1p-16f;
+inline constexpr float kIntervalSlack = 0x1p-16f;
+
+/// t moved down by the relative slack (infinities unchanged).
+inline float widen_down(float t) { return std::isfinite(t) ? t - std::fabs(t) * kIntervalSlack : t; }
+/// t moved up by the relative slack (infinities unchanged).
+inline float widen_up(float t) { return std::isfinite(t) ? t + std::fabs(t) * kIntervalSlack : t; }
+
+/// Per-ray constants of the box test.
+struct BoxRay {
+  V8 org[3], inv[3];
+  int near_row[3], far_row[3];
+
+  /// Fills the constants for `ray` given inv_dir[a] = 1 / ray.dir[a] (+-inf for +-0).
+  void set(const Ray& ray, const float* inv_dir) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = V8::broadcast(ray.org[a]);
+      inv[a] = V8::broadcast(inv_dir[a]);
+      const int negative = std::signbit(ray.dir[a]) ? 3 : 0;
+      near_row[a] = kLoX + a + negative;
+      far_row[a] = kHiX + a - negative;
+    }
+  }
+};
+
+/// Lanes of the children of `node` whose boxes meet [tmin, tmax] (already widened); their entry
+/// distances go to `t_near`.
+inline simd::LaneBits test_children(const Node8& node, const BoxRay& r, const V8& tmin, const V8& tmax, V8& t_near) {
+  const auto slab = [&](int row, int axis) { return (V8::load(node.bounds[row]) - r.org[axis]) * r.inv[axis]; };
+  const V8 nx = slab(r.near_row[0], 0), ny = slab(r.near_row[1], 1), nz = slab(r.near_row[2], 2);
+  const V8 fx = slab(r.far_row[0], 0), fy = slab(r.far_row[1], 1), fz = slab(r.far_row[2], 2);
+  // The running value is the second operand, so a NaN slab value leaves it unchanged. Scaling after
+  // the minimum scales every far slab value (and tmax, which only loosens the test further).
+  t_near = max_nan_second(nx, max_nan_second(ny, max_nan_second(nz, tmin)));
+  const V8 t_far = min_nan_second(fx, min_nan_second(fy, min_nan_second(fz, tmax))) * V8::broadcast(kFarScale);
+  return cmp_le(t_near, t_far);
+}
+
+}  // namespace vf::bvh

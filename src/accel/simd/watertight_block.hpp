@@ -1,0 +1,143 @@
+#pragma once
+/// \file The watertight ray–triangle test of core/triangle_intersect.hpp evaluated on W triangles
+/// at once. Shared by BruteForce and the Bvh leaves. Each lane performs exactly the operations of
+/// intersect_triangle(), in the same order and precision (the double-precision edge fallback runs
+/// per lane in scalar code), so every lane's hit/miss, t, u and v are bit-identical to it.
+
+#include <cstdint>
+#include <limits>
+
+#include "simd/lanes.hpp"
+#include "visfield/core/triangle_intersect.hpp"
+
+namespace vf::simd {
+
+/// W triangles, structure of arrays: p[((corner * 3) + axis) * W + lane]. Unused lanes hold NaN
+/// corners, which never hit.
+template <int W>
+struct alignas(W * 4 > 64 ? 64 : W * 4) TriangleBlock {
+  float p[9 * W];
+
+  /// The W values of coordinate `axis` of corner `corner`.
+  const float* row(int corner, int axis) const { return p + (corner * 3 + axis) * W; }
+  /// Puts triangle (c0, c1, c2) into `lane`.
+  void set(int lane, const Vec3f& c0, const Vec3f& c1, const Vec3f& c2) {
+    const Vec3f* corners[3] = {&c0, &c1, &c2};
+    for (int k = 0; k < 3; ++k)
+      for (int axis = 0; axis < 3; ++axis) p[(k * 3 + axis) * W + lane] = (*corners[k])[axis];
+  }
+  /// Makes `lane` empty (NaN corners).
+  void clear(int lane) {
+    for (int k = 0; k < 9; ++k) p[k * W + lane] = std::numeric_limits<float>::quiet_NaN();
+  }
+};
+
+/// Per-ray constants of the block test (the WatertightRay, broadcast to W lanes). Build once per ray.
+template <int W>
+struct BlockRay {
+  using V = Lanes<W>;
+  int kx, ky, kz;
+  V org_x, org_y, org_z;  ///< org[kx], org[ky], org[kz]
+  V sx, sy, sz;
+
+  explicit BlockRay(const WatertightRay& r) : BlockRay(r.kx, r.ky, r.kz, r.org, r.sx, r.sy, r.sz) {}
+  /// From the WatertightRay fields computed elsewhere (bit-identically).
+  BlockRay(int kx_, int ky_, int kz_, const Vec3f& o, float sx_, float sy_, float sz_)
+      : kx(kx_), ky(ky_), kz(kz_), org_x(V::broadcast(o[kx_])), org_y(V::broadcast(o[ky_])),
+        org_z(V::broadcast(o[kz_])), sx(V::broadcast(sx_)), sy(V::broadcast(sy_)), sz(V::broadcast(sz_)) {}
+};
+
+/// t, u, v of every lane of one block test (meaningful in hit lanes only).
+template <int W>
+struct BlockHits {
+  alignas(W * 4 > 64 ? 64 : W * 4) float t[W];
+  alignas(W * 4 > 64 ? 64 : W * 4) float u[W];
+  alignas(W * 4 > 64 ? 64 : W * 4) float v[W];
+};
+
+namespace detail {
+
+// intersect_triangle's fallback for lanes with a zero edge value: all three edge values again in
+// double from the same float inputs. Rare (rays through edges or vertices, grazing rays).
+template <int W>
+inline void recompute_edges_in_double(LaneBits lanes, const Lanes<W> (&xy)[6], Lanes<W>& e0, Lanes<W>& e1,
+                                      Lanes<W>& e2) {
+  alignas(64) float v[6][W];
+  alignas(64) float e[3][W];
+  for (int i = 0; i < 6; ++i) xy[i].store(v[i]);
+  e0.store(e[0]);
+  e1.store(e[1]);
+  e2.store(e[2]);
+  for (; lanes != 0; lanes &= lanes - 1) {
+    const int l = first_lane(lanes);
+    const float ax = v[0][l], ay = v[1][l], bx = v[2][l], by = v[3][l], cx = v[4][l], cy = v[5][l];
+    e[0][l] = static_cast<float>(static_cast<double>(cx) * by - static_cast<double>(cy) * bx);
+    e[1][l] = static_cast<float>(static_cast<double>(ax) * cy - static_cast<double>(ay) * cx);
+    e[2][l] = static_cast<float>(static_cast<double>(bx) * ay - static_cast<double>(by) * ax);
+  }
+  e0 = Lanes<W>::load(e[0]);
+  e1 = Lanes<W>::load(e[1]);
+  e2 = Lanes<W>::load(e[2]);
+}
+
+}  // namespace detail
+
+/// Tests the W triangles of `block` against the ray for t in [tmin, tmax] (broadcast); returns the
+/// lanes that hit. With kWantHits the t, u, v of those lanes are written to `hits`.
+template <int W, bool kWantHits>
+inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>& r, const Lanes<W>& tmin,
+                                const Lanes<W>& tmax, BlockHits<W>* hits) {
+  using V = Lanes<W>;
+  // a = p0 - org, b = p1 - org, c = p2 - org (only the permuted components are needed). Corner k
+  // of a row lies 3 * W floats after corner k - 1: three base pointers and constant offsets.
+  const float* px = block.row(0, r.kx);
+  const float* py = block.row(0, r.ky);
+  const float* pz = block.row(0, r.kz);
+  const V a_x = V::load(px) - r.org_x, a_y = V::load(py) - r.org_y, a_z = V::load(pz) - r.org_z;
+  const V b_x = V::load(px + 3 * W) - r.org_x, b_y = V::load(py + 3 * W) - r.org_y, b_z = V::load(pz + 3 * W) - r.org_z;
+  const V c_x = V::load(px + 6 * W) - r.org_x, c_y = V::load(py + 6 * W) - r.org_y, c_z = V::load(pz + 6 * W) - r.org_z;
+  const V ax = a_x - r.sx * a_z, ay = a_y - r.sy * a_z;
+  const V bx = b_x - r.sx * b_z, by = b_y - r.sy * b_z;
+  const V cx = c_x - r.sx * c_z, cy = c_y - r.sy * c_z;
+  V e0 = cx * by - cy * bx;
+  V e1 = ax * cy - ay * cx;
+  V e2 = bx * ay - by * ax;
+  const V zero = V::broadcast(0.0f);
+  // intersect_triangle rejects when some edge value is < 0 and some is > 0. Unused lanes (NaN
+  // corners) are dropped here as well; real triangles have finite corners, so a NaN edge value of
+  // theirs (an overflow) stays a candidate, exactly as in the scalar test.
+  const auto mixed_signs = [&] {
+    return (cmp_lt(e0, zero) | cmp_lt(e1, zero) | cmp_lt(e2, zero)) &
+           (cmp_gt(e0, zero) | cmp_gt(e1, zero) | cmp_gt(e2, zero));
+  };
+  const LaneBits used = cmp_ord(a_x, a_x);
+  LaneBits candidates = used & ~mixed_signs();
+  if (candidates == 0) return 0;
+  // The double-precision fallback for lanes with a zero edge value. Only candidates need it: a
+  // float edge value is either exact in sign or zero (rounding is monotonic, and the products are
+  // exact in double), so a lane rejected for strictly mixed signs is rejected after the fallback too.
+  const LaneBits on_edge = candidates & (cmp_eq(e0, zero) | cmp_eq(e1, zero) | cmp_eq(e2, zero));
+  if (on_edge != 0) {
+    const V xy[6] = {ax, ay, bx, by, cx, cy};
+    detail::recompute_edges_in_double<W>(on_edge, xy, e0, e1, e2);
+    candidates = used & ~mixed_signs();
+  }
+  const V det = e0 + e1 + e2;
+  candidates &= ~cmp_eq(det, zero);
+  if (candidates == 0) return 0;
+  const V az = r.sz * a_z, bz = r.sz * b_z, cz = r.sz * c_z;
+  const V t_scaled = e0 * az + e1 * bz + e2 * cz;
+  const V inv_det = V::broadcast(1.0f) / det;
+  const V t = t_scaled * inv_det;
+  const LaneBits hit = candidates & cmp_ge(t, tmin) & cmp_le(t, tmax);
+  if constexpr (kWantHits) {
+    if (hit != 0) {
+      t.store(hits->t);
+      (e1 * inv_det).store(hits->u);
+      (e2 * inv_det).store(hits->v);
+    }
+  }
+  return hit;
+}
+
+}  // namespace vf::simd

@@ -1,0 +1,128 @@
+// Every exact structure against the oracle on procedural scenes and adversarial rays.
+
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "differential/exact_structures.hpp"
+#include "differential/harness.hpp"
+#include "differential/ray_sets.hpp"
+#include "differential/test_scenes.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf::test {
+namespace {
+
+/// A named set of rays.
+struct RaySet {
+  std::string name;
+  std::vector<Ray> rays;
+};
+
+/// The ray sets every scene is checked with (12k rays, plus the boundary-t copies of their hits).
+std::vector<RaySet> adversarial_rays(const TriangleSet& set, std::uint64_t seed) {
+  return {{"random", random_rays(set, seed, 4000)},
+          {"axis-parallel", axis_parallel_rays(set, seed, 2000)},
+          {"zero-component", zero_component_rays(set, seed, 2000)},
+          {"surface-origin", surface_origin_rays(set, seed, 2000)},
+          {"grazing", grazing_rays(set, seed, 2000)}};
+}
+
+template <class Structure>
+class ExactVsOracle : public ::testing::Test {
+ protected:
+  /// Checks the structure against the oracle on `set` with the adversarial rays and the
+  /// boundary-t copies of every hit ray; asserts zero mismatches.
+  void check(const std::string& scene, const TriangleSet& set, std::uint64_t seed = 1) {
+    ASSERT_GT(set.size(), 0u);
+    const BruteForce oracle = BruteForce::build(set);
+    const Structure accel = build_for_test<Structure>(set);
+    for (const RaySet& ray_set : adversarial_rays(set, seed)) {
+      const std::string label = scene + ", " + ray_set.name + " rays";
+      std::size_t oracle_inconsistent = 0;
+      const OracleAnswers answers = oracle_answers(oracle, ray_set.rays, true, &oracle_inconsistent);
+      EXPECT_EQ(oracle_inconsistent, 0u) << label << ": BruteForce::occluded disagrees with its intersect";
+      const DiffReport main = compare_answers(accel, ray_set.rays, answers, {.label = label});
+      EXPECT_EQ(main.closest_mismatches, 0u) << label;
+      EXPECT_EQ(main.occluded_mismatches, 0u) << label;
+      // Every ray set reaches the geometry (rays in a triangle's plane may all miss it).
+      if (ray_set.name != "grazing") {
+        EXPECT_GT(main.oracle_hits, 0u) << label << ": no ray hits anything";
+      }
+
+      // The same rays with tmin or tmax exactly at each hit (must hit: the range is inclusive), and
+      // just beyond it.
+      const std::vector<Ray> boundary = boundary_t_rays(ray_set.rays, answers.closest);
+      const OracleAnswers boundary_answers = oracle_answers(oracle, boundary, true, &oracle_inconsistent);
+      EXPECT_EQ(oracle_inconsistent, 0u) << label;
+      for (std::size_t i = 0; i < boundary.size(); i += 4) {
+        ASSERT_TRUE(boundary_answers.closest[i].has_value()) << label << ": tmax = t must hit";
+        ASSERT_TRUE(boundary_answers.closest[i + 1].has_value()) << label << ": tmin = t must hit";
+      }
+      const DiffReport edge = compare_answers(accel, boundary, boundary_answers, {.label = label + ", boundary t"});
+      EXPECT_EQ(edge.closest_mismatches, 0u) << label;
+      EXPECT_EQ(edge.occluded_mismatches, 0u) << label;
+      hits_by_set_[ray_set.name] += main.oracle_hits;
+      rays_by_set_[ray_set.name] += main.rays;
+    }
+  }
+
+  // Over a test's scenes, each ray set must hit often, or the comparison says little.
+  void TearDown() override {
+    for (const auto& [name, hits] : hits_by_set_) {
+      std::printf("  %s rays: %zu of %zu hit\n", name.c_str(), hits, rays_by_set_[name]);
+      if (name != "grazing") {
+        EXPECT_GT(hits, rays_by_set_[name] / 50) << name << " rays rarely hit";
+      }
+    }
+  }
+
+  std::map<std::string, std::size_t> hits_by_set_, rays_by_set_;
+};
+
+TYPED_TEST_SUITE(ExactVsOracle, ExactStructures::GTestTypes);
+
+TYPED_TEST(ExactVsOracle, RandomSoupsOfSeveralSizesAndSeeds) {
+  for (std::uint64_t seed : {1u, 2u, 3u})
+    for (std::size_t n : {2u, 17u, 300u, 5000u})
+      this->check("soup n=" + std::to_string(n) + " seed=" + std::to_string(seed),
+                  set_from_triangles(random_soup(seed, n, 0.01f, 0.1f)), seed);
+}
+
+TYPED_TEST(ExactVsOracle, TinyAndHugeTrianglesMixed) {
+  this->check("tiny+huge", set_from_triangles(random_soup(7, 20000, 1e-5f, 3.0f)), 7);
+}
+
+TYPED_TEST(ExactVsOracle, SingleTriangle) {
+  this->check("one triangle", set_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}));
+  this->check("one tilted triangle", set_from_triangles({{Vec3f{0.1f, -2, 3}, Vec3f{1, 0.3f, 0}, Vec3f{0, 1, 0.7f}}}));
+}
+
+TYPED_TEST(ExactVsOracle, CoplanarTriangles) {
+  this->check("coplanar z=0.5", set_from_triangles(coplanar_soup(3, 2000, {0, 0, 0.5f}, {1, 0, 0}, {0, 1, 0})));
+  this->check("coplanar tilted",
+              set_from_triangles(
+                  coplanar_soup(4, 2000, {0.1f, 0.2f, 0.3f}, {0.8f, 0.6f, 0.0f}, {-0.36f, 0.48f, 0.8f})));
+}
+
+TYPED_TEST(ExactVsOracle, DuplicateTrianglesTie) {
+  std::vector<Triangle> triangles = random_soup(5, 200, 0.05f, 0.2f);
+  const Triangle repeated{Vec3f{0.2f, 0.2f, 0.5f}, Vec3f{0.8f, 0.3f, 0.5f}, Vec3f{0.4f, 0.9f, 0.6f}};
+  for (int i = 0; i < 60; ++i) triangles.insert(triangles.begin() + 3 * i, repeated);
+  this->check("duplicates", set_from_triangles(triangles));
+  this->check("only duplicates", set_from_triangles(std::vector<Triangle>(500, repeated)));
+}
+
+TYPED_TEST(ExactVsOracle, SharedEdgeHeightField) {
+  this->check("height field", set_from_triangles(height_field(9, 64)));
+}
+
+TYPED_TEST(ExactVsOracle, BuiltinScenes) {
+  for (const char* name : {"sphere", "boxes", "stadium", "cornell"})
+    this->check(std::string("builtin ") + name, flatten(make_builtin_scene(name, {.seed = 3, .size = 0})));
+}
+
+}  // namespace
+}  // namespace vf::test

@@ -1,0 +1,120 @@
+// The BVH's ray-box test: conservative (never culls a box the ray meets), exact for rays with
+// zero direction components lying in a box's plane, and empty slots never hit.
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "bvh/box_test.hpp"
+#include "visfield/core/rng.hpp"
+#include "visfield/core/sampling.hpp"
+
+namespace vf::bvh {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+BoxRay box_ray(const Ray& ray) {
+  const float inv[3] = {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
+  BoxRay r;
+  r.set(ray, inv);
+  return r;
+}
+
+simd::LaneBits hits(const Node8& node, const Ray& ray) {
+  V8 t_near;
+  return test_children(node, box_ray(ray), V8::broadcast(widen_down(ray.tmin)), V8::broadcast(widen_up(ray.tmax)),
+                       t_near);
+}
+
+// Exact slab test in double precision (the reference the float test must never undercut).
+bool meets_exactly(const Bounds3f& b, const Ray& ray) {
+  double t0 = ray.tmin, t1 = ray.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.org[a], d = ray.dir[a], lo = b.lo[a], hi = b.hi[a];
+    if (d == 0.0) {
+      if (o < lo || o > hi) return false;
+      continue;
+    }
+    double n = (lo - o) / d, f = (hi - o) / d;
+    if (n > f) std::swap(n, f);
+    t0 = std::max(t0, n);
+    t1 = std::min(t1, f);
+  }
+  return t0 <= t1;
+}
+
+TEST(BoxTest, RaysInABoxPlaneWithZeroDirectionComponentEnter) {
+  Node8 node = Node8::empty();
+  node.set_bounds(0, Bounds3f{{0, 0, 5}, {1, 1, 6}});
+  for (const float zero : {0.0f, -0.0f}) {
+    // In the planes x = 0 and x = 1 (faces of the box), moving along +z: the ray runs on a face.
+    EXPECT_EQ(hits(node, Ray{{0, 0.5f, 0}, {zero, 0, 1}}), 1u) << "zero " << zero;
+    EXPECT_EQ(hits(node, Ray{{1, 0.5f, 0}, {zero, 0, 1}}), 1u) << "zero " << zero;
+    // Along an edge of the box (two zero components).
+    EXPECT_EQ(hits(node, Ray{{1, 1, 0}, {zero, zero, 1}}), 1u) << "zero " << zero;
+    // Just outside the face: misses.
+    EXPECT_EQ(hits(node, Ray{{std::nextafter(1.0f, 2.0f), 0.5f, 0}, {zero, 0, 1}}), 0u) << "zero " << zero;
+    EXPECT_EQ(hits(node, Ray{{std::nextafter(0.0f, -1.0f), 0.5f, 0}, {zero, 0, 1}}), 0u) << "zero " << zero;
+    // Moving away from the box.
+    EXPECT_EQ(hits(node, Ray{{0, 0.5f, 0}, {zero, 0, -1}}), 0u) << "zero " << zero;
+  }
+}
+
+TEST(BoxTest, OriginOnTheFarFaceStillEntersAtZero) {
+  Node8 node = Node8::empty();
+  node.set_bounds(0, Bounds3f{{0, 0, 0}, {1, 1, 1}});
+  EXPECT_EQ(hits(node, Ray{{0.5f, 0.5f, 1.0f}, {0.3f, -0.2f, 1.0f}}), 1u);
+  EXPECT_EQ(hits(node, Ray{{0.5f, 0.5f, 1.0f}, {0.3f, -0.2f, 1.0f}, 1e-3f}), 0u);
+  // tmax exactly at the entry distance: inclusive.
+  EXPECT_EQ(hits(node, Ray{{0.5f, 0.5f, -2.0f}, {0, 0, 1}, 0.0f, 2.0f}), 1u);
+}
+
+TEST(BoxTest, EmptySlotsNeverHit) {
+  const Node8 node = Node8::empty();
+  for (const Vec3f& dir : {Vec3f{1, 0, 0}, Vec3f{0, -1, 0}, Vec3f{0, 0, 0.5f}, Vec3f{1, 2, 3}})
+    EXPECT_EQ(hits(node, Ray{{0, 0, 0}, dir}), 0u);
+}
+
+TEST(BoxTest, NeverCullsABoxTheRayMeetsExactly) {
+  // Random boxes (tiny to large, near and far) and rays aimed at points on or near them; whenever
+  // the exact test says the ray meets the box, the float test must report it.
+  Rng rng(99);
+  int exact_hits = 0;
+  for (int iter = 0; iter < 20000; ++iter) {
+    Node8 node = Node8::empty();
+    Bounds3f boxes[8];
+    const float offset = std::pow(10.0f, -2.0f + 5.0f * rng.uniform());
+    for (int slot = 0; slot < 8; ++slot) {
+      const float size = std::pow(10.0f, -6.0f + 7.0f * rng.uniform());
+      const Vec3f c = Vec3f{rng.uniform(), rng.uniform(), rng.uniform()} * offset;
+      Vec3f e{size * rng.uniform(), size * rng.uniform(), size * rng.uniform()};
+      if (slot % 4 == 0) e[slot % 3] = 0.0f;  // flat boxes (axis-aligned triangles)
+      boxes[slot] = Bounds3f{c - e, c + e};
+      node.set_bounds(slot, boxes[slot]);
+    }
+    const Bounds3f& target = boxes[rng.next_u32() % 8];
+    // A point on the target's boundary or inside it.
+    Vec3f p;
+    for (int a = 0; a < 3; ++a) {
+      const float u = rng.uniform();
+      p[a] = u < 0.25f ? target.lo[a] : (u < 0.5f ? target.hi[a] : target.lo[a] + (target.hi[a] - target.lo[a]) * u);
+    }
+    Vec3f dir = uniform_sphere(rng.uniform(), rng.uniform());
+    if (iter % 7 == 0) dir[static_cast<int>(rng.next_u32() % 3)] = 0.0f;
+    const float back = offset * (0.5f + rng.uniform());
+    Ray ray{p - dir * back, dir};
+    if (iter % 3 == 0) ray.tmax = back;  // ends exactly at the point
+    const simd::LaneBits got = hits(node, ray);
+    for (int slot = 0; slot < 8; ++slot) {
+      if (!meets_exactly(boxes[slot], ray)) continue;
+      ++exact_hits;
+      ASSERT_TRUE((got >> slot) & 1u) << "iteration " << iter << " slot " << slot;
+    }
+  }
+  EXPECT_GT(exact_hits, 20000);
+}
+
+}  // namespace
+}  // namespace vf::bvh
