@@ -1,0 +1,33 @@
+#include "agreement.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vf::bench {
+
+bool same_closest_hit(const Hit& a, const Hit& b) {
+  const bool a_hit = a.prim != kInvalidId, b_hit = b.prim != kInvalidId;
+  if (a_hit != b_hit) return false;
+  if (!a_hit) return true;
+  const float tolerance = std::max(kRelativeTTolerance * std::max(std::fabs(a.t), std::fabs(b.t)), kAbsoluteTTolerance);
+  return std::fabs(a.t - b.t) <= tolerance;
+}
+
+std::size_t count_hit_mismatches(std::span<const Hit> a, std::span<const Hit> b) {
+  std::size_t mismatches = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) mismatches += same_closest_hit(a[i], b[i]) ? 0 : 1;
+  return mismatches;
+}
+
+std::size_t count_occlusion_mismatches(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b) {
+  std::size_t mismatches = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) mismatches += (a[i] != 0) != (b[i] != 0) ? 1 : 0;
+  return mismatches;
+}
+
+std::size_t count_mismatches(const QueryResults& a, const QueryResults& b, RayKind kind) {
+  return is_occlusion_kind(kind) ? count_occlusion_mismatches(a.occluded, b.occluded)
+                                 : count_hit_mismatches(a.hits, b.hits);
+}
+
+}  // namespace vf::bench

@@ -1,0 +1,58 @@
+#pragma once
+/// \file visfield-bench's command line: parsing and validation, nothing else.
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "ray_kind.hpp"
+
+namespace vf::bench {
+
+/// A bad command line: printed as "visfield-bench: error: <what>", exit status 2.
+class UsageError : public std::runtime_error {
+ public:
+  explicit UsageError(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// Everything the command line sets; defaults are the values used when an option is absent.
+struct BenchOptions {
+  std::string scene;                 ///< Mesh file, scene JSON or builtin:NAME[:size=N,seed=S].
+  RayKind kind = RayKind::primary;   ///< --rays.
+  std::vector<std::string> accels;   ///< --accel, in the order given, no duplicates.
+  std::optional<std::size_t> count;  ///< --count: exact number of rays; absent = one image's worth.
+  int threads = 0;                   ///< --threads: worker threads, 0 = all hardware threads.
+  bool json = false;                 ///< --json: print a JSON document instead of the table.
+  int width = 0;                     ///< --width: image width in pixels; 0 = the scene camera's.
+  int height = 0;                    ///< --height: image height in pixels; 0 = the scene camera's.
+  int ao_rays = 4;                   ///< --ao-rays: AO rays per primary hit.
+  float max_distance = std::numeric_limits<float>::infinity();  ///< --max-distance: AO ray length (as visfield render).
+  std::uint64_t seed = 1;                                       ///< --seed: seeds the AO, shadow and random rays.
+  int reps = 5;                                                 ///< --reps: timed repetitions; the median is reported.
+  int warmup = 1;                                               ///< --warmup: untimed runs before the timed ones.
+  std::optional<std::uint64_t> auto_rays;  ///< --auto-rays: rays "auto" decides for; absent = this bench's ray count.
+  std::optional<std::string> calibration;  ///< --calibration: file for "auto"; absent = the built-in calibration.
+};
+
+/// The --accel name that lets the calibrated selection pick grid or kd-tree (issue: grids vs hierarchies).
+inline constexpr const char* kAutoAccelName = "auto";
+
+/// Largest --count accepted (the rays alone would take 32 GB).
+inline constexpr std::int64_t kMaxRayCount = 1'000'000'000;
+/// Largest --threads accepted.
+inline constexpr int kMaxThreads = 1024;
+
+/// Parses the command line. Returns nothing when --help was asked for (the help text then went to
+/// `help_out`). Throws UsageError on a missing, malformed or out-of-range value, an unknown --accel
+/// name (or "embree" in a build without Embree) or a name listed twice.
+std::optional<BenchOptions> parse_bench_options(int argc, const char* const* argv, std::ostream& help_out);
+
+/// Refuses (UsageError naming the estimate) a ray set whose rays and per-structure results would
+/// not fit in this machine's physical memory. Call before generating the rays.
+void check_ray_memory(std::size_t ray_count, std::size_t structure_count);
+
+}  // namespace vf::bench

@@ -1,0 +1,67 @@
+#pragma once
+/// \file The one fixed ray set a benchmark run traces through every structure.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "ray_kind.hpp"
+#include "visfield/accel/accelerator.hpp"
+#include "visfield/core/ray.hpp"
+#include "visfield/core/scene.hpp"
+#include "visfield/render/ray_sets.hpp"
+
+namespace vf::bench {
+
+/// What to generate. Deterministic: the same request gives the same rays on every machine and
+/// thread count (given structures that agree on the primary hits).
+struct RaySetRequest {
+  RayKind kind = RayKind::primary;
+  Camera camera;    ///< Base camera; its resolution sets the default ray count.
+  int ao_rays = 4;  ///< AO rays per primary hit.
+  float max_distance = std::numeric_limits<float>::infinity();  ///< Length of AO rays, scene units.
+  std::optional<std::size_t> count;  ///< Exact ray count; absent = whatever the camera's image gives.
+  std::uint64_t seed = 1;
+};
+
+/// Picks `count` rays spread evenly over `rays` (indices floor(i * size / count)), keeping their
+/// order. Needs 1 <= count <= rays.size() and count < 2^32.
+std::vector<Ray> take_evenly(const std::vector<Ray>& rays, std::size_t count);
+
+/// Rays from `generate(camera)`, brought to exactly `count` rays when given: the camera's
+/// resolution is scaled up (same aspect) until the image yields at least `count` rays, then
+/// take_evenly picks `count`. Throws vf::Error when the image yields no ray at all (nothing seen)
+/// or when reaching `count` would need an image beyond 65536 pixels a side.
+std::vector<Ray> rays_for_count(const Camera& camera, std::optional<std::size_t> count,
+                                const std::function<std::vector<Ray>(const Camera&)>& generate);
+
+/// The benchmark's ray set. AO and shadow rays start at primary hits found with `hits_from` (any
+/// exact structure gives the same hits); random rays come from make_random_rays over the scene
+/// bounds, `count` of them (default: one per pixel of the camera's image).
+template <Accelerator A>
+std::vector<Ray> make_bench_rays(const A& hits_from, const Scene& scene, const RaySetRequest& request) {
+  switch (request.kind) {
+    case RayKind::primary:
+      return rays_for_count(request.camera, request.count,
+                            [&](const Camera& camera) { return make_primary_rays(scene, camera); });
+    case RayKind::ao:
+      return rays_for_count(request.camera, request.count, [&](const Camera& camera) {
+        return make_ao_rays(hits_from, scene, camera, request.ao_rays, request.max_distance, request.seed);
+      });
+    case RayKind::shadow:
+      return rays_for_count(request.camera, request.count, [&](const Camera& camera) {
+        return make_shadow_rays(hits_from, scene, camera, request.seed);
+      });
+    case RayKind::random: {
+      const std::size_t pixels =
+          static_cast<std::size_t>(request.camera.width) * static_cast<std::size_t>(request.camera.height);
+      return make_random_rays(scene.bounds(), request.count.value_or(pixels), request.seed);
+    }
+  }
+  return {};
+}
+
+}  // namespace vf::bench

@@ -1,0 +1,134 @@
+#include "bench_run.hpp"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "agreement.hpp"
+#include "bench_accel.hpp"
+#include "bench_rays.hpp"
+#include "query_runner.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/core/triangle_set.hpp"
+#include "visfield/io/scene_file.hpp"
+#include "visfield/select/decision.hpp"
+
+#if VISFIELD_HAVE_EMBREE
+#include "embree_scene.hpp"
+#endif
+
+namespace vf::bench {
+
+namespace {
+
+struct NamedAccel {
+  std::string name;
+  BenchAccel accel;
+};
+
+// The camera at the requested resolution; a side left at 0 keeps the scene camera's.
+Camera bench_camera(const Scene& scene, const BenchOptions& options) {
+  Camera camera = scene.camera_or_default(0, 0);
+  if (options.width > 0) camera.width = options.width;
+  if (options.height > 0) camera.height = options.height;
+  return camera;
+}
+
+// An upper bound of the rays the request makes, for the memory check before generating them.
+std::size_t estimated_ray_count(const BenchOptions& options, const Camera& camera) {
+  if (options.count) return *options.count;
+  const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
+  return options.kind == RayKind::ao ? pixels * static_cast<std::size_t>(options.ao_rays) : pixels;
+}
+
+// AO and shadow rays start from the hits of one of our exact structures when one is listed (they
+// are watertight and agree with brute force), otherwise from Embree's.
+const NamedAccel& ray_source(const std::vector<NamedAccel>& built) {
+  const auto ours = std::find_if(built.begin(), built.end(), [](const NamedAccel& a) { return a.name != kEmbreeName; });
+  return ours != built.end() ? *ours : built.front();
+}
+
+}  // namespace
+
+BenchReport run_bench(const BenchOptions& options) {
+  const ThreadLimit thread_limit(options.threads);
+  const Scene scene = load_scene(options.scene);
+  const TriangleSet set = flatten(scene);
+  const Camera camera = bench_camera(scene, options);
+  check_ray_memory(estimated_ray_count(options, camera), options.accels.size());
+
+  std::vector<NamedAccel> built;
+  built.reserve(options.accels.size());
+  for (const std::string& name : options.accels) {
+    if (name == kAutoAccelName) {
+      // The decision's own cost (grid build + sample rays) is not part of the row's build time.
+      const std::uint64_t rays = options.auto_rays.value_or(estimated_ray_count(options, camera));
+      const std::string chosen = resolve_auto_accel(scene, set, rays, options.calibration);
+      built.push_back({name + ":" + chosen, build_bench_accel(chosen, set, thread_limit.threads())});
+    } else {
+      built.push_back({name, build_bench_accel(name, set, thread_limit.threads())});
+    }
+  }
+
+  RaySetRequest request;
+  request.kind = options.kind;
+  request.camera = camera;
+  request.ao_rays = options.ao_rays;
+  request.max_distance = options.max_distance;
+  request.count = options.count;
+  request.seed = options.seed;
+  const std::vector<Ray> rays = visit_accel(
+      ray_source(built).accel, [&](const auto& structure) { return make_bench_rays(structure, scene, request); });
+
+  const TimingPlan plan{options.warmup, options.reps};
+  std::vector<const BenchAccel*> accels;
+  for (const NamedAccel& entry : built) accels.push_back(&entry.accel);
+  const std::vector<QueryMeasurement> measurements = measure_queries(accels, rays, options.kind, plan);
+
+  const auto embree =
+      std::find_if(built.begin(), built.end(), [](const NamedAccel& a) { return a.name == kEmbreeName; });
+  const std::size_t reference = embree != built.end() ? static_cast<std::size_t>(embree - built.begin()) : 0;
+  const double embree_mrays =
+      embree != built.end() ? mrays_per_second(rays.size(), measurements[reference].timings.median_ms()) : 0.0;
+
+  BenchReport report;
+  report.scene = scene.name.empty() ? options.scene : scene.name;
+  report.triangles = set.size();
+  report.kind = options.kind;
+  report.rays = rays.size();
+  report.threads = thread_limit.threads();
+  report.width = camera.width;
+  report.height = camera.height;
+  report.reps = options.reps;
+  report.warmup = options.warmup;
+  report.ao_rays = options.ao_rays;
+  report.max_distance = options.max_distance;
+  report.reference = built[reference].name;
+#if VISFIELD_HAVE_EMBREE
+  if (embree != built.end()) report.embree = embree_description();
+#endif
+  for (std::size_t i = 0; i < built.size(); ++i) {
+    const AccelStats stats = bench_accel_stats(built[i].accel);
+    ResultRow row;
+    row.accel = built[i].name;
+    row.build_ms = stats.build_ms;
+    row.bytes = stats.memory_bytes;
+    row.median_ms = measurements[i].timings.median_ms();
+    row.mrays_per_s = mrays_per_second(rays.size(), row.median_ms);
+    if (embree != built.end() && embree_mrays > 0.0) row.ratio_to_embree = row.mrays_per_s / embree_mrays;
+    row.mismatches = count_mismatches(measurements[i].results, measurements[reference].results, options.kind);
+    report.rows.push_back(std::move(row));
+  }
+  return report;
+}
+
+void print_report(std::ostream& out, const BenchReport& report, bool json) {
+  if (json) {
+    out << report_json(report).dump(2) << "\n";
+  } else {
+    print_table(out, report);
+  }
+}
+
+}  // namespace vf::bench

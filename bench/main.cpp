@@ -1,0 +1,42 @@
+/// \file visfield-bench: the same rays through visfield's structures and Embree 3, in one process.
+
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "bench_options.hpp"
+#include "bench_run.hpp"
+#include "visfield/core/error.hpp"
+
+namespace {
+
+constexpr int kExitBadInput = 1;
+constexpr int kExitUsage = 2;
+
+// Prints the one-line error report; line breaks inside a library's message become spaces.
+int fail(std::string message, int status) {
+  for (char& c : message) c = c == '\n' || c == '\r' ? ' ' : c;
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  std::cerr << "visfield-bench: error: " << message << "\n";
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
+    if (!options) return 0;
+    const vf::bench::BenchReport report = vf::bench::run_bench(*options);
+    vf::bench::print_report(std::cout, report, options->json);
+    return 0;
+  } catch (const vf::bench::UsageError& error) {
+    return fail(error.what(), kExitUsage);
+  } catch (const vf::Error& error) {
+    return fail(error.what(), kExitBadInput);
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory", kExitBadInput);
+  } catch (const std::exception& error) {
+    return fail(error.what(), kExitBadInput);
+  }
+}

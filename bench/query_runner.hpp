@@ -1,0 +1,35 @@
+#pragma once
+/// \file Tracing the ray set through the structures: the timed work of visfield-bench.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "bench_accel.hpp"
+#include "ray_kind.hpp"
+#include "timing.hpp"
+#include "visfield/core/ray.hpp"
+
+namespace vf::bench {
+
+/// Answers of one structure for the whole ray set: `hits` for closest-hit kinds (prim ==
+/// kInvalidId on a miss), `occluded` (1/0) for occlusion kinds; the other vector stays empty.
+struct QueryResults {
+  std::vector<Hit> hits;
+  std::vector<std::uint8_t> occluded;
+};
+
+/// One structure's run times and answers (identical in every run).
+struct QueryMeasurement {
+  Timings timings;
+  QueryResults results;
+};
+
+/// Traces `rays` through each of `accels` (intersect for closest-hit kinds, occluded for occlusion
+/// kinds) with intersect_batch / occluded_batch: the same TBB loop over chunks of rays for every
+/// structure, under the caller's ThreadLimit. Warm-up and repetitions as `plan` says, the
+/// repetitions interleaved across structures (time_interleaved). One measurement per structure.
+std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const> accels, std::span<const Ray> rays,
+                                              RayKind kind, const TimingPlan& plan);
+
+}  // namespace vf::bench

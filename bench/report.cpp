@@ -1,0 +1,108 @@
+#include "report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace vf::bench {
+
+namespace {
+
+std::string formatted(const char* format, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, format, value);
+  return buffer;
+}
+
+// 12345678 -> "12,345,678".
+std::string with_separators(std::size_t value) {
+  const std::string digits = std::to_string(value);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+std::string padded_left(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
+}
+
+std::string padded_right(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
+}
+
+// " (4 per hit, length 2.5)" for AO rays, nothing for the other kinds.
+std::string ao_details(const BenchReport& report) {
+  if (report.kind != RayKind::ao) return "";
+  const std::string length =
+      std::isinf(report.max_distance) ? "unlimited length" : formatted("length %g", report.max_distance);
+  return " (" + std::to_string(report.ao_rays) + " per hit, " + length + ")";
+}
+
+// The value, or JSON null when absent.
+template <class T>
+nlohmann::ordered_json or_null(const std::optional<T>& value) {
+  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
+
+}  // namespace
+
+double mrays_per_second(std::size_t rays, double ms) {
+  return ms > 0.0 ? static_cast<double>(rays) / (ms * 1e-3) * 1e-6 : 0.0;
+}
+
+void print_table(std::ostream& out, const BenchReport& report) {
+  out << "scene " << report.scene << " | " << with_separators(report.triangles) << " triangles | "
+      << ray_kind_name(report.kind) << " rays: " << with_separators(report.rays) << ao_details(report) << " | threads "
+      << report.threads << " | median of " << report.reps << " runs after " << report.warmup << " warm-up | "
+      << (report.embree ? *report.embree : std::string("Embree not run")) << "\n";
+
+  std::size_t name_width = 5;
+  for (const ResultRow& row : report.rows) name_width = std::max(name_width, row.accel.size());
+  const std::string mismatch_title = "mismatches vs " + report.reference;
+  out << padded_right("accel", name_width) << "  " << padded_left("build ms", 10) << "  " << padded_left("bytes", 15)
+      << "  " << padded_left("Mrays/s", 9) << "  " << padded_left("ratio to Embree", 15) << "  " << mismatch_title
+      << "\n";
+  for (const ResultRow& row : report.rows) {
+    const std::string ratio = row.ratio_to_embree ? formatted("%.2fx", *row.ratio_to_embree) : std::string("-");
+    out << padded_right(row.accel, name_width) << "  " << padded_left(formatted("%.1f", row.build_ms), 10) << "  "
+        << padded_left(with_separators(row.bytes), 15) << "  " << padded_left(formatted("%.2f", row.mrays_per_s), 9)
+        << "  " << padded_left(ratio, 15) << "  " << padded_left(with_separators(row.mismatches), mismatch_title.size())
+        << "\n";
+  }
+}
+
+nlohmann::ordered_json report_json(const BenchReport& report) {
+  nlohmann::ordered_json doc;
+  doc["scene"] = report.scene;
+  doc["triangles"] = report.triangles;
+  doc["rays"] = report.rays;
+  doc["kind"] = std::string(ray_kind_name(report.kind));
+  doc["threads"] = report.threads;
+  doc["width"] = report.width;
+  doc["height"] = report.height;
+  if (report.kind == RayKind::ao) {
+    doc["ao_rays"] = report.ao_rays;
+    doc["max_distance"] =
+        or_null(std::isinf(report.max_distance) ? std::nullopt : std::optional<float>(report.max_distance));
+  }
+  doc["reps"] = report.reps;
+  doc["warmup"] = report.warmup;
+  doc["reference"] = report.reference;
+  doc["embree"] = or_null(report.embree);
+  nlohmann::ordered_json& results = doc["results"] = nlohmann::ordered_json::array();
+  for (const ResultRow& row : report.rows) {
+    results.push_back({{"accel", row.accel},
+                       {"build_ms", row.build_ms},
+                       {"bytes", row.bytes},
+                       {"median_ms", row.median_ms},
+                       {"mrays_per_s", row.mrays_per_s},
+                       {"ratio_to_embree", or_null(row.ratio_to_embree)},
+                       {"mismatches", row.mismatches}});
+  }
+  return doc;
+}
+
+}  // namespace vf::bench

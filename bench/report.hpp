@@ -1,0 +1,55 @@
+#pragma once
+/// \file visfield-bench's output: a table for people, a JSON document for scripts.
+
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ray_kind.hpp"
+
+namespace vf::bench {
+
+/// One structure's figures.
+struct ResultRow {
+  std::string accel;                      ///< --accel name.
+  double build_ms = 0.0;                  ///< Build wall time.
+  std::size_t bytes = 0;                  ///< Memory held by the built structure.
+  double median_ms = 0.0;                 ///< Median time to trace the whole ray set.
+  double mrays_per_s = 0.0;               ///< Rays / median time, in millions per second.
+  std::optional<double> ratio_to_embree;  ///< mrays_per_s / Embree's (> 1 = faster); absent without Embree.
+  std::size_t mismatches = 0;             ///< Rays answered differently from the reference structure.
+};
+
+/// Everything one run reports.
+struct BenchReport {
+  std::string scene;          ///< Scene name.
+  std::size_t triangles = 0;  ///< Triangles the structures were built over.
+  RayKind kind = RayKind::primary;
+  std::size_t rays = 0;       ///< Rays traced per repetition.
+  int threads = 1;            ///< Worker threads in force.
+  int width = 0, height = 0;  ///< Camera image the rays were made from (before --count scaling).
+  int reps = 0, warmup = 0;
+  int ao_rays = 0;                                              ///< AO rays per primary hit (ao kind only).
+  float max_distance = std::numeric_limits<float>::infinity();  ///< AO ray length (ao kind only).
+  std::string reference;                                        ///< Structure the mismatches are counted against.
+  std::optional<std::string> embree;                            ///< embree_description() when Embree ran.
+  std::vector<ResultRow> rows;                                  ///< In --accel order.
+};
+
+/// Millions of rays per second for `rays` rays traced in `ms` milliseconds (0 when ms <= 0).
+double mrays_per_second(std::size_t rays, double ms);
+
+/// Prints the header line and the table (accel | build ms | bytes | Mrays/s | ratio to Embree | mismatches).
+void print_table(std::ostream& out, const BenchReport& report);
+
+/// {"scene", "triangles", "rays", "kind", "threads", ..., ("ao_rays", "max_distance" (null = unlimited)
+/// for ao,) "results": [{"accel", "build_ms", "bytes",
+/// "mrays_per_s", "ratio_to_embree" (null without Embree), "mismatches", ...}]}.
+nlohmann::ordered_json report_json(const BenchReport& report);
+
+}  // namespace vf::bench

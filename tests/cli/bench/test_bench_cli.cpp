@@ -1,0 +1,176 @@
+// visfield-bench end to end: the JSON and table it prints, --count, and how it refuses bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.hpp"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr bool kHaveEmbree = VISFIELD_BENCH_HAVE_EMBREE != 0;
+// A few hundred triangles with a camera: every ray kind has work to do. (Not the Cornell room: there,
+// AO and shadow rays leaving a wall next to a corner start exactly on the adjacent wall, a t = 0 hit
+// that our structures count and Embree does not, so a few rays legitimately differ from Embree.)
+const std::string kScene = "--scene builtin:boxes:size=40 ";
+const std::string kSmallRun = "--width 32 --height 24 --reps 2 --warmup 1 --threads 2 ";
+
+std::vector<std::string> structures() {
+  std::vector<std::string> names{"bvh", "brute"};
+  if (kHaveEmbree) names.emplace_back("embree");
+  return names;
+}
+
+std::string accel_option() {
+  std::string list;
+  for (const std::string& name : structures()) list += (list.empty() ? "" : ",") + name;
+  return "--accel " + list + " ";
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+class BenchCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    for (char& c : name) c = c == '/' ? '_' : c;
+    dir_ = fs::path(VISFIELD_TEST_BINARY_DIR) / "bench-work" / name;
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  test::CommandResult bench(const std::string& args) {
+    return test::run_command(std::string(VISFIELD_BENCH_EXE) + " " + args, dir_);
+  }
+  json bench_json(const std::string& args) {
+    const auto r = bench(args + " --json");
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    EXPECT_EQ(r.err, "") << args;
+    return json::parse(r.out);
+  }
+  // Bad input: status `status`, nothing on stdout, one line on stderr naming `needle`, no file written.
+  void expect_refused(const std::string& args, int status, const std::string& needle) {
+    const auto r = bench(args);
+    EXPECT_EQ(r.exit_code, status) << args << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << args;
+    EXPECT_EQ(test::line_count(r.err), 1) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("visfield-bench: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
+    EXPECT_TRUE(fs::is_empty(dir_)) << "left a file behind: " << args;
+  }
+  fs::path dir_;
+};
+
+class BenchCliKinds : public BenchCli, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(BenchCliKinds, JsonHasOneAgreeingRecordPerStructure) {
+  const std::string kind = GetParam();
+  const json doc = bench_json(kScene + kSmallRun + accel_option() + "--rays " + kind);
+  EXPECT_EQ(doc.at("kind"), kind);
+  EXPECT_TRUE(doc.at("scene").is_string());
+  EXPECT_GT(doc.at("triangles").get<long>(), 400);
+  EXPECT_GT(doc.at("rays").get<long>(), 0);
+  EXPECT_EQ(doc.at("threads"), 2);
+  const json& results = doc.at("results");
+  const std::vector<std::string> names = structures();
+  ASSERT_EQ(results.size(), names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const json& row = results[i];
+    SCOPED_TRACE(names[i]);
+    EXPECT_EQ(row.at("accel"), names[i]);
+    EXPECT_TRUE(row.at("build_ms").is_number());
+    EXPECT_GE(row.at("build_ms").get<double>(), 0.0);
+    EXPECT_GT(row.at("bytes").get<long>(), 0);
+    EXPECT_GT(row.at("mrays_per_s").get<double>(), 0.0);
+    EXPECT_EQ(row.at("mismatches"), 0);
+    if (kHaveEmbree) {
+      EXPECT_GT(row.at("ratio_to_embree").get<double>(), 0.0);
+      if (names[i] == "embree") {
+        EXPECT_DOUBLE_EQ(row.at("ratio_to_embree").get<double>(), 1.0);
+      }
+    } else {
+      EXPECT_TRUE(row.at("ratio_to_embree").is_null());
+    }
+  }
+  EXPECT_EQ(doc.at("reference"), kHaveEmbree ? "embree" : "bvh");
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryRayKind, BenchCliKinds, ::testing::Values("primary", "ao", "shadow", "random"));
+
+TEST_F(BenchCli, CountGivesExactlyThatManyRaysFewerOrMoreThanTheImageHas) {
+  // 32x24 = 768 pixels: 500 subsamples the primary rays, 3000 needs a larger image.
+  for (const auto& [kind, count] : std::vector<std::pair<std::string, int>>{
+           {"primary", 500}, {"primary", 3000}, {"ao", 1000}, {"shadow", 300}, {"random", 777}}) {
+    const json doc =
+        bench_json(kScene + kSmallRun + "--accel bvh --rays " + kind + " --count " + std::to_string(count));
+    EXPECT_EQ(doc.at("rays"), count) << kind;
+  }
+}
+
+TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
+  const auto r = bench(kScene + kSmallRun + accel_option() + "--rays ao");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> lines = lines_of(r.out);
+  const std::vector<std::string> names = structures();
+  ASSERT_EQ(lines.size(), 2 + names.size()) << r.out;
+  EXPECT_NE(lines[0].find("triangles"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("ao rays"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("threads 2"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find(kHaveEmbree ? "Embree 3." : "Embree not run"), std::string::npos) << lines[0];
+  for (const char* column : {"accel", "build ms", "bytes", "Mrays/s", "ratio to Embree", "mismatches"}) {
+    EXPECT_NE(lines[1].find(column), std::string::npos) << column;
+  }
+  for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(lines[2 + i].rfind(names[i] + " ", 0), 0u) << lines[2 + i];
+}
+
+TEST_F(BenchCli, BadCommandLineValuesExitWithStatus2AndOneLine) {
+  const std::string base = kScene + "--rays primary ";
+  expect_refused(base + "--accel bvh --count 0", 2, "--count");
+  expect_refused(base + "--accel bvh --count -3", 2, "--count");
+  expect_refused(base + "--accel bvh --count lots", 2, "--count");
+  expect_refused(base + "--accel bvh --count 99999999999", 2, "--count");
+  expect_refused(base + "--accel bvh --threads -1", 2, "--threads");
+  expect_refused(base + "--accel bvh --threads 100000", 2, "--threads");
+  expect_refused(base + "--accel bvh --reps 0", 2, "--reps");
+  expect_refused(base + "--accel bvh --width 0", 2, "--width");
+  expect_refused(base + "--accel bvh --ao-rays 0", 2, "--ao-rays");
+  expect_refused(base + "--accel bvh,octree", 2, "octree");
+  expect_refused(base + "--accel bvh,bvh", 2, "twice");
+  expect_refused(base + "--accel bvh --unknown-flag", 2, "--unknown-flag");
+  expect_refused(kScene + "--rays sideways --accel bvh", 2, "--rays");
+  expect_refused("--rays primary --accel bvh", 2, "--scene");
+  expect_refused(kScene + "--rays primary", 2, "--accel");
+}
+
+TEST_F(BenchCli, EmbreeWithoutEmbreeIsAUsageError) {
+  if (kHaveEmbree) GTEST_SKIP() << "this build links Embree";
+  expect_refused(kScene + "--rays primary --accel bvh,embree", 2, "Embree");
+}
+
+TEST_F(BenchCli, SceneThatCannotBeLoadedExitsWithStatus1) {
+  expect_refused("--scene missing.obj --rays primary --accel bvh", 1, "missing.obj");
+  expect_refused("--scene builtin:no_such_scene --rays primary --accel bvh", 1, "no_such_scene");
+}
+
+TEST_F(BenchCli, HelpListsTheOptionsAndSucceeds) {
+  const auto r = bench("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option : {"--scene", "--rays", "--accel", "--count", "--threads", "--json", "--reps", "--warmup"}) {
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+  }
+}
+
+}  // namespace
+}  // namespace vf

@@ -1,0 +1,310 @@
+// visfield-bench's pieces: option parsing, ray-count scaling, timing, agreement, report, Embree adapter.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "agreement.hpp"
+#include "bench_accel.hpp"
+#include "bench_options.hpp"
+#include "bench_rays.hpp"
+#include "report.hpp"
+#include "timing.hpp"
+#include "visfield/accel/brute_force.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/rng.hpp"
+#include "visfield/core/sampling.hpp"
+#include "visfield/core/triangle_set.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf::bench {
+namespace {
+
+std::optional<BenchOptions> parse(std::vector<std::string> args, std::ostream& help = std::cout) {
+  args.insert(args.begin(), "visfield-bench");
+  std::vector<const char*> argv;
+  for (const std::string& arg : args) argv.push_back(arg.c_str());
+  return parse_bench_options(static_cast<int>(argv.size()), argv.data(), help);
+}
+
+TEST(BenchOptions, DefaultsAndCommaSeparatedStructures) {
+  const auto options = parse({"--scene", "builtin:soup", "--rays", "ao", "--accel", "bvh,brute"});
+  ASSERT_TRUE(options);
+  EXPECT_EQ(options->scene, "builtin:soup");
+  EXPECT_EQ(options->kind, RayKind::ao);
+  EXPECT_EQ(options->accels, (std::vector<std::string>{"bvh", "brute"}));
+  EXPECT_FALSE(options->count);
+  EXPECT_EQ(options->threads, 0);
+  EXPECT_EQ(options->reps, 5);
+  EXPECT_EQ(options->warmup, 1);
+  EXPECT_EQ(options->ao_rays, 4);
+  EXPECT_FALSE(options->json);
+  EXPECT_TRUE(std::isinf(options->max_distance));
+}
+
+TEST(BenchOptions, EveryValueIsRead) {
+  const auto options =
+      parse({"--scene",   "a.ply",  "--rays", "random",  "--accel", "brute",    "--count", "123",
+             "--threads", "3",      "--json", "--width", "64",      "--height", "48",      "--ao-rays",
+             "7",         "--seed", "99",     "--reps",  "9",       "--warmup", "0",       "--max-distance",
+             "2.5"});
+  ASSERT_TRUE(options);
+  EXPECT_EQ(options->kind, RayKind::random);
+  EXPECT_EQ(options->count, 123u);
+  EXPECT_EQ(options->threads, 3);
+  EXPECT_TRUE(options->json);
+  EXPECT_EQ(options->width, 64);
+  EXPECT_EQ(options->height, 48);
+  EXPECT_EQ(options->ao_rays, 7);
+  EXPECT_EQ(options->seed, 99u);
+  EXPECT_EQ(options->reps, 9);
+  EXPECT_EQ(options->warmup, 0);
+  EXPECT_FLOAT_EQ(options->max_distance, 2.5f);
+}
+
+TEST(BenchOptions, HelpReturnsNothingAndPrintsTheOptions) {
+  std::ostringstream help;
+  EXPECT_FALSE(parse({"--help"}, help));
+  EXPECT_NE(help.str().find("--accel"), std::string::npos);
+}
+
+TEST(BenchOptions, BadValuesAreUsageErrors) {
+  const std::vector<std::string> base{"--scene", "s.obj", "--rays", "primary"};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--count", "0"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--threads", "-2"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--threads", "5000"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh,kdtree9"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "brute,bvh,brute"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--warmup", "-1"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--max-distance", "0"})), UsageError);
+  EXPECT_THROW(parse(with({})), UsageError);
+  if (kHaveEmbree) {
+    EXPECT_TRUE(parse(with({"--accel", "embree,bvh"})));
+  } else {
+    EXPECT_THROW(parse(with({"--accel", "embree"})), UsageError);
+  }
+}
+
+TEST(BenchOptions, RayMemoryBeyondThisMachineIsRefused) {
+  EXPECT_NO_THROW(check_ray_memory(1000, 3));
+  EXPECT_THROW(check_ray_memory(std::size_t{1} << 40, 3), UsageError);
+}
+
+// A camera "image" whose rays are numbered by pixel in org.x, one ray per pixel.
+std::vector<Ray> numbered_rays(const Camera& camera) {
+  std::vector<Ray> rays(static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height));
+  for (std::size_t i = 0; i < rays.size(); ++i) rays[i].org.x = static_cast<float>(i);
+  return rays;
+}
+
+TEST(BenchRays, TakeEvenlySpreadsThePickOverTheWholeSet) {
+  Camera camera;
+  camera.width = 10;
+  camera.height = 10;
+  const std::vector<Ray> all = numbered_rays(camera);
+  const std::vector<Ray> half = take_evenly(all, 50);
+  ASSERT_EQ(half.size(), 50u);
+  for (std::size_t i = 0; i < half.size(); ++i) EXPECT_EQ(half[i].org.x, static_cast<float>(2 * i));
+  const std::vector<Ray> same = take_evenly(all, all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(same[i].org.x, all[i].org.x);
+}
+
+TEST(BenchRays, CountScalesTheImageUpUntilThereAreEnoughRays) {
+  Camera camera;
+  camera.width = 8;
+  camera.height = 6;
+  int largest_width = 0;
+  const auto generate = [&](const Camera& c) {
+    EXPECT_NEAR(static_cast<double>(c.width) / c.height, 8.0 / 6.0, 0.1);  // Resized, same aspect.
+    largest_width = std::max(largest_width, c.width);
+    return numbered_rays(c);
+  };
+  EXPECT_EQ(rays_for_count(camera, std::nullopt, generate).size(), 48u);
+  EXPECT_EQ(rays_for_count(camera, 20, generate).size(), 20u);
+  const std::vector<Ray> many = rays_for_count(camera, 1001, generate);
+  EXPECT_EQ(many.size(), 1001u);
+  EXPECT_GT(largest_width, 8);
+  // Deterministic: the same request gives the same rays.
+  const std::vector<Ray> again = rays_for_count(camera, 1001, generate);
+  for (std::size_t i = 0; i < many.size(); ++i) ASSERT_EQ(many[i].org.x, again[i].org.x);
+}
+
+TEST(BenchRays, AnImageWithoutRaysIsAnError) {
+  Camera camera;
+  EXPECT_THROW(rays_for_count(camera, 10, [](const Camera&) { return std::vector<Ray>{}; }), Error);
+}
+
+TEST(BenchTiming, MedianOfOddAndEvenCounts) {
+  EXPECT_DOUBLE_EQ(median({5.0, 1.0, 3.0}), 3.0);
+  EXPECT_DOUBLE_EQ(median({4.0, 1.0, 3.0, 2.0}), 2.5);
+  EXPECT_DOUBLE_EQ(median({}), 0.0);
+}
+
+TEST(BenchTiming, RunsWarmupPlusRepetitionsAndTimesOnlyTheRepetitions) {
+  int calls = 0;
+  const Timings timings = time_runs({2, 3}, [&] { ++calls; });
+  EXPECT_EQ(calls, 5);
+  EXPECT_EQ(timings.run_ms.size(), 3u);
+  for (double ms : timings.run_ms) EXPECT_GE(ms, 0.0);
+}
+
+TEST(BenchTiming, InterleavesTheRepetitionsOfSeveralJobs) {
+  std::string order;
+  const std::vector<std::function<void()>> jobs{[&] { order += 'a'; }, [&] { order += 'b'; }};
+  const std::vector<Timings> timings = time_interleaved({2, 3}, jobs);
+  EXPECT_EQ(order, "aabbababab");
+  ASSERT_EQ(timings.size(), 2u);
+  EXPECT_EQ(timings[0].run_ms.size(), 3u);
+  EXPECT_EQ(timings[1].run_ms.size(), 3u);
+}
+
+Hit hit_at(float t) { return Hit{t, 0.0f, 0.0f, 1, 0}; }
+
+TEST(BenchAgreement, ClosestHitsAgreeOnStatusAndOnTWithinTolerance) {
+  EXPECT_TRUE(same_closest_hit(Hit{}, Hit{}));
+  EXPECT_FALSE(same_closest_hit(hit_at(1.0f), Hit{}));
+  EXPECT_FALSE(same_closest_hit(Hit{}, hit_at(1.0f)));
+  EXPECT_TRUE(same_closest_hit(hit_at(100.0f), hit_at(100.0f * (1.0f + 0.5e-5f))));
+  EXPECT_FALSE(same_closest_hit(hit_at(100.0f), hit_at(100.0f * (1.0f + 3e-5f))));
+  // Near t = 0 the absolute tolerance applies.
+  EXPECT_TRUE(same_closest_hit(hit_at(1e-8f), hit_at(5e-7f)));
+  EXPECT_FALSE(same_closest_hit(hit_at(1e-8f), hit_at(5e-6f)));
+  // A different triangle at the same t (shared edge) is not a mismatch.
+  Hit other = hit_at(2.0f);
+  other.prim = 7;
+  EXPECT_TRUE(same_closest_hit(hit_at(2.0f), other));
+}
+
+TEST(BenchAgreement, CountsMismatchingRays) {
+  const std::vector<Hit> a{hit_at(1.0f), Hit{}, hit_at(3.0f), hit_at(4.0f)};
+  const std::vector<Hit> b{hit_at(1.0f), hit_at(2.0f), hit_at(3.5f), hit_at(4.0f)};
+  EXPECT_EQ(count_hit_mismatches(a, b), 2u);
+  const std::vector<std::uint8_t> x{0, 1, 1, 0, 1}, y{0, 1, 0, 1, 1};
+  EXPECT_EQ(count_occlusion_mismatches(x, y), 2u);
+  QueryResults p, q;
+  p.occluded = x;
+  q.occluded = y;
+  p.hits = a;
+  q.hits = a;
+  EXPECT_EQ(count_mismatches(p, q, RayKind::shadow), 2u);
+  EXPECT_EQ(count_mismatches(p, q, RayKind::random), 0u);
+}
+
+BenchReport sample_report(bool with_embree) {
+  BenchReport report;
+  report.scene = "bunny";
+  report.triangles = 69451;
+  report.kind = RayKind::ao;
+  report.rays = 1000000;
+  report.threads = 2;
+  report.reference = with_embree ? "embree" : "bvh";
+  if (with_embree) report.embree = "Embree 3.13.5";
+  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3});
+  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0});
+  return report;
+}
+
+TEST(BenchReport, JsonHasTheDocumentedFields) {
+  const nlohmann::ordered_json doc = report_json(sample_report(true));
+  EXPECT_EQ(doc.at("scene"), "bunny");
+  EXPECT_EQ(doc.at("triangles"), 69451);
+  EXPECT_EQ(doc.at("rays"), 1000000);
+  EXPECT_EQ(doc.at("kind"), "ao");
+  EXPECT_EQ(doc.at("threads"), 2);
+  ASSERT_EQ(doc.at("results").size(), 2u);
+  const nlohmann::ordered_json& bvh = doc.at("results")[0];
+  EXPECT_EQ(bvh.at("accel"), "bvh");
+  EXPECT_DOUBLE_EQ(bvh.at("build_ms").get<double>(), 12.5);
+  EXPECT_EQ(bvh.at("bytes"), 4096);
+  EXPECT_DOUBLE_EQ(bvh.at("mrays_per_s").get<double>(), 10.0);
+  EXPECT_DOUBLE_EQ(bvh.at("ratio_to_embree").get<double>(), 0.5);
+  EXPECT_EQ(bvh.at("mismatches"), 3);
+  EXPECT_TRUE(report_json(sample_report(false)).at("results")[0].at("ratio_to_embree").is_null());
+}
+
+TEST(BenchReport, TableHasOneRowPerStructure) {
+  std::ostringstream out;
+  print_table(out, sample_report(true));
+  const std::string text = out.str();
+  EXPECT_NE(text.find("69,451 triangles"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.50x"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nembree "), std::string::npos) << text;
+  EXPECT_NE(text.find("mismatches vs embree"), std::string::npos) << text;
+}
+
+TEST(BenchReport, MraysPerSecond) {
+  EXPECT_DOUBLE_EQ(mrays_per_second(2'000'000, 1000.0), 2.0);
+  EXPECT_DOUBLE_EQ(mrays_per_second(10, 0.0), 0.0);
+}
+
+#if VISFIELD_HAVE_EMBREE
+// Embree through the adapter answers like the brute-force oracle and maps hits back to (prim, instance).
+TEST(BenchEmbreeScene, AgreesWithBruteForceOnRandomRays) {
+  BuiltinParams params;
+  params.size = 3000;
+  params.seed = 5;
+  const TriangleSet set = flatten(make_builtin_scene("soup", params));
+  const EmbreeScene embree = EmbreeScene::build(set, 2);
+  const BruteForce brute = BruteForce::build(set);
+  EXPECT_GT(embree.stats().memory_bytes, set.size() * 9 * sizeof(float));
+  EXPECT_GE(embree.stats().build_ms, 0.0);
+  EXPECT_EQ(EmbreeScene::name(), "embree");
+
+  Rng rng(11);
+  const Vec3f lo = set.bounds.lo, extent = set.bounds.extent();
+  int hits = 0, status_mismatches = 0, t_mismatches = 0, id_mismatches = 0, occlusion_mismatches = 0;
+  for (int i = 0; i < 4000; ++i) {
+    Ray ray;
+    ray.org = lo + Vec3f{rng.uniform(), rng.uniform(), rng.uniform()} * extent;
+    ray.dir = uniform_sphere(rng.uniform(), rng.uniform());
+    ray.tmin = 1e-4f;
+    ray.tmax = i % 3 == 0 ? 0.05f * length(extent) : std::numeric_limits<float>::infinity();
+    const auto expected = brute.intersect(ray);
+    const auto got = embree.intersect(ray);
+    if (expected.has_value() != got.has_value()) {
+      ++status_mismatches;
+    } else if (expected) {
+      ++hits;
+      if (!same_closest_hit(*expected, *got)) ++t_mismatches;
+      if (expected->prim != got->prim || expected->instance != got->instance) ++id_mismatches;
+      EXPECT_GE(got->u, 0.0f);
+      EXPECT_GE(got->v, 0.0f);
+      EXPECT_LE(got->u + got->v, 1.0f + 1e-5f);
+    }
+    if (embree.occluded(ray) != brute.occluded(ray)) ++occlusion_mismatches;
+  }
+  EXPECT_GT(hits, 1000);
+  // Random rays essentially never graze an edge; Embree's test and ours then agree exactly.
+  EXPECT_EQ(status_mismatches, 0);
+  EXPECT_EQ(t_mismatches, 0);
+  EXPECT_EQ(id_mismatches, 0);
+  EXPECT_EQ(occlusion_mismatches, 0);
+}
+
+TEST(BenchEmbreeScene, EmptySetHitsNothingAndMovesSafely) {
+  EmbreeScene embree = EmbreeScene::build(TriangleSet{}, 1);
+  EmbreeScene moved = std::move(embree);
+  Ray ray;
+  ray.dir = {0.0f, 0.0f, 1.0f};
+  EXPECT_FALSE(moved.intersect(ray));
+  EXPECT_FALSE(moved.occluded(ray));
+}
+
+TEST(BenchEmbreeScene, DescriptionNamesVersionIsaAndBuildQuality) {
+  const std::string text = embree_description();
+  EXPECT_EQ(text.rfind("Embree 3.", 0), 0u) << text;
+  EXPECT_NE(text.find("ISA "), std::string::npos) << text;
+  EXPECT_NE(text.find("build quality medium"), std::string::npos) << text;
+}
+#endif
+
+}  // namespace
+}  // namespace vf::bench
