@@ -1,0 +1,57 @@
+#pragma once
+/// \file Exact SAH kd-tree: O(N log N) event-sorting build with perfect splits (Wald & Havran 2006,
+/// "On building fast kd-trees for ray tracing, and on doing that in O(N log N)"), parallel over
+/// subtrees (TBB), 8-byte nodes, front-to-back stack traversal, watertight triangle tests.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "visfield/accel/accelerator.hpp"
+#include "visfield/core/triangle_set.hpp"
+
+namespace vf {
+
+namespace kd {
+struct KdLayout;
+}
+
+/// Build parameters of the SAH kd-tree. A node becomes a leaf when no split is cheaper than
+/// intersection_cost * (its triangle count), or at max_depth. The defaults were measured fastest
+/// on AO rays over the shared models: leaves test 4 triangles at once (SIMD) while a node step is
+/// latency-bound, so a node step costs far more relative to one triangle than in Wald & Havran's
+/// scalar setting (K_T = 15, K_I = 20).
+struct KdTreeConfig {
+  float traversal_cost = 12.0f;     ///< SAH cost K_T of visiting an interior node; >= 0.
+  float intersection_cost = 1.0f;   ///< SAH cost K_I of one triangle test; > 0.
+  float empty_bonus = 0.8f;         ///< Factor lambda on the cost of a split with an empty side (Wald & Havran: 0.8); in (0, 1], 1 = no bonus.
+  int max_depth = 0;                ///< Most splits above a leaf, in [1, 64]; 0 = automatic, 8 + 1.3 log2(N).
+};
+
+/// An immutable SAH kd-tree over a TriangleSet. Queries are const and thread-safe. Move-only.
+class KdTree {
+ public:
+  /// Builds over `set`; O(N log N), parallel over TBB's threads, the same tree for any thread count.
+  /// Throws vf::Error on a bad config or when the tree outgrows its 32-bit node fields.
+  static KdTree build(const TriangleSet& set, const KdTreeConfig& config = {});
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+  ~KdTree();
+
+  /// Closest hit in [tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
+  std::optional<Hit> intersect(const Ray& ray) const;
+  /// True when any triangle is hit in [tmin, tmax]; stops at the first.
+  bool occluded(const Ray& ray) const;
+  /// Build statistics: node_count = interior nodes, leaf_count = all leaves (empty ones too),
+  /// reference_count = leaf references (a triangle crossing k leaves counts k times), max_depth =
+  /// levels on the deepest path (a lone root leaf: 1).
+  const AccelStats& stats() const;
+  /// The --accel name, "kdtree".
+  static std::string name() { return "kdtree"; }
+
+ private:
+  explicit KdTree(std::unique_ptr<kd::KdLayout> layout);
+  std::unique_ptr<kd::KdLayout> layout_;
+};
+
+}  // namespace vf

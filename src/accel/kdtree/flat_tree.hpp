@@ -1,0 +1,83 @@
+#pragma once
+/// \file Depth-first emission of kd nodes during a build, shared by the SAH kd-tree and the median
+/// BSP builders, and the parallel recursion that drives both.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_invoke.h>
+
+#include "kdtree/kd_nodes.hpp"
+#include "visfield/core/triangle_set.hpp"
+
+namespace vf::kd {
+
+/// A (sub)tree in the final layout: nodes depth-first with each left child right after its parent,
+/// node and reference indices relative to this tree. Build-only.
+struct FlatTree {
+  std::vector<KdNode> nodes;
+  std::vector<std::uint32_t> references;
+  std::size_t interior_count = 0;
+  std::size_t leaf_count = 0;
+  int max_depth = 0;  ///< Levels on the longest root-to-leaf path (a lone root leaf: 1).
+
+  /// Appends a leaf at `depth` splits below the root holding `triangles` (ascending indices).
+  /// Throws vf::Error when the leaf or the whole tree outgrows the 32-bit node fields.
+  void add_leaf(std::span<const std::uint32_t> triangles, int depth);
+  /// Appends an interior node whose right child is not yet known; returns its index.
+  std::size_t begin_interior();
+  /// Completes interior node `index`: split plane, and the right child is the next node appended.
+  void end_interior(std::size_t index, int axis, float split);
+  /// Appends a whole subtree (its indices shifted to follow what is already here).
+  void append(const FlatTree& subtree);
+};
+
+/// Moves the built tree into `layout`, copying each leaf's triangles into its SIMD blocks and the
+/// set's id maps; fills the node, leaf, reference and depth statistics and memory_bytes (not
+/// build_ms). Throws vf::Error when the blocks outgrow the 32-bit leaf field.
+void finish_layout(FlatTree&& tree, const TriangleSet& set, KdLayout& layout);
+
+/// A node's children as produced by a builder's split(): the plane and the two child inputs.
+template <class Node>
+struct SplitResult {
+  int axis;
+  float position;
+  Node below, above;
+};
+
+/// Nodes with at least this many triangles build their two subtrees as parallel tasks.
+inline constexpr std::size_t kParallelSubtreeSize = 2048;
+
+/// Builds the subtree of `node`, `depth` splits below the root, appending it to `out`.
+/// `Builder` provides: `std::optional<SplitResult<Node>> split(Node&, int depth) const` (nullopt:
+/// make a leaf, the node intact; otherwise the node's storage may have been moved into the children), `std::span<const std::uint32_t>
+/// triangles(const Node&) const`, and Node::size(). The result does not depend on the thread count:
+/// parallel subtrees are built into their own FlatTree and appended in order.
+template <class Builder, class Node>
+void build_subtree(const Builder& builder, Node node, int depth, FlatTree& out) {
+  const std::size_t size = node.size();
+  std::optional<SplitResult<Node>> split = builder.split(node, depth);
+  if (!split) {
+    out.add_leaf(builder.triangles(node), depth);
+    return;
+  }
+  const std::size_t self = out.begin_interior();
+  if (size >= kParallelSubtreeSize) {
+    FlatTree below, above;
+    tbb::parallel_invoke([&] { build_subtree(builder, std::move(split->below), depth + 1, below); },
+                         [&] { build_subtree(builder, std::move(split->above), depth + 1, above); });
+    out.append(below);
+    below = {};
+    out.end_interior(self, split->axis, split->position);
+    out.append(above);
+  } else {
+    build_subtree(builder, std::move(split->below), depth + 1, out);
+    out.end_interior(self, split->axis, split->position);
+    build_subtree(builder, std::move(split->above), depth + 1, out);
+  }
+}
+
+}  // namespace vf::kd

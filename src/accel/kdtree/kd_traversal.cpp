@@ -1,0 +1,204 @@
+// Front-to-back stack traversal of the kd layout (the TA_rec_B / pbrt scheme with a fixed stack).
+//
+// Robustness. A computed plane distance ts = (split - org) * (1/dir) is within a few ulps of the
+// exact one (relative), so every interval bound derived from a plane is widened by a relative
+// 2^-20, and a child is skipped only when the raw ts lies outside the widened interval: a cell the
+// ray truly enters is never skipped because of rounding. 1/dir of a zero component is +-inf with
+// the sign of the zero, which puts the parallel ray on the side holding its origin; when the origin
+// lies exactly in the plane the product is NaN and both children are visited with the full
+// interval (the ray runs inside the plane, where planar triangles live).
+//
+// Exactness. Leaves run the oracle's block kernel (bit-identical to intersect_triangle). A leaf
+// tests its triangles against the whole [tmin, best t] of the ray, not only against its own cell
+// interval, and the best hit is kept across leaves. The t a triangle test computes may be off from
+// the exact hit by a few ulps of the farthest scene coordinate seen from the origin (in ray units),
+// which can be large relative to a small t; so the cells walked are those meeting [tmin, tmax]
+// grown by a slack covering that error (relative 2^-16 plus 2^-18 of the farthest coordinate), and
+// a pending cell is skipped only when it starts beyond the best t plus the same slack. Since every
+// point of a triangle lies in the closed box of some leaf referencing it, the hit the brute-force
+// loop reports is always tested, ties included: results are bit-identical to that loop.
+
+#include <cmath>
+#include <limits>
+
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
+#include "kdtree/kd_nodes.hpp"
+
+namespace vf::kd {
+namespace {
+
+constexpr float kPlaneSlack = 0x1p-20f;
+constexpr float kCullRelative = 0x1p-16f;
+constexpr float kCullAbsolute = 0x1p-18f;
+
+using Lanes = simd::Lanes<kLeafWidth>;
+
+/// t moved towards -inf by the plane slack (infinities unchanged, as the root box test needs).
+inline float widen_down(float t) { return t * (t < 0.0f ? 1.0f + kPlaneSlack : 1.0f - kPlaneSlack); }
+/// t moved towards +inf by the plane slack (infinities unchanged).
+inline float widen_up(float t) { return t * (t < 0.0f ? 1.0f - kPlaneSlack : 1.0f + kPlaneSlack); }
+
+struct StackEntry {
+  std::uint32_t node;
+  float t0, t1;
+};
+
+/// Per-ray constants of the plane tests. With AVX the origin and reciprocal direction also sit in
+/// vector registers, so that a node's axis selects them without a memory round trip (this is on
+/// the node-to-node dependency chain).
+struct PlaneRay {
+  Vec3f org;
+  float inv[3];
+  bool negative[3];
+  unsigned negative_mask = 0;  ///< bit a: dir[a] has its sign bit set
+#if defined(__AVX__)
+  __m128 org4, inv4;
+#endif
+
+  explicit PlaneRay(const Ray& ray) : org(ray.org) {
+    for (int a = 0; a < 3; ++a) {
+      inv[a] = 1.0f / ray.dir[a];  // +-inf for a zero component: see the file comment
+      negative[a] = std::signbit(ray.dir[a]);
+      negative_mask |= (negative[a] ? 1u : 0u) << a;
+    }
+#if defined(__AVX__)
+    org4 = _mm_setr_ps(org.x, org.y, org.z, 0.0f);
+    inv4 = _mm_setr_ps(inv[0], inv[1], inv[2], 0.0f);
+#endif
+  }
+
+  /// (split - org[axis]) * (1 / dir[axis]).
+  float plane_distance(int axis, float split) const {
+#if defined(__AVX__)
+    const __m128i lane = _mm_cvtsi32_si128(axis);
+    return (split - _mm_cvtss_f32(_mm_permutevar_ps(org4, lane))) * _mm_cvtss_f32(_mm_permutevar_ps(inv4, lane));
+#else
+    return (split - org[axis]) * inv[axis];
+#endif
+  }
+};
+
+/// Bounds on how far a triangle test's t may lie from the exact hit distance, for one ray.
+struct HitSlack {
+  float absolute;
+
+  HitSlack(const Ray& ray, const Bounds3f& scene) {
+    const Vec3f reach = abs(ray.org - scene.center()) + scene.extent() * 0.5f;
+    absolute = kCullAbsolute * max_component(reach) / max_component(abs(ray.dir));
+  }
+  float below(float t) const { return t - std::fabs(t) * kCullRelative - absolute; }
+  float above(float t) const { return t + std::fabs(t) * kCullRelative + absolute; }
+};
+
+/// Clips [t0, t1] to the root box; false when the ray misses it. A NaN slab distance (origin
+/// exactly on a slab plane of a zero direction component) leaves the interval unchanged.
+bool clip_to_root(const Bounds3f& box, const PlaneRay& r, float& t0, float& t1) {
+  for (int a = 0; a < 3; ++a) {
+    const float near = widen_down(((r.negative[a] ? box.hi[a] : box.lo[a]) - r.org[a]) * r.inv[a]);
+    const float far = widen_up(((r.negative[a] ? box.lo[a] : box.hi[a]) - r.org[a]) * r.inv[a]);
+    t0 = near > t0 ? near : t0;
+    t1 = far < t1 ? far : t1;
+  }
+  return t0 <= t1 && t0 < std::numeric_limits<float>::infinity();
+}
+
+struct BestHit {
+  float t = 0, u = 0, v = 0;
+  std::uint32_t triangle = kInvalidId;
+};
+
+template <bool kAnyHit>
+bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
+  if (kd.nodes.empty()) return false;
+  const PlaneRay r(ray);
+  const HitSlack slack(ray, kd.bounds);
+  float t0 = slack.below(ray.tmin), t1 = slack.above(ray.tmax);
+  if (!clip_to_root(kd.bounds, r, t0, t1)) return false;
+  const simd::BlockRay<kLeafWidth> tri_ray{WatertightRay(ray)};
+  const Lanes tri_tmin = Lanes::broadcast(ray.tmin);
+  Lanes tri_tmax = Lanes::broadcast(ray.tmax);
+  best.t = ray.tmax;
+  float cull = t1;
+
+  const KdNode* nodes = kd.nodes.data();
+  const LeafBlock* blocks = kd.blocks.data();
+  const std::uint32_t* lane_triangle = kd.lane_triangle.data();
+  StackEntry stack[kMaxDepth];
+  int sp = 0;
+  std::uint32_t index = 0;
+  for (;;) {
+    const KdNode node = nodes[index];
+    if (!node.is_leaf()) {
+      const int axis = node.axis();
+      const float ts = r.plane_distance(axis, node.split());
+      const std::uint32_t below = index + 1, above = node.right_child();
+      // Along the ray, the half-space below the plane comes first unless dir[axis] is negative.
+      const bool negative = (r.negative_mask >> axis) & 1u;
+      const std::uint32_t first = negative ? above : below;
+      const std::uint32_t second = negative ? below : above;
+      // The plane tests compare the raw ts with bounds that are already widened, which keeps the
+      // widening off the node-to-node dependency chain. Written so that a NaN ts (origin in the
+      // plane of a parallel ray) visits both children with the full interval, and so that the
+      // choice compiles to conditional moves.
+      const bool visit_first = !(ts < t0), visit_second = !(ts > t1);
+      const float ts_lo = ts - std::fabs(ts) * kPlaneSlack, ts_hi = ts + std::fabs(ts) * kPlaneSlack;
+      const float second_t0 = ts_lo > t0 ? ts_lo : t0;
+      stack[sp] = {second, second_t0, t1};
+      sp += visit_first && visit_second ? 1 : 0;
+      index = visit_first ? first : second;
+      t0 = visit_first ? t0 : second_t0;
+      t1 = visit_first && ts_hi < t1 ? ts_hi : t1;
+      continue;
+    }
+
+    const std::uint32_t first_block = node.leaf_first();
+    const std::uint32_t end_block = first_block + block_count(node.leaf_count());
+    for (std::uint32_t b = first_block; b != end_block; ++b) {
+      if constexpr (kAnyHit) {
+        if (simd::intersect_block<kLeafWidth, false>(blocks[b], tri_ray, tri_tmin, tri_tmax, nullptr) != 0) return true;
+      } else {
+        simd::BlockHits<kLeafWidth> hits;
+        simd::LaneBits lanes = simd::intersect_block<kLeafWidth, true>(blocks[b], tri_ray, tri_tmin, tri_tmax, &hits);
+        if (lanes == 0) continue;
+        for (; lanes != 0; lanes &= lanes - 1) {
+          const int l = simd::first_lane(lanes);
+          const std::uint32_t triangle = lane_triangle[std::size_t{b} * kLeafWidth + static_cast<std::uint32_t>(l)];
+          // hits.t[l] <= best.t here (best.t is the test's tmax); equal t: lowest index wins.
+          if (hits.t[l] < best.t || triangle < best.triangle) best = {hits.t[l], hits.u[l], hits.v[l], triangle};
+        }
+        tri_tmax = Lanes::broadcast(best.t);
+        cull = slack.above(best.t);
+      }
+    }
+    do {
+      if (sp == 0) return best.triangle != kInvalidId;
+      --sp;
+    } while (stack[sp].t0 > cull);
+    index = stack[sp].node;
+    t0 = stack[sp].t0;
+    t1 = stack[sp].t1;
+  }
+}
+
+}  // namespace
+
+std::optional<Hit> intersect(const KdLayout& kd, const Ray& ray) {
+  BestHit best;
+  if (!traverse<false>(kd, ray, best)) return std::nullopt;
+  return Hit{best.t, best.u, best.v, kd.prim[best.triangle], kd.instance[best.triangle]};
+}
+
+bool occluded(const KdLayout& kd, const Ray& ray) {
+  BestHit unused;
+  return traverse<true>(kd, ray, unused);
+}
+
+std::size_t KdLayout::memory_bytes() const {
+  return nodes.capacity() * sizeof(KdNode) + blocks.capacity() * sizeof(LeafBlock) +
+         (lane_triangle.capacity() + prim.capacity() + instance.capacity()) * sizeof(std::uint32_t);
+}
+
+}  // namespace vf::kd
