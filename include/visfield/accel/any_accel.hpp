@@ -8,11 +8,14 @@
 
 #include "visfield/accel/brute_force.hpp"
 #include "visfield/accel/bvh.hpp"
+#include "visfield/accel/kdtree.hpp"
+#include "visfield/accel/median_bsp.hpp"
+#include "visfield/accel/uniform_grid.hpp"
 
 namespace vf {
 
 /// Any exact structure; use with std::visit so renderers stay generic.
-using AnyAccel = std::variant<BruteForce, Bvh>;
+using AnyAccel = std::variant<Bvh, UniformGrid, KdTree, MedianBsp, BruteForce>;
 
 /// The --accel names build_accel accepts.
 std::vector<std::string> accel_names();
