@@ -11,6 +11,7 @@
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/select/decision.hpp"
 
 namespace vf::cli {
 
@@ -29,15 +30,31 @@ struct RenderOptions {
   int threads = 0;
   std::uint64_t seed = 1;
   bool no_progress = false;
+  std::uint64_t expected_rays = 0;  // for --accel auto; 0 = the rays this render will trace
+  std::string calibration;          // for --accel auto; empty = the built-in calibration
 };
+
+// Upper bound of the rays a render traces: every camera sample, and its AO rays when it hits.
+std::uint64_t rays_of_render(const Camera& camera, const RenderOptions& o) {
+  return static_cast<std::uint64_t>(camera.width) * static_cast<std::uint64_t>(camera.height) *
+         static_cast<std::uint64_t>(o.spp) * (1u + static_cast<std::uint64_t>(o.ao_rays));
+}
 
 int run_render(const RenderOptions& o) {
   check_image_extension(o.out);
   ThreadLimit limit(o.threads);
   LoadedScene loaded = load_and_flatten(o.scene);
-  const AnyAccel accel = build_accel(o.accel, loaded.triangles);
-  const AccelStats accel_stats_ = accel_stats(accel);
   const Camera camera = loaded.scene.camera_or_default(o.width, o.height);
+  std::string accel_name = o.accel;
+  if (accel_name == "auto") {
+    const std::uint64_t rays = o.expected_rays > 0 ? o.expected_rays : rays_of_render(camera, o);
+    const std::optional<std::string> calibration =
+        o.calibration.empty() ? std::nullopt : std::optional<std::string>(o.calibration);
+    accel_name = resolve_auto_accel(loaded.scene, loaded.triangles, rays, calibration);
+    std::cout << "auto: " << accel_name << " chosen for " << rays << " rays\n";
+  }
+  const AnyAccel accel = build_accel(accel_name, loaded.triangles);
+  const AccelStats accel_stats_ = accel_stats(accel);
 
   AoOptions ao;
   ao.spp = o.spp;
@@ -50,7 +67,7 @@ int run_render(const RenderOptions& o) {
   write_image(o.out, image);
 
   std::cout << "wrote " << std::filesystem::absolute(o.out).string() << "\n";
-  std::cout << "render: " << loaded.triangles.size() << " triangles, accel " << o.accel << " (build "
+  std::cout << "render: " << loaded.triangles.size() << " triangles, accel " << accel_name << " (build "
             << accel_stats_.build_ms << " ms, " << format_bytes(accel_stats_.memory_bytes) << "), "
             << limit.threads() << " threads, spp " << o.spp << ", " << o.ao_rays << " AO rays: " << stats.summary()
             << "\n";
@@ -64,9 +81,14 @@ void register_render_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("render", "Render an image (ambient occlusion) of a mesh, scene file or builtin:NAME");
   cmd->add_option("scene", options->scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
   cmd->add_option("--integrator", options->integrator, "Integrator")->check(CLI::IsMember({"ao"}))->capture_default_str();
-  cmd->add_option("--accel", options->accel, "Acceleration structure")
-      ->check(CLI::IsMember(accel_names()))
+  std::vector<std::string> accels = accel_names();
+  accels.push_back("auto");
+  cmd->add_option("--accel", options->accel, "Acceleration structure (auto: grid or kd-tree, chosen for --rays)")
+      ->check(CLI::IsMember(accels))
       ->capture_default_str();
+  cmd->add_option("--rays", options->expected_rays, "With --accel auto: expected ray count (default: this render's)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 50));
+  cmd->add_option("--calibration", options->calibration, "With --accel auto: calibration file from `visfield calibrate`");
   cmd->add_option("--spp", options->spp, "Camera samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--ao-rays", options->ao_rays, "AO rays per camera sample")->check(CLI::Range(1, 65536))->capture_default_str();
   cmd->add_option("--max-distance", options->max_distance, "AO ray length (world units; default unlimited)")

@@ -14,5 +14,13 @@ using Action = std::function<int()>;
 void register_render_command(CLI::App& app, Action& action);
 /// `visfield info <scene> ...`: counts, bounds, degenerate triangles and the built structure's memory.
 void register_info_command(CLI::App& app, Action& action);
+/// `visfield calibrate <scenes...> -o FILE`: measure grid and kd-tree, write the selection constants.
+void register_calibrate_command(CLI::App& app, Action& action);
+/// `visfield select <scene> --rays R`: grid or kd-tree for a workload of R rays, with every quantity.
+void register_select_command(CLI::App& app, Action& action);
+/// `visfield stats <scene> --accel grid`: the grid's statistics, resolution and memory.
+void register_stats_command(CLI::App& app, Action& action);
+/// `visfield report`: the grids-vs-hierarchies evaluation as markdown.
+void register_report_command(CLI::App& app, Action& action);
 
 }  // namespace vf::cli

@@ -24,6 +24,22 @@ int main(int argc, char** argv) {
   vf::cli::Action action;
   vf::cli::register_render_command(app, action);
   vf::cli::register_info_command(app, action);
+  vf::cli::register_calibrate_command(app, action);
+  vf::cli::register_select_command(app, action);
+  vf::cli::register_stats_command(app, action);
+  vf::cli::register_report_command(app, action);
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string known;
+    bool found = false;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+      found |= sub->get_name() == argv[1];
+    }
+    if (!found) {
+      std::cerr << "visfield: error: unknown command '" << argv[1] << "' (commands: " << known << ")\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,68 @@
+#include "select_cli_support.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "cli_support.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/select/calibrate.hpp"
+
+namespace vf::cli {
+
+NamedScene load_named(const std::string& spec) {
+  LoadedScene loaded = load_and_flatten(spec);
+  return NamedScene{spec, std::move(loaded.scene), std::move(loaded.triangles)};
+}
+
+void check_output_target(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path target = fs::absolute(path, ec);
+  if (ec || fs::is_directory(target, ec)) throw Error(path + ": is a directory, not a file name");
+  if (!fs::is_directory(target.parent_path(), ec)) throw Error(path + ": folder " + target.parent_path().string() + " does not exist");
+}
+
+std::uint64_t ray_count(double value, const std::string& option) {
+  if (!(value >= 0.0) || value > 1e15 || std::floor(value) != value)
+    throw Error(option + ": expected a whole number of rays in 0..1e15, got " + std::to_string(value));
+  return static_cast<std::uint64_t>(value);
+}
+
+std::string measurement_line(const SceneMeasurement& m) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer,
+                "%s: N %llu, sigma %.2f, build grid %.2f ms, kdtree %.2f ms; random t^G %.3f us t^H %.3f us; path "
+                "t^G %.3f us t^H %.3f us",
+                m.name.c_str(), static_cast<unsigned long long>(m.triangles), m.grid_statistics.std_dev, m.grid_build_ms,
+                m.tree_build_ms, m.timings(RayKind::random).grid_us, m.timings(RayKind::random).tree_us,
+                m.timings(RayKind::path).grid_us, m.timings(RayKind::path).tree_us);
+  return buffer;
+}
+
+CalibrationOptions MeasureFlags::options() const {
+  CalibrationOptions o;
+  o.rays = ray_count(rays, "--rays");
+  o.sample_rays = ray_count(sample_rays, "--sample-rays");
+  o.build_repetitions = build_repetitions;
+  o.path_bounces = bounces;
+  o.seed = seed;
+  validate_calibration_options(o);
+  return o;
+}
+
+void add_measure_flags(CLI::App& cmd, MeasureFlags& flags) {
+  cmd.add_option("--rays", flags.rays, "M: rays of each kind timed per scene through both structures")
+      ->check(CLI::Range(1.0, 1e9))
+      ->capture_default_str();
+  cmd.add_option("--sample-rays", flags.sample_rays, "S: sample rays the decision algorithm times through the grid")
+      ->check(CLI::Range(5.0, 1e6))
+      ->capture_default_str();
+  cmd.add_option("--build-repetitions", flags.build_repetitions, "Builds per structure (the median counts)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd.add_option("--bounces", flags.bounces, "Diffuse bounces of the path-tracing rays")->check(CLI::Range(0, 16))->capture_default_str();
+  cmd.add_option("--seed", flags.seed, "Seed of the ray sets")->capture_default_str();
+}
+
+}  // namespace vf::cli

@@ -1,0 +1,44 @@
+#pragma once
+/// \file Pieces shared by the selection subcommands (calibrate, select, stats, report).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "visfield/select/calibration.hpp"
+#include "visfield/select/workload.hpp"
+
+namespace vf::cli {
+
+/// Loads and flattens `spec` as load_and_flatten does (warning on stderr about zero-area triangles).
+NamedScene load_named(const std::string& spec);
+
+/// Throws vf::Error naming `path` unless its folder exists and `path` is not a folder: checked before
+/// minutes of measuring, so a typo does not throw the measurements away.
+void check_output_target(const std::string& path);
+
+/// `value` (from an option parsed as a number so "1e6" works) as a ray count; throws vf::Error naming
+/// `option` unless it is a whole number in 0..1e15.
+std::uint64_t ray_count(double value, const std::string& option);
+
+/// One line per measured scene, for progress output: N, builds and per-ray times of both kinds.
+std::string measurement_line(const SceneMeasurement& m);
+
+/// Calibration options from the flags the calibrate and report commands share.
+struct MeasureFlags {
+  double rays = 20000;
+  double sample_rays = 500;
+  int build_repetitions = 3;
+  int bounces = 2;
+  std::uint64_t seed = 1;
+
+  /// The validated options.
+  CalibrationOptions options() const;
+};
+
+/// Registers --rays, --sample-rays, --build-repetitions, --bounces and --seed on `cmd`.
+void add_measure_flags(CLI::App& cmd, MeasureFlags& flags);
+
+}  // namespace vf::cli

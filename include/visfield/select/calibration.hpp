@@ -1,0 +1,113 @@
+#pragma once
+/// \file The per-machine calibration of the grids-vs-hierarchies selection (Hapala, Karlik, Havran,
+/// section 3): raw measurements of a set of scenes (uniform grid and SAH kd-tree build times, per-ray
+/// times for random and path-tracing rays) and the constants derived from them (eqs. 7 and 8), stored
+/// as versioned JSON.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "visfield/accel/grid_stats.hpp"
+#include "visfield/select/ray_kind.hpp"
+
+namespace vf {
+
+/// Per-ray times of one scene for one ray kind, in microseconds per ray on the calibration's threads:
+/// single-thread time divided by the thread count (see median_batch_query_us).
+struct RayTimings {
+  std::uint64_t ray_count = 0;         ///< M: rays traced through both structures.
+  double grid_us = 0.0;                ///< t_R^G: grid, on the M rays (large_set_query_us).
+  double tree_us = 0.0;                ///< t_R^H: kd-tree, the same rays.
+  std::uint64_t sample_count = 0;      ///< S: the sample rays the decision algorithm traces.
+  double grid_sample_us = 0.0;         ///< t_R^G estimated from the S sample rays only (sample_query_us: what the algorithm knows).
+};
+
+/// Everything measured on one scene. Build times in milliseconds.
+struct SceneMeasurement {
+  std::string name;                       ///< The scene as the user named it.
+  std::uint64_t triangles = 0;            ///< N, triangles after flattening (>= 1).
+  std::array<int, 3> grid_resolution{};   ///< Grid cells per axis.
+  std::uint64_t grid_memory_bytes = 0;    ///< Bytes held by the grid.
+  GridStatistics grid_statistics;         ///< The paper's statistics of the grid's cells.
+  double grid_build_ms = 0.0;             ///< T_B^G.
+  double tree_build_ms = 0.0;             ///< T_B^H.
+  std::uint64_t tree_memory_bytes = 0;    ///< Bytes held by the kd-tree.
+  std::array<RayTimings, 2> rays{};       ///< Indexed by ray_kind_index().
+
+  /// Timings of `kind`.
+  const RayTimings& timings(RayKind kind) const { return rays[ray_kind_index(kind)]; }
+};
+
+/// The per-machine constants of eqs. 7 and 8.
+struct CalibrationConstants {
+  double build_ms_per_n_log2_n = 0.0;               ///< C_B: T_B^H ~ C_B * N log2 N, milliseconds.
+  std::array<double, 2> ray_us_per_log2_n{};         ///< C_R per ray kind: t_R^H ~ C_R * log2 N, microseconds.
+
+  /// C_R of `kind`.
+  double ray_us(RayKind kind) const { return ray_us_per_log2_n[ray_kind_index(kind)]; }
+};
+
+/// Where a calibration was measured.
+struct MachineInfo {
+  std::string hostname;
+  int threads = 0;        ///< TBB threads in force while measuring.
+  std::string cpu_model;  ///< "model name" of /proc/cpuinfo ("unknown" where absent).
+};
+
+/// How the measurements are taken; stored in the calibration file so a report can say what it reproduces.
+struct CalibrationOptions {
+  std::uint64_t rays = 20000;        ///< M, rays of each kind per scene, each traced once per structure.
+  std::uint64_t sample_rays = 500;   ///< S, sample rays of the decision algorithm (100..1000 in the paper).
+  int build_repetitions = 3;         ///< Builds per structure; the median counts.
+  int path_bounces = 2;              ///< Diffuse bounces of the path-tracing rays.
+  std::uint64_t seed = 1;            ///< Seed of every ray set.
+};
+
+/// A calibration: machine, settings, per-scene measurements and the constants derived from them.
+struct Calibration {
+  MachineInfo machine;
+  CalibrationOptions settings;
+  CalibrationConstants constants;
+  std::vector<SceneMeasurement> scenes;  ///< Empty for the built-in calibration (constants only).
+};
+
+/// log2 N as the cost model uses it: log2(max(N, 2)), so a one-triangle scene costs like two and no
+/// cost is ever zero.
+double cost_log2(std::uint64_t triangles);
+
+/// The constants of eqs. 7 and 8 over `scenes[i]` for each i in `subset`:
+/// C_B = (1/s) sum T_B^H(i) / (N(i) log2 N(i)), C_R(kind) = (1/s) sum t_R^H(i) / log2 N(i).
+/// Throws vf::Error when `subset` is empty or names a scene out of range.
+CalibrationConstants compute_constants(std::span<const SceneMeasurement> scenes, std::span<const std::size_t> subset);
+
+/// The constants over every scene of `scenes`. Throws vf::Error when `scenes` is empty.
+CalibrationConstants compute_constants(std::span<const SceneMeasurement> scenes);
+
+/// The calibration as JSON text: {"format": "visfield-calibration", "version": 1, "machine", "settings",
+/// "constants", "scenes"}.
+std::string calibration_to_json(const Calibration& calibration);
+
+/// Parses calibration JSON, validating every field; `source` names the file in messages. Throws a
+/// one-line vf::Error naming `source` and the field on malformed JSON, a wrong "format" or "version",
+/// a missing field or ray kind, a wrong type or an out-of-range value.
+Calibration calibration_from_json(const std::string& text, const std::string& source);
+
+/// Writes `calibration` to `path` atomically (temporary file, then rename). Throws vf::Error on I/O failure.
+void save_calibration(const std::filesystem::path& path, const Calibration& calibration);
+
+/// Reads and validates a calibration file (see calibration_from_json). Throws vf::Error naming the file.
+Calibration load_calibration(const std::filesystem::path& path);
+
+/// The constants measured on the project's build machine (see builtin_calibration.cpp for the command
+/// and the figures); used when no calibration file is given. No scenes.
+const Calibration& builtin_calibration();
+
+/// The machine this process runs on, with `threads` TBB threads in force.
+MachineInfo this_machine(int threads);
+
+}  // namespace vf

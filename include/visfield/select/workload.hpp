@@ -1,0 +1,53 @@
+#pragma once
+/// \file A scene ready for measuring, and the query set of a ray kind over it.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "visfield/core/scene.hpp"
+#include "visfield/core/triangle_set.hpp"
+#include "visfield/render/ray_sets.hpp"
+#include "visfield/select/path_rays.hpp"
+#include "visfield/select/ray_kind.hpp"
+#include "visfield/select/timing.hpp"
+
+namespace vf {
+
+/// A scene with its flattened triangles and the name the user gave it.
+struct NamedScene {
+  std::string name;
+  Scene scene;
+  TriangleSet triangles;
+};
+
+/// Loads what a user named (mesh file, scene .json, builtin:NAME[:...]) and flattens it. Throws vf::Error
+/// on bad input or a scene without non-degenerate triangles.
+NamedScene load_named_scene(const std::string& spec);
+
+/// `count` queries of `kind` over `scene` (whose flattened triangles are `triangles`): random rays
+/// (make_random_rays over the triangles' bounds, closest-hit queries) or path-tracing rays traced
+/// through `accel` (make_path_rays with `path_bounces` bounces). Deterministic in `seed`.
+template <Accelerator A>
+QuerySet make_queries(RayKind kind, const A& accel, const Scene& scene, const TriangleSet& triangles, std::size_t count,
+                      std::uint64_t seed, int path_bounces) {
+  if (kind == RayKind::random) return QuerySet{make_random_rays(triangles.bounds, count, seed), {}};
+  return make_path_rays(accel, scene, count, PathRayOptions{path_bounces, seed});
+}
+
+/// What the decision algorithm learns from its sample: how many queries it traced and their time.
+struct SampleTiming {
+  std::size_t count = 0;   ///< Queries in the sample.
+  double query_us = 0.0;   ///< Microseconds per query on `threads` threads (sample_query_us).
+};
+
+/// Step 2 of the decision algorithm: `count` queries of `kind` drawn with `seed` (path rays traced
+/// through `accel` itself), timed through `accel` by sample_query_us.
+template <Accelerator A>
+SampleTiming time_sample(RayKind kind, const A& accel, const Scene& scene, const TriangleSet& triangles, std::size_t count,
+                         std::uint64_t seed, int path_bounces, int threads) {
+  const QuerySet sample = make_queries(kind, accel, scene, triangles, count, seed, path_bounces);
+  return {sample.size(), sample_query_us(accel, sample, threads)};
+}
+
+}  // namespace vf

@@ -1,0 +1,179 @@
+#include "visfield/select/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "visfield/core/error.hpp"
+#include "visfield/select/experiment.hpp"
+#include "visfield/select/timing.hpp"
+
+namespace vf {
+namespace {
+
+std::string fixed(double value, int decimals) {
+  if (std::isnan(value)) return "n/a";
+  if (std::isinf(value)) return value > 0 ? "∞" : "-∞";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+// Integer with thousands separators ("1,234,567"), as the paper prints ray counts; ∞ for infinity.
+std::string grouped(double value) {
+  if (std::isnan(value)) return "n/a";
+  if (std::isinf(value)) return "∞";
+  const std::string digits = fixed(std::round(value), 0);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i != 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+// A scene as the tables show it: mesh files by their file name, other specs (builtin:...) as given.
+std::string scene_label(const std::string& name) {
+  if (name.rfind("builtin:", 0) == 0) return name;
+  const std::string file = std::filesystem::path(name).filename().string();
+  return file.empty() ? name : file;
+}
+
+std::string percent(std::size_t part, std::size_t whole) {
+  return whole ? fixed(100.0 * static_cast<double>(part) / static_cast<double>(whole), 0) + "%" : "n/a";
+}
+
+std::string scientific(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.0e", value);
+  return buffer;
+}
+
+void write_header(std::ostringstream& md, const Calibration& c, const ReportOptions& options) {
+  const CalibrationOptions& s = c.settings;
+  md << "# Uniform grid or SAH kd-tree: calibration and selection report\n\n"
+     << "Reproduces the evaluation of Hapala, Karlík, Havran, *When It Makes Sense to Use Uniform Grids for Ray Tracing*"
+     << " (section 4) with visfield's `grid` (UniformGrid, default density) and `kdtree` (KdTree, SAH).\n\n"
+     << "- Machine: " << c.machine.cpu_model << " (" << c.machine.hostname << "), " << c.machine.threads << " threads\n"
+     << "- Rays per scene and kind: M = " << s.rays << ", each traced once per structure; per-ray time = median over"
+     << " batches of ~" << kTimingBatchQueries << " rays (after one untimed batch) of the single-thread time, divided by"
+     << " the thread count. Decision sample: S = " << s.sample_rays << " other rays (seed + 1) through the grid only, in "
+     << kSampleParts << " batches (one untimed), median\n"
+     << "- Builds: median of " << s.build_repetitions << "; path-tracing rays: camera ray, " << s.path_bounces
+     << " cosine-weighted diffuse bounces, one shadow ray per hit; seed " << s.seed << "\n"
+     << "- ε = " << options.epsilon << "; leave-k-out: " << options.splits << " random splits per k (seed " << options.seed
+     << ")\n";
+  const CalibrationConstants all = compute_constants(c.scenes);
+  md << "- Constants over all " << c.scenes.size() << " scenes: C_B = " << all.build_ms_per_n_log2_n
+     << " ms per N log2 N, C_R = " << all.ray_us(RayKind::random) << " µs (random), " << all.ray_us(RayKind::path)
+     << " µs (path) per log2 N\n";
+  if (!options.command.empty()) md << "- Command: `" << options.command << "`\n";
+  md << "\nExact R_C = (T_B^H − T_B^G) / (t^G − t^H): the ray count at which grid and kd-tree, each built from scratch,"
+     << " take the same total time (the definition of the paper's Table 1; ∞ where the grid is never slower per ray)."
+     << " Estimated R_C = T_B^H,est / (t^G,sample (1 + ε) − t^H,est) with T_B^H,est = C_B N log2 N and"
+     << " t^H,est = C_R log2 N (eqs. 7, 8) calibrated on all *other* scenes (leave-one-out), t^G,sample from the S sample"
+     << " rays. Error = 100 (R_est − R_C) / R_C.\n\n";
+}
+
+void write_table1(std::ostringstream& md, const Calibration& c, const ReportOptions& options) {
+  const std::vector<CriticalRaysEstimate> random = leave_one_out(c.scenes, RayKind::random, options.epsilon);
+  const std::vector<CriticalRaysEstimate> path = leave_one_out(c.scenes, RayKind::path, options.epsilon);
+  md << "## Table 1: measurements, exact and estimated critical ray counts\n\n"
+     << "Build times in ms, per-ray times in µs (mesh files by file name; the measured paths are in the calibration"
+     << " file).\n\n"
+     << "| Scene | N | σ | T_B^G | T_B^H | random t^G | t^H | R_C | R_est | err % | path t^G | t^H | R_C | R_est | err % |\n"
+     << "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (std::size_t i = 0; i < c.scenes.size(); ++i) {
+    const SceneMeasurement& s = c.scenes[i];
+    md << "| " << scene_label(s.name) << " | " << grouped(static_cast<double>(s.triangles)) << " | "
+       << fixed(s.grid_statistics.std_dev, 2) << " | " << fixed(s.grid_build_ms, 2) << " | " << fixed(s.tree_build_ms, 2);
+    for (RayKind kind : kRayKinds) {
+      const CriticalRaysEstimate& e = kind == RayKind::random ? random[i] : path[i];
+      md << " | " << fixed(s.timings(kind).grid_us, 3) << " | " << fixed(s.timings(kind).tree_us, 3) << " | "
+         << grouped(e.exact) << " | " << grouped(e.estimate) << " | " << fixed(e.error_percent, 1);
+    }
+    md << " |\n";
+  }
+  md << "\n";
+}
+
+void write_statistics(std::ostringstream& md, const Calibration& c) {
+  md << "## Grid statistics (eqs. 1–6) and the inputs of the estimate\n\n"
+     << "Est/meas: the leave-one-out estimate of the kd-tree's build time and per-ray time over the measured value;"
+     << " sample/full: the grid's per-ray time on the S sample rays over that on all M rays.\n\n"
+     << "| Scene | resolution | sparseness | maxRefs | mean | variance | skewness | kurtosis | T_B^H est/meas"
+     << " | random t^H est/meas | random t^G sample/full | path t^H est/meas | path t^G sample/full |\n"
+     << "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (std::size_t i = 0; i < c.scenes.size(); ++i) {
+    const SceneMeasurement& s = c.scenes[i];
+    const CalibrationConstants constants = constants_without(c.scenes, i);
+    const GridStatistics& g = s.grid_statistics;
+    md << "| " << scene_label(s.name) << " | " << s.grid_resolution[0] << "×" << s.grid_resolution[1] << "×" << s.grid_resolution[2]
+       << " | " << fixed(g.sparseness, 3) << " | " << g.max_refs << " | " << fixed(g.mean, 2) << " | " << fixed(g.variance, 1)
+       << " | " << fixed(g.skewness, 2) << " | " << fixed(g.kurtosis, 1) << " | "
+       << fixed(estimated_tree_build_ms(constants, s.triangles) / s.tree_build_ms, 2);
+    for (RayKind kind : kRayKinds) {
+      const RayTimings& t = s.timings(kind);
+      md << " | " << fixed(estimated_tree_ray_us(constants, kind, s.triangles) / t.tree_us, 2) << " | "
+         << fixed(t.grid_sample_us / t.grid_us, 2);
+    }
+    md << " |\n";
+  }
+  md << "\n";
+}
+
+void write_leave_k_out(std::ostringstream& md, const Calibration& c, const ReportOptions& options) {
+  const std::vector<LeaveKOutRow> random = leave_k_out(c.scenes, RayKind::random, options.splits, options.seed, options.epsilon);
+  const std::vector<LeaveKOutRow> path = leave_k_out(c.scenes, RayKind::path, options.splits, options.seed, options.epsilon);
+  md << "## Leave-k-out: calibrate on k random scenes, estimate R_C of the others\n\n"
+     << "Mean error and mean |error| in % over all (split, estimated scene) pairs; pairs where the exact or estimated"
+     << " R_C is ∞ (or the exact one 0) have no relative error and are counted as left out (paper: Figures 1 and 2).\n\n"
+     << "| k | random: mean err % | mean \\|err\\| % | pairs | left out | path: mean err % | mean \\|err\\| % | pairs | left out |\n"
+     << "|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (std::size_t i = 0; i < random.size(); ++i) {
+    md << "| " << random[i].k;
+    for (const LeaveKOutRow* row : {&random[i], &path[i]})
+      md << " | " << fixed(row->mean_error_percent, 1) << " | " << fixed(row->mean_abs_error_percent, 1) << " | "
+         << row->estimates << " | " << row->undefined;
+    md << " |\n";
+  }
+  md << "\n";
+}
+
+void write_decisions(std::ostringstream& md, const Calibration& c, const ReportOptions& options) {
+  md << "## Decision accuracy\n\n"
+     << "For each workload of R rays and each scene: the decision (leave-one-out calibration, sampled grid time) is right"
+     << " when it picks the structure with the smaller measured total T_B + R t_R. Time/best: mean over scenes of the"
+     << " decision's time (T_B^G always, then R t^G, or T_B^H + R t^H) over the better total.\n\n"
+     << "| rays | R | decision right | % | always grid right | always kd-tree right | time / best |\n"
+     << "|---|--:|--:|--:|--:|--:|--:|\n";
+  std::size_t right = 0, total = 0;
+  for (RayKind kind : kRayKinds) {
+    for (const DecisionRow& row : decision_accuracy(c.scenes, kind, options.decision_rays, options.epsilon)) {
+      md << "| " << ray_kind_name(kind) << " | " << scientific(row.rays) << " | " << row.right << "/" << row.scenes << " | "
+         << percent(row.right, row.scenes) << " | " << percent(row.grid_right, row.scenes) << " | "
+         << percent(row.tree_right, row.scenes) << " | " << fixed(row.mean_time_ratio, 3) << " |\n";
+      right += row.right;
+      total += row.scenes;
+    }
+  }
+  md << "\nOverall: " << right << " of " << total << " decisions right (" << percent(right, total) << ").\n";
+}
+
+}  // namespace
+
+std::string report_markdown(const Calibration& measured, const ReportOptions& options) {
+  if (measured.scenes.size() < 2)
+    throw Error("report: needs at least 2 measured scenes, got " + std::to_string(measured.scenes.size()));
+  if (options.splits < 1) throw Error("report: splits must be at least 1");
+  std::ostringstream md;
+  write_header(md, measured, options);
+  write_table1(md, measured, options);
+  write_statistics(md, measured);
+  write_leave_k_out(md, measured, options);
+  write_decisions(md, measured, options);
+  return md.str();
+}
+
+}  // namespace vf

@@ -1,0 +1,31 @@
+#include "visfield/select/timing.hpp"
+
+#include <tbb/global_control.h>
+
+namespace vf {
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t mid = values.size() / 2;
+  return values.size() % 2 == 1 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
+int threads_in_force() {
+  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
+void do_not_optimize(std::uint64_t value) {
+  static volatile std::uint64_t sink = 0;
+  sink = sink + value;
+}
+
+QuerySet query_parts(const QuerySet& queries, std::size_t first, std::size_t last, std::size_t parts) {
+  const auto slice = [&](const std::vector<Ray>& rays) {
+    const std::size_t begin = rays.size() * first / parts, end = rays.size() * last / parts;
+    return std::vector<Ray>(rays.begin() + static_cast<std::ptrdiff_t>(begin), rays.begin() + static_cast<std::ptrdiff_t>(end));
+  };
+  return QuerySet{slice(queries.closest), slice(queries.shadow)};
+}
+
+}  // namespace vf
