@@ -38,6 +38,14 @@ void check_image_extension(const std::string& path) {
   if (ext != ".png" && ext != ".exr") throw Error(path + ": output must end in .png or .exr");
 }
 
+void add_scene_argument(CLI::App& cmd, std::string& scene) {
+  cmd.add_option("scene", scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
+}
+
+void add_threads_option(CLI::App& cmd, int& threads) {
+  cmd.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+}
+
 std::string format_bytes(std::size_t bytes) {
   char buffer[64];
   const double b = static_cast<double>(bytes);

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cli_support.hpp"
 #include "commands.hpp"
 #include "select_cli_support.hpp"
 #include "visfield/core/parallel.hpp"
@@ -43,7 +44,7 @@ void register_calibrate_command(CLI::App& app, Action& action) {
   cmd->add_option("scenes", options->scenes, "Mesh files, scene .json files or builtin:NAME[:size=N,seed=S]")->required();
   cmd->add_option("-o,--out", options->out, "Calibration file to write (JSON)")->required();
   add_measure_flags(*cmd, options->measure);
-  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  add_threads_option(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_calibrate(*options); }; });
 }
 

@@ -57,11 +57,11 @@ int run_info(const InfoOptions& o) {
 void register_info_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand("info", "Print counts, bounds, degenerate triangles and the built structure's memory");
-  cmd->add_option("scene", options->scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
+  add_scene_argument(*cmd, options->scene);
   cmd->add_option("--accel", options->accel, "Structure to build and measure")
       ->check(CLI::IsMember(accel_names()))
       ->capture_default_str();
-  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  add_threads_option(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_info(*options); }; });
 }
 

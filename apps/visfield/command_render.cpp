@@ -79,7 +79,7 @@ int run_render(const RenderOptions& o) {
 void register_render_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render an image (ambient occlusion) of a mesh, scene file or builtin:NAME");
-  cmd->add_option("scene", options->scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
+  add_scene_argument(*cmd, options->scene);
   cmd->add_option("--integrator", options->integrator, "Integrator")->check(CLI::IsMember({"ao"}))->capture_default_str();
   std::vector<std::string> accels = accel_names();
   accels.push_back("auto");
@@ -97,7 +97,7 @@ void register_render_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 16384));
   cmd->add_option("--height", options->height, "Image height in pixels (default: the scene camera's, else 512)")
       ->check(CLI::Range(1, 16384));
-  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  add_threads_option(*cmd, options->threads);
   cmd->add_option("--seed", options->seed, "Random seed (the image depends on it, not on the thread count)")->capture_default_str();
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float)")->capture_default_str();
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");

@@ -4,6 +4,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli_support.hpp"
 #include "commands.hpp"
 #include "select_cli_support.hpp"
 #include "visfield/core/error.hpp"
@@ -121,7 +122,7 @@ void register_report_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--split-seed", options->split_seed, "Seed of the leave-k-out splits")->capture_default_str();
-  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  add_threads_option(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_report(*options); }; });
 }
 

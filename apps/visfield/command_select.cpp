@@ -69,7 +69,7 @@ void register_select_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<SelectCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
       "select", "Choose between the uniform grid and the SAH kd-tree for a workload of R rays (build, sample, estimate R_C)");
-  cmd->add_option("scene", options->scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
+  add_scene_argument(*cmd, options->scene);
   cmd->add_option("--rays", options->rays, "R: rays the workload will trace")->check(CLI::Range(0.0, 1e15))->required();
   cmd->add_option("--calibration", options->calibration, "Calibration file from `visfield calibrate` (default: built in)");
   cmd->add_option("--kind", options->kind, "Kind of the workload's rays")
@@ -79,7 +79,7 @@ void register_select_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(5.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--seed", options->seed, "Seed of the sample rays")->capture_default_str();
-  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  add_threads_option(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_select(*options); }; });
 }
 

@@ -46,9 +46,9 @@ void register_stats_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<StatsOptions>();
   CLI::App* cmd = app.add_subcommand(
       "stats", "Print a structure's statistics (grid: sparseness, maxRefs, mean, variance, std dev, skewness, kurtosis)");
-  cmd->add_option("scene", options->scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
+  add_scene_argument(*cmd, options->scene);
   cmd->add_option("--accel", options->accel, "Structure to analyse")->check(CLI::IsMember({"grid"}))->capture_default_str();
-  cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  add_threads_option(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_stats(*options); }; });
 }
 
