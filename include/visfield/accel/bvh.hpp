@@ -16,7 +16,7 @@ namespace vf {
 /// Build parameters of the BVH; defaults are the ones measured fastest on the shared models (AO
 /// rays on bun_zipper, sponza, conference). Bvh::build throws vf::Error on values out of range.
 struct BvhConfig {
-  int bin_count = 32;               ///< SAH bins per axis, in [2, 64].
+  int bin_count = 32;               ///< SAH bins per axis, in [2, 64]; a range of n triangles uses min(bin_count, 4 + n / 20).
   int max_leaf_size = 8;            ///< Leaves never hold more triangles than this, in [1, 128].
   float traversal_cost = 1.0f;      ///< SAH cost of visiting a node, relative to one leaf block test (>= 0).
   float intersection_cost = 1.0f;   ///< SAH cost of one leaf block test (8 triangles at once; > 0).

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <limits>
+#include <new>
 #include <utility>
 
 #include <tbb/blocked_range.h>
@@ -64,17 +65,34 @@ struct Bin {
   std::uint32_t count = 0;
 };
 
-/// Bins of the three axes for one range.
-struct Binning {
-  std::array<std::array<Bin, kMaxBins>, 3> bins{};
-
-  void merge(const Binning& o, int bin_count) {
+/// Bins of the three axes for one range. Only the first `bin_count` bins of each axis are
+/// initialised and used: most ranges are small, and clearing all kMaxBins would dominate their cost.
+class Binning {
+ public:
+  explicit Binning(int bin_count) : bin_count_(bin_count) {
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < bin_count; ++b) {
-        bins[a][b].box.extend(o.bins[a][b].box);
-        bins[a][b].count += o.bins[a][b].count;
+      for (int b = 0; b < bin_count; ++b) new (&storage_.bins[a][b]) Bin();
+  }
+  Binning(const Binning&) = delete;
+  Binning& operator=(const Binning&) = delete;
+
+  Bin* axis(int a) { return storage_.bins[a]; }
+  const Bin* axis(int a) const { return storage_.bins[a]; }
+
+  void merge(const Binning& o) {
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < bin_count_; ++b) {
+        storage_.bins[a][b].box.extend(o.storage_.bins[a][b].box);
+        storage_.bins[a][b].count += o.storage_.bins[a][b].count;
       }
   }
+
+ private:
+  union Storage {
+    Storage() {}
+    Bin bins[3][kMaxBins];
+  } storage_;
+  int bin_count_;
 };
 
 /// Maps a (doubled) centroid to its bin on each axis.
@@ -156,38 +174,40 @@ class Builder {
       const Box4& box = prims_[order_[i]];
       const std::array<int, 3> b = map.bins(centroid2(box));
       for (int a = 0; a < 3; ++a) {
-        Bin& bin = binning.bins[a][b[a]];
+        Bin& bin = binning.axis(a)[b[a]];
         bin.box.extend(box);
         ++bin.count;
       }
     }
   }
 
-  Binning bin_range(const Range& r, const BinMapping& map) const {
+  void bin_range(const Range& r, const BinMapping& map, Binning& out) const {
     if (r.size() < kParallelBinning) {
-      Binning binning;
-      bin_into(binning, map, r.begin, r.end);
-      return binning;
+      bin_into(out, map, r.begin, r.end);
+      return;
     }
     // Boxes merge by min/max and counts by addition, so the result is the same however TBB splits.
     struct Body {
       const Builder& builder;
       const BinMapping& map;
-      Binning binning;
-      Body(const Builder& b, const BinMapping& m) : builder(b), map(m) {}
-      Body(Body& o, tbb::split) : builder(o.builder), map(o.map) {}
+      Binning own;
+      Binning* binning;  // the caller's for the root body, `own` for split bodies
+      Body(const Builder& b, const BinMapping& m, Binning& target)
+          : builder(b), map(m), own(1), binning(&target) {}
+      Body(Body& o, tbb::split) : builder(o.builder), map(o.map), own(o.map.bin_count), binning(&own) {}
       void operator()(const tbb::blocked_range<std::uint32_t>& br) {
-        builder.bin_into(binning, map, br.begin(), br.end());
+        builder.bin_into(*binning, map, br.begin(), br.end());
       }
-      void join(const Body& o) { binning.merge(o.binning, map.bin_count); }
+      void join(const Body& o) { binning->merge(*o.binning); }
     };
-    Body body(*this, map);
+    Body body(*this, map, out);
     tbb::parallel_reduce(tbb::blocked_range<std::uint32_t>(r.begin, r.end, 4096), body);
-    return body.binning;
   }
 
   Split find_split(const Range& r, BinMapping& map) const {
-    const int bins = config_.bin_count;
+    // Few bins for small ranges (as Embree does): their splits hardly improve with more, and the
+    // bins' set-up and sweeps would dominate the cost of binning a few triangles.
+    const int bins = static_cast<int>(std::min(static_cast<std::uint32_t>(config_.bin_count), 4 + r.size() / 20));
     alignas(16) float lo[4], hi[4];
     r.centroids.lo.store(lo);
     r.centroids.hi.store(hi);
@@ -201,12 +221,13 @@ class Builder {
     map = BinMapping{r.centroids.lo, V4::load(scale), bins};
     Split best;
     if (!any_axis) return best;
-    const Binning binning = bin_range(r, map);
+    Binning binning(bins);
+    bin_range(r, map, binning);
     std::array<float, kMaxBins> right_area{};
     std::array<std::uint32_t, kMaxBins> right_count{};
     for (int a = 0; a < 3; ++a) {
       if (!(scale[a] > 0.0f)) continue;
-      const auto& axis_bins = binning.bins[a];
+      const Bin* axis_bins = binning.axis(a);
       Box4 acc;
       std::uint32_t count = 0;
       for (int b = bins - 1; b > 0; --b) {
@@ -232,7 +253,7 @@ class Builder {
     }
     if (best.axis < 0) return best;
     best.cost += config_.traversal_cost * r.bounds.half_area();
-    for (int b = 0; b < bins; ++b) (b < best.bin ? best.left : best.right).extend(binning.bins[best.axis][b].box);
+    for (int b = 0; b < bins; ++b) (b < best.bin ? best.left : best.right).extend(binning.axis(best.axis)[b].box);
     return best;
   }
 

@@ -36,9 +36,16 @@ struct BoxRay {
 
   /// Fills the constants for `ray` given inv_dir[a] = 1 / ray.dir[a] (+-inf for +-0).
   void set(const Ray& ray, const float* inv_dir) {
+    set(ray, V8::broadcast(inv_dir[0]), V8::broadcast(inv_dir[1]), V8::broadcast(inv_dir[2]));
+  }
+  /// Fills the constants for `ray` given inv_x = 1 / ray.dir.x (+-inf for +-0) in every lane, and
+  /// so on.
+  void set(const Ray& ray, const V8& inv_x, const V8& inv_y, const V8& inv_z) {
+    inv[0] = inv_x;
+    inv[1] = inv_y;
+    inv[2] = inv_z;
     for (int a = 0; a < 3; ++a) {
       org[a] = V8::broadcast(ray.org[a]);
-      inv[a] = V8::broadcast(inv_dir[a]);
       const int negative = std::signbit(ray.dir[a]) ? 3 : 0;
       near_row[a] = kLoX + a + negative;
       far_row[a] = kHiX + a - negative;

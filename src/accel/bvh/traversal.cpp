@@ -25,6 +25,17 @@ constexpr int kStackSize = 7 * bvh::kMaxBinaryDepth + 1;
 /// 8-lane division and no branches (AO directions are random, so branches on them would be
 /// mispredicted, and six scalar divisions would cost more than the rest of a short traversal).
 struct TraversalRay {
+#if defined(__AVX2__)
+  // Lanes of (dir.x, dir.y, dir.z, 1) forming the numerator (1, 1, 1, dir[kx], dir[ky], 1, 1, 1) per
+  // kz and kx/ky swap, and the denominator (dir.x, dir.y, dir.z, dir[kz] x3, 1, 1) per kz.
+  alignas(32) static constexpr int kNumeratorLanes[3][2][8] = {
+      {{3, 3, 3, 1, 2, 3, 3, 3}, {3, 3, 3, 2, 1, 3, 3, 3}},
+      {{3, 3, 3, 2, 0, 3, 3, 3}, {3, 3, 3, 0, 2, 3, 3, 3}},
+      {{3, 3, 3, 0, 1, 3, 3, 3}, {3, 3, 3, 1, 0, 3, 3, 3}}};
+  alignas(32) static constexpr int kDenominatorLanes[3][8] = {
+      {0, 1, 2, 0, 0, 0, 3, 3}, {0, 1, 2, 1, 1, 1, 3, 3}, {0, 1, 2, 2, 2, 2, 3, 3}};
+  static __m256i load_index(const int* lanes) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes)); }
+#endif
   bvh::BoxRay box;
   simd::BlockRay<kLeafWidth> triangle;
 
@@ -42,12 +53,26 @@ struct TraversalRay {
     const int swap = (kx ^ ky) & -int(d[kz] < 0.0f);  // swap kx, ky when dir[kz] < 0 (keeps the winding)
     kx ^= swap;
     ky ^= swap;
+#if defined(__AVX2__)
+    // The operands are gathered and the quotients spread by register permutes: building them in a
+    // stack array with scalar stores and reloading it as a vector stalls on store forwarding,
+    // which measured as a sixth of a short AO traversal.
+    const int flip = swap != 0 ? 1 : 0;
+    const __m256 dir1 = _mm256_castps128_ps256(_mm_setr_ps(d[0], d[1], d[2], 1.0f));  // lanes 4..7 unused
+    const __m256 numerator = _mm256_permutevar8x32_ps(dir1, load_index(kNumeratorLanes[kz][flip]));
+    const __m256 denominator = _mm256_permutevar8x32_ps(dir1, load_index(kDenominatorLanes[kz]));
+    const __m256 q = _mm256_div_ps(numerator, denominator);  // 1/dir (+-inf for +-0), sx, sy, sz, 1, 1
+    const auto lane = [&](int l) { return V8{_mm256_permutevar8x32_ps(q, _mm256_set1_epi32(l))}; };
+    box.set(ray, lane(0), lane(1), lane(2));
+    return simd::BlockRay<kLeafWidth>(kx, ky, kz, ray.org, lane(3), lane(4), lane(5));
+#else
     alignas(32) const float numerator[8] = {1.0f, 1.0f, 1.0f, d[kx], d[ky], 1.0f, 1.0f, 1.0f};
     alignas(32) const float denominator[8] = {d[0], d[1], d[2], d[kz], d[kz], d[kz], 1.0f, 1.0f};
     alignas(32) float q[8];
     (V8::load(numerator) / V8::load(denominator)).store(q);  // 1/dir (+-inf for +-0), sx, sy, sz
     box.set(ray, q);
     return simd::BlockRay<kLeafWidth>(kx, ky, kz, ray.org, q[3], q[4], q[5]);
+#endif
   }
 };
 

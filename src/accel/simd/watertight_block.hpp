@@ -45,6 +45,10 @@ struct BlockRay {
   BlockRay(int kx_, int ky_, int kz_, const Vec3f& o, float sx_, float sy_, float sz_)
       : kx(kx_), ky(ky_), kz(kz_), org_x(V::broadcast(o[kx_])), org_y(V::broadcast(o[ky_])),
         org_z(V::broadcast(o[kz_])), sx(V::broadcast(sx_)), sy(V::broadcast(sy_)), sz(V::broadcast(sz_)) {}
+  /// As above, with the shear constants already broadcast.
+  BlockRay(int kx_, int ky_, int kz_, const Vec3f& o, const V& sx_, const V& sy_, const V& sz_)
+      : kx(kx_), ky(ky_), kz(kz_), org_x(V::broadcast(o[kx_])), org_y(V::broadcast(o[ky_])),
+        org_z(V::broadcast(o[kz_])), sx(sx_), sy(sy_), sz(sz_) {}
 };
 
 /// t, u, v of every lane of one block test (meaningful in hit lanes only).
