@@ -1,12 +1,14 @@
 #include "kdtree/flat_tree.hpp"
 
 #include <algorithm>
+#include <span>
 #include <limits>
 #include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "kdtree/clip.hpp"
 #include "visfield/core/error.hpp"
 
 namespace vf::kd {
@@ -64,11 +66,57 @@ void FlatTree::append(const FlatTree& subtree) {
   max_depth = std::max(max_depth, subtree.max_depth);
 }
 
+namespace {
+
+/// Orders `refs` (a leaf's triangles) so that each run of kLeafWidth holds triangles close to one
+/// another: recursive halving at the median centroid along the widest axis, the halves cut at a
+/// multiple of kLeafWidth.
+void group_by_position(std::span<std::uint32_t> refs, const TriangleSet& set) {
+  if (refs.size() <= static_cast<std::size_t>(kLeafWidth)) return;
+  const auto centroid = [&](std::uint32_t t) {
+    const std::array<Vec3f, 3>& c = set.triangles[t];
+    return (c[0] + c[1] + c[2]) * (1.0f / 3.0f);
+  };
+  Bounds3f spread;
+  for (const std::uint32_t t : refs) spread.extend(centroid(t));
+  const Vec3f extent = spread.hi - spread.lo;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const std::size_t blocks = block_count(static_cast<std::uint32_t>(refs.size()));
+  const std::size_t cut = (blocks / 2) * kLeafWidth;
+  std::nth_element(refs.begin(), refs.begin() + static_cast<std::ptrdiff_t>(cut), refs.end(),
+                   [&](std::uint32_t a, std::uint32_t b) {
+                     const float ca = centroid(a)[axis], cb = centroid(b)[axis];
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  group_by_position(refs.first(cut), set);
+  group_by_position(refs.subspan(cut), set);
+}
+
+/// Calls f(leaf index, cell box) for every leaf below `index`, whose cell is `box`.
+template <class F>
+void for_each_leaf_cell(const std::vector<KdNode>& nodes, std::uint32_t index, const Bounds3f& box, F&& f) {
+  const KdNode& node = nodes[index];
+  if (node.is_leaf()) {
+    f(index, box);
+    return;
+  }
+  Bounds3f below = box, above = box;
+  below.hi[node.axis()] = node.split();
+  above.lo[node.axis()] = node.split();
+  for_each_leaf_cell(nodes, index + 1, below, f);
+  for_each_leaf_cell(nodes, node.right_child(), above, f);
+}
+
+}  // namespace
+
 void finish_layout(FlatTree&& tree, const TriangleSet& set, KdLayout& layout) {
   layout.nodes = std::move(tree.nodes);
   // Leaf i's blocks start at the sum of the block counts of the leaves before it; its references
-  // start at first_reference[i].
+  // start at first_reference[i]; its cell is cell[i].
   std::vector<std::uint32_t> first_reference(layout.nodes.size(), 0);
+  std::vector<Bounds3f> cell(layout.nodes.size());
+  if (!layout.nodes.empty())
+    for_each_leaf_cell(layout.nodes, 0, set.bounds, [&](std::uint32_t i, const Bounds3f& box) { cell[i] = box; });
   std::size_t block_total = 0;
   for (std::size_t i = 0; i < layout.nodes.size(); ++i) {
     KdNode& node = layout.nodes[i];
@@ -81,22 +129,39 @@ void finish_layout(FlatTree&& tree, const TriangleSet& set, KdLayout& layout) {
   }
   layout.blocks.resize(block_total);
   layout.lane_triangle.assign(block_total * kLeafWidth, kInvalidId);
+  for (int axis = 0; axis < 3; ++axis) {
+    layout.box_lo[axis].assign(block_total + kBoxWidth, 0.0f);
+    layout.box_hi[axis].assign(block_total + kBoxWidth, 0.0f);
+  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.nodes.size(), 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const KdNode& node = layout.nodes[i];
       if (!node.is_leaf()) continue;
       const std::uint32_t count = node.leaf_count();
-      for (std::uint32_t k = 0; k < block_count(count) * kLeafWidth; ++k) {
-        LeafBlock& block = layout.blocks[node.leaf_first() + k / kLeafWidth];
-        const int lane = static_cast<int>(k % kLeafWidth);
-        if (k >= count) {
-          block.clear(lane);
-          continue;
+      const std::span<std::uint32_t> refs(tree.references.data() + first_reference[i], count);
+      group_by_position(refs, set);
+      for (std::uint32_t b = 0; b < block_count(count); ++b) {
+        const std::uint32_t block_index = node.leaf_first() + b;
+        LeafBlock& block = layout.blocks[block_index];
+        Bounds3f box;
+        for (int lane = 0; lane < kLeafWidth; ++lane) {
+          const std::uint32_t k = b * kLeafWidth + static_cast<std::uint32_t>(lane);
+          if (k >= count) {
+            block.clear(lane);
+            continue;
+          }
+          const std::uint32_t triangle = refs[k];
+          const std::array<Vec3f, 3>& corners = set.triangles[triangle];
+          block.set(lane, corners[0], corners[1], corners[2]);
+          for (const Vec3f& p : corners) box.extend(p);
+          layout.lane_triangle[std::size_t{block_index} * kLeafWidth + static_cast<std::uint32_t>(lane)] = triangle;
         }
-        const std::uint32_t triangle = tree.references[first_reference[i] + k];
-        const std::array<Vec3f, 3>& corners = set.triangles[triangle];
-        block.set(lane, corners[0], corners[1], corners[2]);
-        layout.lane_triangle[std::size_t{node.leaf_first()} * kLeafWidth + k] = triangle;
+        // Within the cell: a hit outside it lies in another leaf's cell, tested there.
+        box = intersect_bounds(box, cell[i]);
+        for (int axis = 0; axis < 3; ++axis) {
+          layout.box_lo[axis][block_index] = box.lo[axis];
+          layout.box_hi[axis][block_index] = box.hi[axis];
+        }
       }
     }
   });

@@ -35,7 +35,8 @@ struct FlatTree {
   void append(const FlatTree& subtree);
 };
 
-/// Moves the built tree into `layout`, copying each leaf's triangles into its SIMD blocks and the
+/// Moves the built tree into `layout`, copying each leaf's triangles into its SIMD blocks (grouped
+/// by position, each block with its box clipped to the leaf cell) and the
 /// set's id maps; fills the node, leaf, reference and depth statistics and memory_bytes (not
 /// build_ms). Throws vf::Error when the blocks outgrow the 32-bit leaf field.
 void finish_layout(FlatTree&& tree, const TriangleSet& set, KdLayout& layout);

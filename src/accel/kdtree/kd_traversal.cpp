@@ -8,6 +8,12 @@
 // lies exactly in the plane the product is NaN and both children are visited with the full
 // interval (the ray runs inside the plane, where planar triangles live).
 //
+// Block boxes. A leaf tests a block only when the ray meets the block's box (its triangles'
+// bounds clipped to the leaf cell) within [tmin, best t] grown by the hit slack below, with the
+// plane distances widened as above. The exact hit point of a triangle lies in the closed cell of a
+// leaf referencing it, hence in that leaf's box of the block holding the triangle, so the box test
+// never drops the hit that the loop below would keep.
+//
 // Exactness. Leaves run the oracle's block kernel (bit-identical to intersect_triangle). A leaf
 // tests its triangles against the whole [tmin, best t] of the ray, not only against its own cell
 // interval, and the best hit is kept across leaves. The t a triangle test computes may be off from
@@ -18,7 +24,9 @@
 // point of a triangle lies in the closed box of some leaf referencing it, the hit the brute-force
 // loop reports is always tested, ties included: results are bit-identical to that loop.
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #if defined(__AVX__)
@@ -93,6 +101,48 @@ struct HitSlack {
   float above(float t) const { return t + std::fabs(t) * kCullRelative + absolute; }
 };
 
+/// The ray against the boxes of kBoxWidth consecutive leaf blocks at once (KdLayout::box_lo/hi).
+class BlockBoxRay {
+ public:
+  using BoxLanes = simd::Lanes<kBoxWidth>;
+
+  BlockBoxRay(const KdLayout& kd, const PlaneRay& r) {
+    for (int a = 0; a < 3; ++a) {
+      // Along a negative direction the upper face is entered first.
+      near_[a] = (r.negative[a] ? kd.box_hi[a] : kd.box_lo[a]).data();
+      far_[a] = (r.negative[a] ? kd.box_lo[a] : kd.box_hi[a]).data();
+      org_[a] = BoxLanes::broadcast(r.org[a]);
+      inv_[a] = BoxLanes::broadcast(r.inv[a]);
+    }
+  }
+
+  /// Blocks first .. first + kBoxWidth - 1 whose box the ray may meet within [t0, t1]. Plane
+  /// distances are widened as in the traversal; a NaN one (origin in a face plane of a parallel
+  /// ray) leaves the interval unchanged, so a block is never skipped for rounding.
+  simd::LaneBits test(std::uint32_t first, float t0, float t1) const {
+    const BoxLanes down = BoxLanes::broadcast(1.0f - kPlaneSlack), up = BoxLanes::broadcast(1.0f + kPlaneSlack);
+    BoxLanes lo = BoxLanes::broadcast(t0), hi = BoxLanes::broadcast(t1);
+    for (int a = 0; a < 3; ++a) {
+      const BoxLanes near = (load(near_[a] + first) - org_[a]) * inv_[a];
+      const BoxLanes far = (load(far_[a] + first) - org_[a]) * inv_[a];
+      // The smaller (larger) of the two scalings moves towards -inf (+inf) whatever the sign.
+      lo = max_nan_second(min_nan_second(near * down, near * up), lo);
+      hi = min_nan_second(max_nan_second(far * down, far * up), hi);
+    }
+    return cmp_le(lo, hi);
+  }
+
+ private:
+  static BoxLanes load(const float* p) {
+    alignas(64) float lanes[kBoxWidth];
+    std::memcpy(lanes, p, sizeof(lanes));
+    return BoxLanes::load(lanes);
+  }
+  const float* near_[3];
+  const float* far_[3];
+  BoxLanes org_[3], inv_[3];
+};
+
 /// Clips [t0, t1] to the root box; false when the ray misses it. A NaN slab distance (origin
 /// exactly on a slab plane of a zero direction component) leaves the interval unchanged.
 bool clip_to_root(const Bounds3f& box, const PlaneRay& r, float& t0, float& t1) {
@@ -115,7 +165,9 @@ bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
   if (kd.nodes.empty()) return false;
   const PlaneRay r(ray);
   const HitSlack slack(ray, kd.bounds);
-  float t0 = slack.below(ray.tmin), t1 = slack.above(ray.tmax);
+  const float slack_tmin = slack.below(ray.tmin);
+  float t0 = slack_tmin, t1 = slack.above(ray.tmax);
+  const BlockBoxRay boxes(kd, r);
   if (!clip_to_root(kd.bounds, r, t0, t1)) return false;
   const simd::BlockRay<kLeafWidth> tri_ray{WatertightRay(ray)};
   const Lanes tri_tmin = Lanes::broadcast(ray.tmin);
@@ -154,23 +206,30 @@ bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
       continue;
     }
 
+    // The blocks come in groups of kBoxWidth; only those whose box the ray meets are tested.
     const std::uint32_t first_block = node.leaf_first();
     const std::uint32_t end_block = first_block + block_count(node.leaf_count());
-    for (std::uint32_t b = first_block; b != end_block; ++b) {
-      if constexpr (kAnyHit) {
-        if (simd::intersect_block<kLeafWidth, false>(blocks[b], tri_ray, tri_tmin, tri_tmax, nullptr) != 0) return true;
-      } else {
-        simd::BlockHits<kLeafWidth> hits;
-        simd::LaneBits lanes = simd::intersect_block<kLeafWidth, true>(blocks[b], tri_ray, tri_tmin, tri_tmax, &hits);
-        if (lanes == 0) continue;
-        for (; lanes != 0; lanes &= lanes - 1) {
-          const int l = simd::first_lane(lanes);
-          const std::uint32_t triangle = lane_triangle[std::size_t{b} * kLeafWidth + static_cast<std::uint32_t>(l)];
-          // hits.t[l] <= best.t here (best.t is the test's tmax); equal t: lowest index wins.
-          if (hits.t[l] < best.t || triangle < best.triangle) best = {hits.t[l], hits.u[l], hits.v[l], triangle};
+    for (std::uint32_t group = first_block; group < end_block; group += kBoxWidth) {
+      const std::uint32_t in_group = std::min<std::uint32_t>(end_block - group, kBoxWidth);
+      simd::LaneBits candidates = boxes.test(group, slack_tmin, cull) & ((1u << in_group) - 1u);
+      for (; candidates != 0; candidates &= candidates - 1) {
+        const std::uint32_t b = group + static_cast<std::uint32_t>(simd::first_lane(candidates));
+        if constexpr (kAnyHit) {
+          if (simd::intersect_block<kLeafWidth, false>(blocks[b], tri_ray, tri_tmin, tri_tmax, nullptr) != 0) return true;
+        } else {
+          simd::BlockHits<kLeafWidth> hits;
+          simd::LaneBits lanes = simd::intersect_block<kLeafWidth, true>(blocks[b], tri_ray, tri_tmin, tri_tmax, &hits);
+          if (lanes == 0) continue;
+          for (; lanes != 0; lanes &= lanes - 1) {
+            const int l = simd::first_lane(lanes);
+            const std::uint32_t triangle = lane_triangle[std::size_t{b} * kLeafWidth + static_cast<std::uint32_t>(l)];
+            // Lanes are not in index order, and a block may hit several times: equal t, lowest index.
+            if (hits.t[l] < best.t || (hits.t[l] == best.t && triangle < best.triangle))
+              best = {hits.t[l], hits.u[l], hits.v[l], triangle};
+          }
+          tri_tmax = Lanes::broadcast(best.t);
+          cull = slack.above(best.t);
         }
-        tri_tmax = Lanes::broadcast(best.t);
-        cull = slack.above(best.t);
       }
     }
     do {
@@ -197,7 +256,9 @@ bool occluded(const KdLayout& kd, const Ray& ray) {
 }
 
 std::size_t KdLayout::memory_bytes() const {
-  return nodes.capacity() * sizeof(KdNode) + blocks.capacity() * sizeof(LeafBlock) +
+  std::size_t box_floats = 0;
+  for (int axis = 0; axis < 3; ++axis) box_floats += box_lo[axis].capacity() + box_hi[axis].capacity();
+  return nodes.capacity() * sizeof(KdNode) + blocks.capacity() * sizeof(LeafBlock) + box_floats * sizeof(float) +
          (lane_triangle.capacity() + prim.capacity() + instance.capacity()) * sizeof(std::uint32_t);
 }
 

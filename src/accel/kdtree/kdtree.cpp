@@ -38,7 +38,8 @@ int automatic_max_depth(std::size_t triangle_count) {
   return std::min(kd::kMaxDepth, static_cast<int>(std::lround(8.0 + 1.3 * std::log2(n))));
 }
 
-/// The SAH policy plugged into build_subtree: split while the best plane is cheaper than a leaf.
+/// The SAH policy plugged into build_subtree: split while the best plane is cheaper than a leaf,
+/// which costs intersection_cost per SIMD block of its triangles.
 class SahBuilder {
  public:
   SahBuilder(const TriangleSet& set, const KdTreeConfig& config, int max_depth)
@@ -47,7 +48,8 @@ class SahBuilder {
   std::optional<kd::SplitResult<kd::SahNode>> split(kd::SahNode& node, int depth) const {
     if (node.size() == 0 || depth >= max_depth_) return std::nullopt;
     const kd::SplitPlane plane = kd::find_best_split(node, config_);
-    const double leaf_cost = static_cast<double>(config_.intersection_cost) * static_cast<double>(node.size());
+    const double leaf_cost = static_cast<double>(config_.intersection_cost) *
+                             static_cast<double>(kd::block_count(static_cast<std::uint32_t>(node.size())));
     if (!(plane.cost < leaf_cost)) return std::nullopt;
     auto [below, above] = kd::split_node(std::move(node), plane, set_);
     return kd::SplitResult<kd::SahNode>{plane.axis, plane.position, std::move(below), std::move(above)};

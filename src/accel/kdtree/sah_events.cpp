@@ -7,6 +7,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "kdtree/flat_tree.hpp"
+#include "kdtree/kd_nodes.hpp"
 
 namespace vf::kd {
 namespace {
@@ -74,7 +75,8 @@ double SplitCost::operator()(float position, std::size_t below, std::size_t abov
   // Half surface areas of the children: length along the axis times the perimeter, plus the face.
   const double p_below = ((position - lo_) * perimeter_ + cross_) * inverse_area_;
   const double p_above = ((hi_ - position) * perimeter_ + cross_) * inverse_area_;
-  double cost = traversal_ + intersection_ * (p_below * static_cast<double>(below) + p_above * static_cast<double>(above));
+  double cost = traversal_ + intersection_ * (p_below * static_cast<double>(block_count(static_cast<std::uint32_t>(below))) +
+                                             p_above * static_cast<double>(block_count(static_cast<std::uint32_t>(above))));
   if (below == 0 || above == 0) cost *= empty_bonus_;
   return cost;
 }

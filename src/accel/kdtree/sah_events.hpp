@@ -54,7 +54,8 @@ struct SplitPlane {
 };
 
 /// The SAH cost of the planes of one node along one axis: cutting `box` at `position` with `below`
-/// and `above` of its `total` triangles on each side costs K_T + K_I (P_below below + P_above above),
+/// and `above` of its `total` triangles on each side costs K_T + K_I (P_below block_count(below) +
+/// P_above block_count(above)) (K_I per SIMD leaf block),
 /// times empty_bonus when a side is empty, P = child surface area / node surface area. Infinite
 /// when the cut makes no progress (a child equal to the box holding every triangle) or the box has
 /// no area. O(1) per plane.

@@ -9,6 +9,7 @@
 
 #include "differential/ray_sets.hpp"
 #include "differential/test_scenes.hpp"
+#include "kdtree/kd_nodes.hpp"
 #include "kdtree/sah_events.hpp"
 #include "unit/accel/scalar_reference.hpp"
 #include "visfield/accel/kdtree.hpp"
@@ -132,14 +133,17 @@ TEST(KdTreeBuild, SplitCostFollowsTheSurfaceAreaHeuristic) {
   const Bounds3f box{{0, 0, 0}, {2, 1, 1}};  // half area 2 + 1 + 2 = 5
   const KdTreeConfig config{.traversal_cost = 1.0f, .intersection_cost = 2.0f, .empty_bonus = 0.8f};
   const kd::SplitCost along_x(box, 0, 6, config), along_x5(box, 0, 5, config);
-  // Cut at x = 0.5: below half area 0.5 + 1 + 0.5 = 2, above 1.5 + 1 + 1.5 = 4.
-  EXPECT_DOUBLE_EQ(along_x(0.5f, 3, 5), 1.0 + 2.0 * (2.0 / 5 * 3 + 4.0 / 5 * 5));
-  EXPECT_DOUBLE_EQ(along_x5(0.5f, 0, 5), static_cast<double>(0.8f) * (1.0 + 2.0 * (4.0 / 5 * 5)));
+  // Cut at x = 0.5: below half area 0.5 + 1 + 0.5 = 2, above 1.5 + 1 + 1.5 = 4. Triangles are
+  // counted in leaf blocks, rounded up.
+  const kd::SplitCost along_x40(box, 0, 40, config);
+  EXPECT_DOUBLE_EQ(along_x(0.5f, 3, 5), 1.0 + 2.0 * (2.0 / 5 * 1 + 4.0 / 5 * 1));
+  EXPECT_DOUBLE_EQ(along_x40(0.5f, kd::kLeafWidth + 1, 3 * kd::kLeafWidth), 1.0 + 2.0 * (2.0 / 5 * 2 + 4.0 / 5 * 3));
+  EXPECT_DOUBLE_EQ(along_x5(0.5f, 0, 5), static_cast<double>(0.8f) * (1.0 + 2.0 * (4.0 / 5 * 1)));
   // A cut at the box face leaving every triangle in a child equal to the box makes no progress.
   EXPECT_EQ(along_x5(0.0f, 0, 5), std::numeric_limits<double>::infinity());
   EXPECT_EQ(kd::SplitCost(box, 1, 5, config)(1.0f, 5, 0), std::numeric_limits<double>::infinity());
   // Planar triangles in the face cut off into a flat cell is progress: below half area 2 * 1.
-  EXPECT_DOUBLE_EQ(kd::SplitCost(box, 2, 5, config)(0.0f, 2, 3), 1.0 + 2.0 * (2.0 / 5 * 2 + 1.0 * 3));
+  EXPECT_DOUBLE_EQ(kd::SplitCost(box, 2, 5, config)(0.0f, 2, 3), 1.0 + 2.0 * (2.0 / 5 * 1 + 1.0 * 1));
   // A box without area cannot be split.
   EXPECT_EQ(kd::SplitCost(Bounds3f{{0, 0, 0}, {1, 0, 0}}, 0, 4, config)(0.5f, 2, 2), std::numeric_limits<double>::infinity());
 }
@@ -172,7 +176,7 @@ TEST(KdTreeBuild, TreeDoesNotDependOnThreadCount) {
 
 TEST(KdTreeBuild, StatsDescribeTheTree) {
   const TriangleSet set = test::set_from_triangles(test::random_soup(24, 20000, 0.005f, 0.05f));
-  const KdTree tree = KdTree::build(set);
+  const KdTree tree = KdTree::build(set, KdTreeConfig{.traversal_cost = 1.0f});
   const AccelStats& s = tree.stats();
   EXPECT_EQ(s.leaf_count, s.node_count + 1);  // a full binary tree
   EXPECT_GE(s.reference_count, set.size());
@@ -199,7 +203,7 @@ TEST(KdTreeBuild, TerminationFollowsTheCosts) {
   const KdTree shallow = KdTree::build(set, KdTreeConfig{.traversal_cost = 4.0f});
   const KdTree deep = KdTree::build(set, KdTreeConfig{.traversal_cost = 0.25f});
   EXPECT_LT(shallow.stats().leaf_count, deep.stats().leaf_count);
-  EXPECT_EQ(KdTree::build(set, KdTreeConfig{.max_depth = 5}).stats().max_depth, 6);
+  EXPECT_EQ(KdTree::build(set, KdTreeConfig{.traversal_cost = 1.0f, .max_depth = 5}).stats().max_depth, 6);
   // Duplicates cannot be separated: the tree stops splitting them.
   const TriangleSet copies = test::set_from_triangles(std::vector<Triangle>(
       1000, Triangle{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0.5f}}));
