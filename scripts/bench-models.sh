@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs visfield-bench on every mesh of a folder (default ../shared/models) for one ray kind and
-# prints a markdown table: Mrays/s of each structure and its ratio to Embree, plus build ms.
+# prints a markdown table: per structure Mrays/s (ratio to Embree; build ms; rays that disagree with
+# Embree's answer).
 # Usage: scripts/bench-models.sh [MODELS_DIR] [RAY_KIND] [ACCELS] [extra visfield-bench options...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -21,7 +22,8 @@ r = json.load(sys.stdin)
 cells = []
 for row in r["results"]:
     ratio = row.get("ratio_to_embree")
-    cells.append("%.2f (%s; %.0f ms)" % (row["mrays_per_s"], "%.2f×" % ratio if ratio is not None else "n/a", row["build_ms"]))
+    cells.append("%.2f (%s; %.0f ms; %d)" % (row["mrays_per_s"], "%.2f×" % ratio if ratio is not None else "n/a",
+                                             row["build_ms"], row["mismatches"]))
 print("| %s | %d | %d | %s |" % (sys.argv[1], r["triangles"], r["rays"], " | ".join(cells)))
 ' "$(basename "$mesh")"
 done
