@@ -59,6 +59,25 @@ std::vector<Ray> make_primary_rays(const Scene& /*scene*/, const Camera& camera)
   return rays;
 }
 
+namespace {
+
+// Calls f(pixel, rng, point) in parallel for every pixel whose primary ray hit, with the pixel's
+// random stream Rng(seed, pixel, 0) and the surface point secondary rays leave from.
+template <class F>
+void for_each_surface_point(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
+                            std::uint64_t seed, F&& f) {
+  const float scale = spawn_scale(scene);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
+      if (hits[pixel].prim == kInvalidId) continue;
+      Rng rng(seed, pixel, 0);
+      f(pixel, rng, surface_point(scene, scale, primary[pixel], hits[pixel]));
+    }
+  });
+}
+
+}  // namespace
+
 std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                                    int rays_per_hit, float max_distance, std::uint64_t seed) {
   if (rays_per_hit < 1) throw Error("ao rays: rays per hit must be at least 1, got " + std::to_string(rays_per_hit));
@@ -66,16 +85,10 @@ std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> prim
   std::size_t total = 0;
   const std::vector<std::size_t> offsets = hit_offsets(primary, hits, static_cast<std::size_t>(rays_per_hit), total);
   check_fits_in_memory(total, "ao rays");
-  const float scale = spawn_scale(scene);
   std::vector<Ray> rays(total);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
-      if (hits[pixel].prim == kInvalidId) continue;
-      // The same stream and the same calls as render_ao's first (only) sample of this pixel.
-      Rng rng(seed, pixel, 0);
-      const SurfacePoint point = surface_point(scene, scale, primary[pixel], hits[pixel]);
-      for (int k = 0; k < rays_per_hit; ++k) rays[offsets[pixel] + static_cast<std::size_t>(k)] = ao_ray(point, rng, max_distance);
-    }
+  // The same stream and the same calls as render_ao's first (only) sample of each pixel.
+  for_each_surface_point(scene, primary, hits, seed, [&](std::size_t pixel, Rng& rng, const SurfacePoint& point) {
+    for (int k = 0; k < rays_per_hit; ++k) rays[offsets[pixel] + static_cast<std::size_t>(k)] = ao_ray(point, rng, max_distance);
   });
   return rays;
 }
@@ -84,16 +97,10 @@ std::vector<Ray> shadow_rays_from_hits(const Scene& scene, std::span<const Ray> 
                                        std::uint64_t seed) {
   std::size_t total = 0;
   const std::vector<std::size_t> offsets = hit_offsets(primary, hits, 1, total);
-  const float scale = spawn_scale(scene);
   const LightTargets lights(scene);
   std::vector<Ray> rays(total);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
-      if (hits[pixel].prim == kInvalidId) continue;
-      Rng rng(seed, pixel, 0);
-      const SurfacePoint point = surface_point(scene, scale, primary[pixel], hits[pixel]);
-      rays[offsets[pixel]] = shadow_ray(point, lights.sample(point.position, rng));
-    }
+  for_each_surface_point(scene, primary, hits, seed, [&](std::size_t pixel, Rng& rng, const SurfacePoint& point) {
+    rays[offsets[pixel]] = shadow_ray(point, lights.sample(point.position, rng));
   });
   return rays;
 }
