@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <sstream>
 
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
 
 namespace vf::bench {
@@ -36,13 +35,6 @@ void check_accel_names(const std::vector<std::string>& requested) {
       throw UsageError("--accel: '" + name + "' is listed twice");
     }
   }
-}
-
-std::size_t physical_memory_bytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page_size = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page_size <= 0) return 0;
-  return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size);
 }
 
 }  // namespace

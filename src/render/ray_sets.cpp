@@ -1,13 +1,12 @@
 #include "visfield/render/ray_sets.hpp"
 
-#include <unistd.h>
-
 #include <sstream>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/render/camera.hpp"
@@ -18,9 +17,7 @@ namespace {
 
 // Refuses, before allocating, a ray set larger than half the machine's physical memory.
 void check_fits_in_memory(std::size_t count, const char* what) {
-  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page_size <= 0) return;
-  const double budget = 0.5 * static_cast<double>(pages) * static_cast<double>(page_size);
+  const double budget = allocation_budget_bytes();
   const double bytes = static_cast<double>(count) * sizeof(Ray);
   if (bytes > budget) {
     std::ostringstream msg;

@@ -22,6 +22,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "grid/cell_overlap.hpp"
+#include "visfield/core/memory.hpp"
 #include "grid/layout.hpp"
 #include "visfield/accel/uniform_grid.hpp"
 #include "visfield/core/error.hpp"
@@ -69,7 +70,7 @@ constexpr std::size_t kTotalUpdateInterval = 256;
 
 /// The most references a grid may hold: offsets are 32-bit, and the build must fit in memory.
 std::uint64_t reference_limit() {
-  const double by_memory = std::floor(grid::memory_budget() / kBytesPerReference);
+  const double by_memory = std::floor(allocation_budget_bytes() / kBytesPerReference);
   const double by_offsets = static_cast<double>(std::numeric_limits<std::uint32_t>::max());
   return static_cast<std::uint64_t>(std::min(by_memory, by_offsets));
 }

@@ -1,7 +1,5 @@
 #include "grid/layout.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +7,7 @@
 #include <string>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 
 namespace vf::grid {
 namespace {
@@ -132,20 +131,14 @@ GridLayout make_layout(const TriangleSet& set, const UniformGridConfig& config) 
     throw Error("grid: resolution " + resolution_text(layout.resolution) + " has more than " +
                 std::to_string(kMaxCells) + " cells");
   const double offset_bytes = 4.0 * static_cast<double>(layout.cell_count());
-  if (offset_bytes > memory_budget())
+  if (offset_bytes > allocation_budget_bytes())
     throw Error("grid: resolution " + resolution_text(layout.resolution) + " would need " + gibibytes(offset_bytes) +
-                " of cell offsets, more than half of this machine's " + gibibytes(2.0 * memory_budget()));
+                " of cell offsets, more than half of this machine's " + gibibytes(2.0 * allocation_budget_bytes()));
   for (int a = 0; a < 3; ++a) {
     layout.origin[a] = lo[a];
     layout.cell_size[a] = extent[a] / layout.resolution[a];
   }
   return layout;
-}
-
-double memory_budget() {
-  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page_size <= 0) return std::numeric_limits<double>::infinity();
-  return 0.5 * static_cast<double>(pages) * static_cast<double>(page_size);
 }
 
 std::string gibibytes(double bytes) {

@@ -27,10 +27,6 @@ std::array<int, 3> resolution_for(const std::array<double, 3>& extent, double ta
 /// empty set gives resolution {0, 0, 0}.
 GridLayout make_layout(const TriangleSet& set, const UniformGridConfig& config);
 
-/// Half of this machine's physical memory in bytes (infinite when unknown): a build refuses to
-/// allocate more.
-double memory_budget();
-
 /// `bytes` as text in GiB with one decimal, for messages.
 std::string gibibytes(double bytes);
 

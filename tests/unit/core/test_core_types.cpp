@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "visfield/core/memory.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/core/triangle_set.hpp"
@@ -65,6 +66,12 @@ TEST(Sampling, CosineHemisphereHasMeanCosineTwoThirds) {
     sum += d.z;
   }
   EXPECT_NEAR(sum / n, 2.0 / 3.0, 0.005);
+}
+
+TEST(Memory, BudgetIsHalfOfPhysicalMemory) {
+  const std::size_t physical = physical_memory_bytes();
+  ASSERT_GT(physical, std::size_t{1} << 26);  // any machine that builds visfield has more than 64 MiB
+  EXPECT_DOUBLE_EQ(allocation_budget_bytes(), 0.5 * static_cast<double>(physical));
 }
 
 }  // namespace
