@@ -1,55 +1,93 @@
 #include "visfield/core/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+
+#include "visfield/core/error.hpp"
 
 namespace vf {
+namespace {
+
+void check_transform(const Transform& t, const std::string& what) {
+  if (!t.is_valid()) throw Error(what + ": the transform must be finite with a scale > 0");
+}
+
+}  // namespace
+
+ObjectId Scene::add_instance(Instance instance) {
+  if (instance.mesh >= meshes.size())
+    throw Error("scene: instance of mesh " + std::to_string(instance.mesh) + ", but the scene has " +
+                std::to_string(meshes.size()) + " meshes");
+  if (instance.material && *instance.material >= materials.size())
+    throw Error("scene: instance material " + std::to_string(*instance.material) + " is out of range (" +
+                std::to_string(materials.size()) + " materials)");
+  check_transform(instance.transform, "scene: instance of mesh " + std::to_string(instance.mesh));
+  if (next_id_ == kInvalidId) throw Error("scene: no object ids left");
+  instance.id = next_id_++;
+  instances_.push_back(instance);
+  return instance.id;
+}
+
+ObjectId Scene::add_instance(std::uint32_t mesh, const Transform& transform) {
+  return add_instance(Instance{kInvalidId, mesh, transform, std::nullopt});
+}
+
+const Instance* Scene::find_instance(ObjectId id) const {
+  const auto it = std::lower_bound(instances_.begin(), instances_.end(), id,
+                                   [](const Instance& a, ObjectId b) { return a.id < b; });
+  return it != instances_.end() && it->id == id ? &*it : nullptr;
+}
+
+const Instance& Scene::instance(ObjectId id) const {
+  const Instance* found = find_instance(id);
+  if (!found) throw Error("scene: no object has id " + std::to_string(id));
+  return *found;
+}
+
+void Scene::remove_instance(ObjectId id) {
+  const Instance& found = instance(id);
+  instances_.erase(instances_.begin() + (&found - instances_.data()));
+}
+
+void Scene::set_transform(ObjectId id, const Transform& transform) {
+  const Instance& found = instance(id);
+  check_transform(transform, "scene: object " + std::to_string(id));
+  instances_[static_cast<std::size_t>(&found - instances_.data())].transform = transform;
+}
 
 Bounds3f Scene::bounds() const {
   Bounds3f b;
-  for (const Instance& inst : instances) b.extend(inst.transform.apply_bounds(meshes[inst.mesh].bounds()));
+  for (const Instance& inst : instances_) b.extend(inst.transform.apply_bounds(meshes[inst.mesh].bounds()));
   return b;
 }
 
 std::size_t Scene::instanced_triangle_count() const {
   std::size_t n = 0;
-  for (const Instance& inst : instances) n += meshes[inst.mesh].triangles.size();
+  for (const Instance& inst : instances_) n += meshes[inst.mesh].triangles.size();
   return n;
 }
 
+Camera framing_camera(const Bounds3f& target, const Vec3f& view_direction, float fov_degrees) {
+  Camera camera;
+  camera.fov_degrees = fov_degrees;
+  const float radius = 0.5f * length(target.extent());
+  const float half_fov = 0.5f * fov_degrees * std::numbers::pi_v<float> / 180.0f;
+  camera.look_at = target.center();
+  camera.position = camera.look_at + normalize(view_direction) * (radius / std::sin(half_fov) * 1.05f);
+  return camera;
+}
+
 Camera Scene::camera_or_default(int width, int height) const {
-  if (camera) {
-    Camera c = *camera;
-    if (width > 0) c.width = width;
-    if (height > 0) c.height = height;
-    return c;
-  }
-  Camera c;
-  c.width = width > 0 ? width : 512;
-  c.height = height > 0 ? height : 512;
-  const Bounds3f b = bounds();
-  const Vec3f center = b.center();
-  const float radius = 0.5f * length(b.extent());
-  // Distance at which the bounding sphere fills the vertical field of view, plus a margin.
-  const float half_fov = 0.5f * c.fov_degrees * std::numbers::pi_v<float> / 180.0f;
-  const float distance = radius / std::sin(half_fov) * 1.05f;
-  c.look_at = center;
-  c.position = center + normalize(Vec3f{0.35f, 0.3f, 1.0f}) * distance;
+  Camera c = camera ? *camera : framing_camera(bounds(), Vec3f{0.35f, 0.3f, 1.0f}, Camera{}.fov_degrees);
+  if (width > 0) c.width = width;
+  if (height > 0) c.height = height;
   return c;
 }
 
-Vec3f Scene::geometric_normal(std::uint32_t instance, std::uint32_t prim) const {
-  const Instance& inst = instances[instance];
-  const TriangleMesh& mesh = meshes[inst.mesh];
-  const TriangleIndices& t = mesh.triangles[prim];
-  const Vec3f a = inst.transform.apply_point(mesh.positions[t[0]]);
-  const Vec3f b = inst.transform.apply_point(mesh.positions[t[1]]);
-  const Vec3f c = inst.transform.apply_point(mesh.positions[t[2]]);
-  return normalize(cross(b - a, c - a));
-}
-
-const Material& Scene::material_of(std::uint32_t instance, std::uint32_t prim) const {
-  const Instance& inst = instances[instance];
+const Material& Scene::material_of(ObjectId id, std::uint32_t prim) const {
+  const Instance& inst = instance(id);
   if (inst.material) return materials[*inst.material];
   const TriangleMesh& mesh = meshes[inst.mesh];
   return mesh.material_ids.empty() ? materials[0] : materials[mesh.material_ids[prim]];
@@ -59,7 +97,7 @@ Scene scene_from_mesh(TriangleMesh mesh) {
   Scene scene;
   scene.name = mesh.name;
   scene.meshes.push_back(std::move(mesh));
-  scene.instances.push_back(Instance{});
+  scene.add_instance(0);
   return scene;
 }
 

@@ -12,12 +12,20 @@ Mat3 Mat3::operator*(const Mat3& o) const {
   return r;
 }
 
+Mat3 Mat3::scaled(float s) const {
+  Mat3 r;
+  for (int i = 0; i < 3; ++i) r.rows[i] = rows[i] * s;
+  return r;
+}
+
 Mat3 Mat3::transposed() const {
   Mat3 r;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) r.rows[i][j] = rows[j][i];
   return r;
 }
+
+bool Mat3::is_identity() const { return rows == Mat3{}.rows; }
 
 Mat3 Mat3::rotation(const Vec3f& axis, float degrees) {
   const Vec3f k = normalize(axis);
@@ -34,6 +42,14 @@ Mat3 Mat3::euler_xyz(const Vec3f& degrees) {
   return rotation({0, 0, 1}, degrees.z) * rotation({0, 1, 0}, degrees.y) * rotation({1, 0, 0}, degrees.x);
 }
 
+InverseTransform Transform::inverse() const {
+  InverseTransform inv;
+  inv.identity = is_identity();
+  inv.linear = rotation.transposed().scaled(1.0f / scale);
+  inv.translation = translation;
+  return inv;
+}
+
 Bounds3f Transform::apply_bounds(const Bounds3f& b) const {
   Bounds3f out;
   if (b.empty()) return out;
@@ -42,6 +58,14 @@ Bounds3f Transform::apply_bounds(const Bounds3f& b) const {
     out.extend(apply_point(p));
   }
   return out;
+}
+
+bool Transform::is_identity() const { return rotation.is_identity() && translation == Vec3f{0.0f} && scale == 1.0f; }
+
+bool Transform::is_valid() const {
+  for (const Vec3f& row : rotation.rows)
+    if (!is_finite(row)) return false;
+  return is_finite(translation) && std::isfinite(scale) && scale > 0.0f;
 }
 
 }  // namespace vf

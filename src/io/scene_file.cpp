@@ -1,9 +1,9 @@
 #include "visfield/io/scene_file.hpp"
 
 #include "file_checks.hpp"
-#include "json_field.hpp"
 #include "scene_json_objects.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/io/json_reader.hpp"
 #include "visfield/io/mesh_loader.hpp"
 #include "visfield/scenes/builtin.hpp"
 
@@ -11,13 +11,13 @@ namespace vf {
 namespace {
 
 // Loads every entry of "meshes" (paths relative to `folder`) into `scene`, recording their names.
-void load_meshes(const io_detail::JsonField& meshes, const std::filesystem::path& folder, Scene& scene,
+void load_meshes(const json::JsonField& meshes, const std::filesystem::path& folder, Scene& scene,
                  io_detail::SceneNames& names) {
-  for (const io_detail::JsonField& entry : meshes.elements(1)) {
+  for (const json::JsonField& entry : meshes.elements(1)) {
     entry.require_object({"name", "path"});
-    const io_detail::JsonField path_field = entry.member("path");
+    const json::JsonField path_field = entry.member("path");
     const std::filesystem::path path = folder / path_field.as_string();
-    const std::optional<io_detail::JsonField> name_field = entry.optional_member("name");
+    const std::optional<json::JsonField> name_field = entry.optional_member("name");
     const std::string name = name_field ? name_field->as_string() : path.stem().string();
     if (names.meshes.contains(name))
       (name_field ? *name_field : path_field).fail("a mesh named \"" + name + "\" is already declared");
@@ -32,8 +32,8 @@ void load_meshes(const io_detail::JsonField& meshes, const std::filesystem::path
   }
 }
 
-void parse_materials(const io_detail::JsonField& materials, Scene& scene, io_detail::SceneNames& names) {
-  for (const io_detail::JsonField& entry : materials.elements()) {
+void parse_materials(const json::JsonField& materials, Scene& scene, io_detail::SceneNames& names) {
+  for (const json::JsonField& entry : materials.elements()) {
     Material material = io_detail::parse_material(entry);
     if (names.materials.contains(material.name))
       entry.member("name").fail("a material named \"" + material.name + "\" is already declared");
@@ -45,29 +45,29 @@ void parse_materials(const io_detail::JsonField& materials, Scene& scene, io_det
 }  // namespace
 
 Scene load_scene_file(const std::filesystem::path& path) {
-  const nlohmann::json document = io_detail::parse_json_file(path);
-  const io_detail::JsonField root(document, path.string());
+  const nlohmann::json document = json::parse_json_file(path);
+  const json::JsonField root(document, path.string());
   root.require_object({"name", "meshes", "materials", "instances", "camera", "lights"});
 
   Scene scene;
-  const std::optional<io_detail::JsonField> name = root.optional_member("name");
+  const std::optional<json::JsonField> name = root.optional_member("name");
   scene.name = name ? name->as_string() : path.stem().string();
   io_detail::SceneNames names;
   // Materials first, so the file's own materials keep indices 1.. whatever the meshes bring along.
-  if (const std::optional<io_detail::JsonField> materials = root.optional_member("materials"))
+  if (const std::optional<json::JsonField> materials = root.optional_member("materials"))
     parse_materials(*materials, scene, names);
   load_meshes(root.member("meshes"), path.parent_path(), scene, names);
 
-  if (const std::optional<io_detail::JsonField> instances = root.optional_member("instances")) {
-    for (const io_detail::JsonField& entry : instances->elements(1))
-      scene.instances.push_back(io_detail::parse_instance(entry, names));
+  if (const std::optional<json::JsonField> instances = root.optional_member("instances")) {
+    for (const json::JsonField& entry : instances->elements(1))
+      scene.add_instance(io_detail::parse_instance(entry, names));
   } else {
-    for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) scene.instances.push_back(Instance{m, Transform{}, {}});
+    for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) scene.add_instance(m);
   }
-  if (const std::optional<io_detail::JsonField> camera = root.optional_member("camera"))
+  if (const std::optional<json::JsonField> camera = root.optional_member("camera"))
     scene.camera = io_detail::parse_camera(*camera);
-  if (const std::optional<io_detail::JsonField> lights = root.optional_member("lights"))
-    for (const io_detail::JsonField& entry : lights->elements()) io_detail::parse_light(entry, scene);
+  if (const std::optional<json::JsonField> lights = root.optional_member("lights"))
+    for (const json::JsonField& entry : lights->elements()) io_detail::parse_light(entry, scene);
   return scene;
 }
 
@@ -78,8 +78,7 @@ Scene load_scene(const std::string& spec) {
   if (io_detail::lower_extension(path) == "json") return load_scene_file(path);
   Scene scene;
   scene.name = path.stem().string();
-  const std::uint32_t mesh = add_mesh(scene, load_mesh(path));
-  scene.instances.push_back(Instance{mesh, Transform{}, {}});
+  scene.add_instance(add_mesh(scene, load_mesh(path)));
   return scene;
 }
 

@@ -6,10 +6,13 @@
 #include <map>
 #include <string>
 
-#include "json_field.hpp"
 #include "visfield/core/scene.hpp"
+#include "visfield/io/json_reader.hpp"
 
 namespace vf::io_detail {
+
+using json::JsonField;
+using json::NumberRange;
 
 /// Name -> index maps of what a scene file declared, for resolving an instance's references.
 struct SceneNames {

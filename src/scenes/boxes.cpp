@@ -30,7 +30,7 @@ Scene make_boxes_scene(std::uint64_t seed, std::size_t box_count) {
 
   scene.meshes.push_back(make_ground_mesh("ground", 0.0f, 0.0f, 4.0f * static_cast<float>(base) + 4.0f, 0.0f, ground));
   scene.meshes.push_back(make_box_mesh("cube", {Vec3f{-0.5f}, Vec3f{0.5f}}));
-  scene.instances.push_back(Instance{});
+  scene.add_instance(Instance{});
 
   std::size_t placed = 0;
   for (std::size_t layer = 0; placed < box_count; ++layer) {
@@ -46,14 +46,14 @@ Scene make_boxes_scene(std::uint64_t seed, std::size_t box_count) {
         box.transform.translation = {offset + static_cast<float>(col), (static_cast<float>(layer) + 0.5f) * kBoxSize,
                                      offset + static_cast<float>(row)};
         box.material = first_colour + static_cast<std::uint32_t>(rng.next_u32() % std::size(palette));
-        scene.instances.push_back(box);
+        scene.add_instance(box);
       }
     }
   }
 
   Bounds3f pyramid;
-  for (std::size_t i = 1; i < scene.instances.size(); ++i)
-    pyramid.extend(scene.instances[i].transform.apply_bounds(scene.meshes[1].bounds()));
+  for (std::size_t i = 1; i < scene.instances().size(); ++i)
+    pyramid.extend(scene.instances()[i].transform.apply_bounds(scene.meshes[1].bounds()));
   pyramid.extend(Vec3f{pyramid.lo.x - 1.0f, 0.0f, pyramid.lo.z - 1.0f});  // some ground around the base
   pyramid.extend(Vec3f{pyramid.hi.x + 1.0f, 0.0f, pyramid.hi.z + 1.0f});
   scene.camera = framing_camera(pyramid, {0.6f, 0.55f, 1.0f}, 40.0f);

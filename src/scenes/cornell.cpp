@@ -42,26 +42,26 @@ Scene make_cornell_scene(std::size_t sphere_triangles) {
   scene.meshes.push_back(make_box_mesh("tall box", {Vec3f{-0.3f, 0.0f, -0.3f}, Vec3f{0.3f, 1.2f, 0.3f}}));
   scene.meshes.push_back(make_sphere_mesh("sphere", {0.0f, 0.0f, 0.0f}, 1.0f, sphere_triangles));
 
-  scene.instances.push_back(Instance{});
+  scene.add_instance(Instance{});
   Instance short_box;
   short_box.mesh = 1;
   short_box.transform.scale = 0.6f;
   short_box.transform.rotation = Mat3::rotation({0, 1, 0}, -17.0f);
   short_box.transform.translation = {0.4f, 0.3f, 0.3f};
   short_box.material = white;
-  scene.instances.push_back(short_box);
+  scene.add_instance(short_box);
   Instance tall_box;
   tall_box.mesh = 2;
   tall_box.transform.rotation = Mat3::rotation({0, 1, 0}, 17.0f);
   tall_box.transform.translation = {-0.4f, 0.0f, -0.4f};
   tall_box.material = white;
-  scene.instances.push_back(tall_box);
+  scene.add_instance(tall_box);
   Instance sphere;
   sphere.mesh = 3;
   sphere.transform.scale = 0.28f;
   sphere.transform.translation = {-0.45f, 0.28f, 0.5f};
   sphere.material = white;
-  scene.instances.push_back(sphere);
+  scene.add_instance(sphere);
 
   Camera camera;
   camera.position = {0.0f, 1.0f, 3.9f};

@@ -85,16 +85,6 @@ std::vector<std::size_t> apportion(std::size_t total, const std::vector<double>&
   return counts;
 }
 
-Camera framing_camera(const Bounds3f& target, const Vec3f& view_direction, float fov_degrees) {
-  Camera camera;
-  camera.fov_degrees = fov_degrees;
-  const float radius = 0.5f * length(target.extent());
-  const float half_fov = 0.5f * fov_degrees * std::numbers::pi_v<float> / 180.0f;
-  camera.look_at = target.center();
-  camera.position = camera.look_at + normalize(view_direction) * (radius / std::sin(half_fov) * 1.05f);
-  return camera;
-}
-
 std::uint32_t add_material(Scene& scene, Material material) {
   scene.materials.push_back(std::move(material));
   return static_cast<std::uint32_t>(scene.materials.size() - 1);

@@ -43,10 +43,6 @@ TriangleMesh make_sphere_mesh(std::string name, const Vec3f& center, float radiu
 /// No material ids (material 0).
 TriangleMesh make_torus_knot_mesh(std::string name, int p, int q, float tube_radius, std::size_t triangle_count);
 
-/// A camera at `view_direction` (from the target towards the camera, any length) framing `target`'s
-/// bounding sphere in the vertical field of view, with a small margin.
-Camera framing_camera(const Bounds3f& target, const Vec3f& view_direction, float fov_degrees);
-
 /// Adds `material` to the scene; returns its index.
 std::uint32_t add_material(Scene& scene, Material material);
 

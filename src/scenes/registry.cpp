@@ -1,11 +1,11 @@
 // The table of built-in scenes: names, descriptions, size ranges, and the "builtin:" spec parser.
 
-#include <charconv>
 #include <functional>
 #include <sstream>
 
 #include "generators.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/spec.hpp"
 #include "visfield/scenes/builtin.hpp"
 
 namespace vf {
@@ -50,16 +50,11 @@ const BuiltinEntry& find_entry(const std::string& name) {
   throw Error("builtin:" + name + ": unknown built-in scene (valid names: " + joined_names() + ")");
 }
 
-// Non-negative decimal integer filling all of `text`, else vf::Error naming `what`.
-std::uint64_t parse_unsigned(const std::string& text, const std::string& what) {
-  std::uint64_t value = 0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  if (text.empty() || ec != std::errc{} || ptr != end)
-    throw Error(what + "=" + text + ": expected a non-negative integer" +
-                (ec == std::errc::result_out_of_range ? " below 2^64" : ""));
-  return value;
-}
+// The parameters every built-in scene takes.
+constexpr ParamSpec kBuiltinParams[] = {
+    {"size", ParamType::whole, "0", "scene-specific size (0 = the scene's default)"},
+    {"seed", ParamType::whole, "1", "random seed"},
+};
 
 }  // namespace
 
@@ -90,37 +85,11 @@ Scene parse_builtin_scene(const std::string& spec) {
   const std::string prefix = "builtin:";
   if (spec.rfind(prefix, 0) != 0)
     throw Error("'" + spec + "': a built-in scene is written builtin:NAME[:key=value,...]");
-  const std::string rest = spec.substr(prefix.size());
-  const std::size_t colon = rest.find(':');
-  const std::string name = rest.substr(0, colon);
-  const BuiltinEntry& entry = find_entry(name);
-  BuiltinParams params;
-  if (colon != std::string::npos) {
-    const std::string where = prefix + name;
-    std::istringstream items(rest.substr(colon + 1));
-    std::string item;
-    bool seen_seed = false, seen_size = false;
-    while (std::getline(items, item, ',')) {
-      const std::size_t eq = item.find('=');
-      if (eq == std::string::npos)
-        throw Error(where + ": parameter '" + item + "' is not key=value (keys: seed, size)");
-      const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
-      if (key == "seed" && !seen_seed) {
-        params.seed = parse_unsigned(value, where + ": seed");
-        seen_seed = true;
-      } else if (key == "size" && !seen_size) {
-        params.size = static_cast<std::size_t>(parse_unsigned(value, where + ": size"));
-        seen_size = true;
-      } else if (key == "seed" || key == "size") {
-        throw Error(where + ": " + key + " is given twice");
-      } else {
-        throw Error(where + ": unknown key '" + key + "' (valid keys: seed, size)");
-      }
-    }
-    if (rest.back() == ',' || rest.size() == colon + 1)
-      throw Error(where + ": empty parameter list entry (write builtin:" + name + ":key=value,...)");
-  }
-  return make_builtin_scene(entry.name, params);
+  const std::string_view rest = std::string_view(spec).substr(prefix.size());
+  const BuiltinEntry& entry = find_entry(std::string(rest.substr(0, rest.find(':'))));
+  const Spec parsed = parse_spec(rest, prefix);
+  const ParamValues values = read_params(parsed, kBuiltinParams, prefix + entry.name);
+  return make_builtin_scene(entry.name, {.seed = values.whole("seed"), .size = static_cast<std::size_t>(values.whole("size"))});
 }
 
 }  // namespace vf

@@ -49,7 +49,7 @@ Scene make_soup_scene(std::uint64_t seed, std::size_t triangles) {
   Scene scene;
   scene.materials[0] = make_material("soup", Vec3f{0.75f});
   scene.meshes.push_back(std::move(mesh));
-  scene.instances.push_back(Instance{});
+  scene.add_instance(Instance{});
   Bounds3f cube;
   cube.extend(Vec3f{0.0f});
   cube.extend(Vec3f{1.0f});

@@ -13,11 +13,11 @@ Scene make_sphere_scene(std::size_t sphere_triangles) {
 
   scene.meshes.push_back(make_ground_mesh("ground", 0.0f, 0.0f, 20.0f, 0.0f, ground));
   scene.meshes.push_back(make_sphere_mesh("sphere", {0.0f, 1.0f, 0.0f}, 1.0f, sphere_triangles));
-  scene.instances.push_back(Instance{});
+  scene.add_instance(Instance{});
   Instance sphere;
   sphere.mesh = 1;
   sphere.material = red;
-  scene.instances.push_back(sphere);
+  scene.add_instance(sphere);
 
   // Frame the sphere plus the patch of ground around its contact point.
   Bounds3f view;

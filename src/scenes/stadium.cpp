@@ -46,8 +46,8 @@ Scene make_stadium_scene(std::size_t knot_triangles) {
   knot.material = gold;
   scene.meshes.push_back(std::move(arena));
   scene.meshes.push_back(make_torus_knot_mesh("knot", 2, 3, 0.5f, knot_triangles));
-  scene.instances.push_back(Instance{});
-  scene.instances.push_back(knot);
+  scene.add_instance(Instance{});
+  scene.add_instance(knot);
 
   const Bounds3f knot_bounds = knot.transform.apply_bounds(scene.meshes[1].bounds());
   scene.camera = framing_camera(knot_bounds, {0.3f, 0.2f, 1.0f}, 40.0f);

@@ -1,5 +1,5 @@
 #pragma once
-/// \file A scene: meshes, instances of them, materials, camera and lights.
+/// \file A scene: meshes, objects (instances of them) with stable ids, materials, camera and lights.
 
 #include <cstdint>
 #include <optional>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "visfield/core/mesh.hpp"
+#include "visfield/core/ray.hpp"
 #include "visfield/core/transform.hpp"
 
 namespace vf {
@@ -20,8 +21,9 @@ struct Material {
   Vec3f emission{0.0f};       ///< Emitted radiance (area lights from meshes).
 };
 
-/// One placement of a mesh in the world.
+/// One object of a scene: a placement of a mesh in the world.
 struct Instance {
+  ObjectId id = kInvalidId;                      ///< Set by Scene::add_instance; stable for the object's life.
   std::uint32_t mesh = 0;                        ///< Index into Scene::meshes.
   Transform transform;                           ///< Object to world.
   std::optional<std::uint32_t> material;         ///< Overrides the mesh's per-triangle materials when set.
@@ -50,30 +52,55 @@ struct SphereLight {
   Vec3f radiance{1.0f};
 };
 
-/// Everything a render needs. Value type; meshes are shared by index between instances.
-struct Scene {
+/// Everything a render needs. Value type (copies are deep). Meshes are shared by index between
+/// objects; objects are added, moved and removed through the methods below, which keep their ids
+/// stable (an id is never reused, and edits do not renumber other objects). Not thread-safe to edit.
+class Scene {
+ public:
   std::string name;                      ///< For messages and reports.
-  std::vector<TriangleMesh> meshes;
-  std::vector<Instance> instances;
+  std::vector<TriangleMesh> meshes;      ///< Object-space meshes; only ever appended to.
   std::vector<Material> materials{Material{}};  ///< Index 0 is the default material.
-  std::optional<Camera> camera;                 ///< When absent, frame_camera() chooses one.
+  std::optional<Camera> camera;                 ///< When absent, camera_or_default() chooses one.
   std::vector<PointLight> point_lights;
   std::vector<SphereLight> sphere_lights;
 
-  /// World-space bounds of all instances; O(instances * 8) using mesh bounds.
+  /// Adds an object (`instance.id` is ignored) and returns its new id, larger than every id given
+  /// before. Throws vf::Error when the mesh or material index is out of range or the transform is
+  /// not a finite rotation, translation and scale > 0. O(1) amortised.
+  ObjectId add_instance(Instance instance);
+  /// Adds an object of mesh `mesh` placed by `transform`; see above.
+  ObjectId add_instance(std::uint32_t mesh, const Transform& transform = {});
+  /// Removes object `id`; throws vf::Error when no object has that id. O(objects).
+  void remove_instance(ObjectId id);
+  /// Moves object `id` to `transform`; throws vf::Error on an unknown id or a bad transform. O(log objects).
+  void set_transform(ObjectId id, const Transform& transform);
+  /// The objects, in increasing id order.
+  const std::vector<Instance>& instances() const { return instances_; }
+  /// The object with id `id`; throws vf::Error when there is none. O(log objects).
+  const Instance& instance(ObjectId id) const;
+  /// The object with id `id`, or nullptr. O(log objects).
+  const Instance* find_instance(ObjectId id) const;
+
+  /// World-space bounds of all objects; O(objects * 8) using mesh bounds.
   Bounds3f bounds() const;
-  /// Total triangles over all instances.
+  /// Total triangles over all objects.
   std::size_t instanced_triangle_count() const;
-  /// The scene camera (resized when width/height > 0), or one framing the bounds from the front (+z)
-  /// when the scene has none.
+  /// The scene camera (resized when width/height > 0), or framing_camera() of the bounds from the
+  /// front (+z, slightly above and to the right) when the scene has none.
   Camera camera_or_default(int width, int height) const;
-  /// Unit world-space geometric normal of the triangle a hit names (instance, prim); not flipped.
-  Vec3f geometric_normal(std::uint32_t instance, std::uint32_t prim) const;
-  /// Material of triangle `prim` of instance `instance` (instance override, else per-triangle id, else 0).
-  const Material& material_of(std::uint32_t instance, std::uint32_t prim) const;
+  /// Material of triangle `prim` of object `id` (instance override, else per-triangle id, else 0).
+  const Material& material_of(ObjectId id, std::uint32_t prim) const;
+
+ private:
+  std::vector<Instance> instances_;
+  ObjectId next_id_ = 0;
 };
 
-/// A scene holding one mesh with one identity instance.
+/// A camera looking at the centre of `target` from `view_direction` (need not be unit), far enough
+/// that the bounding sphere of `target` fills the vertical field of view `fov_degrees` with a 5% margin.
+Camera framing_camera(const Bounds3f& target, const Vec3f& view_direction, float fov_degrees);
+
+/// A scene holding one mesh with one identity object.
 Scene scene_from_mesh(TriangleMesh mesh);
 
 }  // namespace vf

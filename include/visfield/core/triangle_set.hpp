@@ -1,5 +1,5 @@
 #pragma once
-/// \file The flat world-space triangle list every acceleration structure is built from.
+/// \file The flat triangle list every single-level acceleration structure is built from.
 
 #include <array>
 #include <cstdint>
@@ -10,12 +10,13 @@
 
 namespace vf {
 
-/// World-space triangles of a scene (instances applied, degenerate triangles removed), with the
-/// (instance, prim) each came from. Immutable after flatten(); safe to share between threads.
+/// Triangles (degenerate ones removed) with the (object, triangle) each came from. Built by
+/// flatten() in world space, or by mesh_triangles() in a mesh's object space for the per-mesh
+/// structures of the instance layer. Immutable once built; safe to share between threads.
 struct TriangleSet {
-  std::vector<std::array<Vec3f, 3>> triangles;   ///< World-space corners.
+  std::vector<std::array<Vec3f, 3>> triangles;   ///< Corners.
   std::vector<std::uint32_t> prim;               ///< Triangle index in its mesh.
-  std::vector<std::uint32_t> instance;           ///< Instance index in the scene.
+  std::vector<ObjectId> instance;                ///< Object id (kInvalidId in an object-space set).
   std::size_t degenerate_count = 0;              ///< Zero-area triangles left out.
   Bounds3f bounds;                               ///< Bounds of all kept triangles.
 
@@ -25,8 +26,12 @@ struct TriangleSet {
   std::size_t memory_bytes() const;
 };
 
-/// Applies every instance transform and drops zero-area triangles (counted in degenerate_count).
-/// O(total triangles), parallel.
+/// World-space triangles of every object of `scene`, objects in id order and triangles in mesh
+/// order, with zero-area triangles (in world space) dropped and counted. O(total triangles), parallel.
 TriangleSet flatten(const Scene& scene);
+
+/// Object-space triangles of `mesh` (zero-area ones dropped and counted), with instance = kInvalidId:
+/// what a per-mesh structure shared by all objects of the mesh is built from. O(triangles), parallel.
+TriangleSet mesh_triangles(const TriangleMesh& mesh);
 
 }  // namespace vf

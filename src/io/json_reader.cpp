@@ -1,4 +1,4 @@
-#include "json_field.hpp"
+#include "visfield/io/json_reader.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -9,7 +9,11 @@
 #include "file_checks.hpp"
 #include "visfield/core/error.hpp"
 
-namespace vf::io_detail {
+namespace vf::json {
+
+using io_detail::one_line;
+using io_detail::require_readable_file;
+
 namespace {
 
 // A found value as it appears in a message: compact JSON, cut short when long.
@@ -53,7 +57,10 @@ nlohmann::json parse_json_file(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (!in && !in.eof()) throw Error(path.string() + ": cannot read");
+  return parse_json_text(text.str(), path.string());
+}
 
+nlohmann::json parse_json_text(const std::string& text, const std::string& source) {
   // nlohmann keeps the last of repeated keys; a repeated key is almost always a mistake, so refuse it.
   std::vector<std::set<std::string>> keys_per_open_object;
   const nlohmann::json::parser_callback_t reject_duplicates = [&](int, nlohmann::json::parse_event_t event,
@@ -66,15 +73,15 @@ nlohmann::json parse_json_file(const std::filesystem::path& path) {
     return true;
   };
   try {
-    return nlohmann::json::parse(text.str(), reject_duplicates, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    return nlohmann::json::parse(text, reject_duplicates, /*allow_exceptions=*/true, /*ignore_comments=*/true);
   } catch (const DuplicateKey& duplicate) {
-    throw Error(path.string() + ": invalid JSON: key \"" + one_line(duplicate.key) + "\" appears twice in one object");
+    throw Error(source + ": invalid JSON: key \"" + one_line(duplicate.key) + "\" appears twice in one object");
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() is "[json.exception.parse_error.101] parse error at line L, column C: <reason>".
     const std::string message = e.what();
     const std::size_t at = message.find("parse error at ");
     const std::string where = at == std::string::npos ? message : message.substr(at + 12);
-    throw Error(path.string() + ": invalid JSON " + one_line(where));
+    throw Error(source + ": invalid JSON " + one_line(where));
   }
 }
 
@@ -145,10 +152,26 @@ int JsonField::as_int(int lo, int hi) const {
   return static_cast<int>(v);
 }
 
+double JsonField::as_double(const NumberRange& range) const {
+  if (!value_->is_number()) fail_expected(range.describe());
+  const double v = value_->get<double>();
+  if (!std::isfinite(v) || !range.contains(v)) fail_expected(range.describe());
+  return v;
+}
+
+std::uint64_t JsonField::as_uint64(std::uint64_t lo, std::uint64_t hi) const {
+  const std::string expected = "an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+  // JSON parsing gives non-negative integers, and only those, the unsigned type.
+  if (!value_->is_number_unsigned()) fail_expected(expected);
+  const auto v = value_->get<std::uint64_t>();
+  if (v < lo || v > hi) fail_expected(expected);
+  return v;
+}
+
 Vec3f JsonField::as_vec3(const NumberRange& range) const {
   if (!value_->is_array() || value_->size() != 3) fail_expected("an array of 3 " + range.describe(true));
   const std::vector<JsonField> parts = elements();
   return {parts[0].as_float(range), parts[1].as_float(range), parts[2].as_float(range)};
 }
 
-}  // namespace vf::io_detail
+}  // namespace vf::json

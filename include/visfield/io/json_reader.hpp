@@ -1,9 +1,11 @@
 #pragma once
-// Private to the io module: typed, path-aware access to a parsed JSON document, so every error
-// names the file and the JSON path ("scene.json: instances[1].scale: expected a number > 0, got -2").
+/// \file Typed, path-aware reading of JSON files, so every error names the file and the JSON path
+/// ("scene.json: instances[1].scale: expected a number > 0, got -2"). Every file visfield reads
+/// (scene files, calibration files) goes through it.
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <initializer_list>
 #include <optional>
@@ -13,7 +15,7 @@
 
 #include "visfield/core/vec.hpp"
 
-namespace vf::io_detail {
+namespace vf::json {
 
 /// Accepted interval of a number, with the words an error message uses for it.
 struct NumberRange {
@@ -36,6 +38,9 @@ struct NumberRange {
 /// Reads a JSON text file; throws vf::Error "<file>: invalid JSON at line L, column C: ..." on a
 /// syntax error or a key repeated within one object. Comments (// and /* */) are allowed.
 nlohmann::json parse_json_file(const std::filesystem::path& path);
+
+/// Parses JSON text as parse_json_file does; `source` names it in messages.
+nlohmann::json parse_json_text(const std::string& text, const std::string& source);
 
 /// One JSON value plus where it sits: the file (for messages) and its path from the root.
 /// Borrows the document, which must outlive it. Every accessor throws vf::Error on a type or range
@@ -67,6 +72,10 @@ class JsonField {
   float as_float(const NumberRange& range = NumberRange::any()) const;
   /// An integer (a number with no fractional part) in [lo, hi].
   int as_int(int lo, int hi) const;
+  /// A finite number inside `range`, in double precision.
+  double as_double(const NumberRange& range = NumberRange::any()) const;
+  /// A non-negative integer in [lo, hi] (the full 64-bit range is kept exactly).
+  std::uint64_t as_uint64(std::uint64_t lo, std::uint64_t hi) const;
   /// An array of exactly 3 numbers, each inside `range`.
   Vec3f as_vec3(const NumberRange& range = NumberRange::any()) const;
 
@@ -78,4 +87,4 @@ class JsonField {
   std::string path_;
 };
 
-}  // namespace vf::io_detail
+}  // namespace vf::json
