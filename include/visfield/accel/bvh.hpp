@@ -1,17 +1,20 @@
 #pragma once
 /// \file Exact SAH bounding volume hierarchy: binned SAH build (parallel, TBB), collapsed to an
 /// 8-wide node layout with SIMD box tests, leaves of 8-triangle SIMD blocks tested with the
-/// oracle's watertight kernel (so hits are bit-identical to BruteForce, ties included).
+/// oracle's watertight kernel.
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf {
+
+namespace bvh {
+struct BvhLayout;
+}
 
 /// Build parameters of the BVH; defaults are the ones measured fastest on the shared models (AO
 /// rays on bun_zipper, sponza, conference). Bvh::build throws vf::Error on values out of range.
@@ -32,23 +35,23 @@ class Bvh {
   Bvh& operator=(Bvh&&) noexcept;
   ~Bvh();
 
-  /// Closest hit in [tmin, tmax]: the same t, u, v and triangle as BruteForce (ties go to the lowest
-  /// TriangleSet index), unless a ray grazes a triangle so closely that rounding puts its computed
-  /// hit outside the triangle's (padded) box.
-  std::optional<Hit> intersect(const Ray& ray) const;
+  /// Closest hit in [tmin, tmax], with the triangle's geometric normal: the same t, u, v and triangle
+  /// as BruteForce (equal t: the lowest TriangleSet index) provided the triangle test's rounding keeps
+  /// its computed hit inside the node boxes, which are padded by 2^-16 of their extent for that
+  /// purpose (it has held on every ray of the differential tests).
+  Hit intersect(const Ray& ray) const;
   /// True when any triangle is hit in [tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics: 8-wide node count, leaf count, triangle references, deepest leaf (in 8-wide
   /// levels), bytes (nodes, leaf blocks, lane and id maps), build ms.
   const AccelStats& stats() const;
-  /// The --accel name, "bvh".
+  /// The registry name, "bvh".
   static std::string name() { return "bvh"; }
-
-  struct Impl;
+  static constexpr Exactness exactness = Exactness::exact;
 
  private:
-  explicit Bvh(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+  explicit Bvh(std::unique_ptr<const bvh::BvhLayout> layout);
+  std::unique_ptr<const bvh::BvhLayout> layout_;
 };
 
 }  // namespace vf

@@ -22,6 +22,9 @@ struct GridStatistics {
   double std_dev = 0.0;         ///< sigma = sqrt(variance).
   double skewness = 0.0;        ///< Eq. 5: (1/t) sum ((N_i - mean)/sigma)^3; 0 when sigma = 0.
   double kurtosis = 0.0;        ///< Eq. 6: (1/t) sum ((N_i - mean)/sigma)^4 - 3 (excess kurtosis); 0 when sigma = 0.
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const GridStatistics&) const = default;
 };
 
 /// Statistics of the counts N_i = cell_starts[i+1] - cell_starts[i] (t = cell_starts.size() - 1

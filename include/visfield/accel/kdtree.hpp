@@ -5,10 +5,9 @@
 /// blocks behind per-block boxes, watertight triangle tests.
 
 #include <memory>
-#include <optional>
 #include <string>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf {
@@ -42,19 +41,20 @@ class KdTree {
   ~KdTree();
 
   /// Closest hit in [tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
-  std::optional<Hit> intersect(const Ray& ray) const;
+  Hit intersect(const Ray& ray) const;
   /// True when any triangle is hit in [tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics: node_count = interior nodes, leaf_count = all leaves (empty ones too),
   /// reference_count = leaf references (a triangle crossing k leaves counts k times), max_depth =
   /// levels on the deepest path (a lone root leaf: 1).
   const AccelStats& stats() const;
-  /// The --accel name, "kdtree".
+  /// The registry name, "kdtree".
   static std::string name() { return "kdtree"; }
+  static constexpr Exactness exactness = Exactness::exact;
 
  private:
-  explicit KdTree(std::unique_ptr<kd::KdLayout> layout);
-  std::unique_ptr<kd::KdLayout> layout_;
+  explicit KdTree(std::unique_ptr<const kd::KdLayout> layout);
+  std::unique_ptr<const kd::KdLayout> layout_;
 };
 
 }  // namespace vf

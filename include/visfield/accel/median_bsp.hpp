@@ -6,10 +6,9 @@
 /// and the same traversal as KdTree.
 
 #include <memory>
-#include <optional>
 #include <string>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf {
@@ -39,17 +38,18 @@ class MedianBsp {
   ~MedianBsp();
 
   /// Closest hit in [tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
-  std::optional<Hit> intersect(const Ray& ray) const;
+  Hit intersect(const Ray& ray) const;
   /// True when any triangle is hit in [tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics, counted as for KdTree::stats().
   const AccelStats& stats() const;
-  /// The --accel name, "median-bsp".
+  /// The registry name, "median-bsp".
   static std::string name() { return "median-bsp"; }
+  static constexpr Exactness exactness = Exactness::exact;
 
  private:
-  explicit MedianBsp(std::unique_ptr<kd::KdLayout> layout);
-  std::unique_ptr<kd::KdLayout> layout_;
+  explicit MedianBsp(std::unique_ptr<const kd::KdLayout> layout);
+  std::unique_ptr<const kd::KdLayout> layout_;
 };
 
 }  // namespace vf

@@ -6,12 +6,12 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <optional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf {
@@ -20,7 +20,7 @@ namespace vf {
 struct UniformGridConfig {
   /// Target cells per triangle, lambda: the grid has about density * N cells, in (0, 64]. The
   /// default is the fastest of {1, 2, 4, 8} over AO and random rays on the shared models and the
-  /// built-in scenes (figures in src/accel/grid/layout.cpp).
+  /// built-in scenes (figures in src/accel/grid/geometry.cpp).
   float density = 2.0f;
   /// Cells per axis when all three are > 0 (tests, experiments); {0, 0, 0} = from `density`.
   std::array<int, 3> resolution{0, 0, 0};
@@ -34,7 +34,7 @@ struct UniformGridConfig {
 
 /// Where the cells lie: cell (x, y, z) spans origin + (x, y, z) * cell_size to origin + (x+1, y+1,
 /// z+1) * cell_size, in double precision. Plain value.
-struct GridLayout {
+struct GridGeometry {
   std::array<double, 3> origin{};         ///< Lower corner of the grid box.
   std::array<double, 3> cell_size{};      ///< Cell edge lengths, > 0 on every axis.
   std::array<int, 3> resolution{0, 0, 0}; ///< Cells per axis; all 0 for an empty grid.
@@ -54,52 +54,46 @@ struct GridLayout {
   double plane(int axis, int i) const { return origin[axis] + static_cast<double>(i) * cell_size[axis]; }
 };
 
-/// An immutable uniform grid over a TriangleSet (a value type; copies are deep). Queries are const
-/// and thread-safe; results are those of BruteForce (same t, u, v and triangle; ties in t go to
-/// the lowest triangle index). Build and queries do not depend on the thread count.
+namespace grid {
+struct GridLayout;
+}
+
+/// An immutable uniform grid over a TriangleSet. Queries are const and thread-safe; results are
+/// those of BruteForce (same t, u, v and triangle; ties in t go to the lowest triangle index). Build
+/// and queries do not depend on the thread count. Move-only.
 class UniformGrid {
  public:
   /// Builds over `set` (triangles copied); O(N + cells + references), parallel over TBB's threads.
   /// Throws vf::Error on a bad config, or before allocating a grid that would exceed 32-bit
   /// reference offsets or half of the machine's memory.
   static UniformGrid build(const TriangleSet& set, const UniformGridConfig& config = {});
+  UniformGrid(UniformGrid&&) noexcept;
+  UniformGrid& operator=(UniformGrid&&) noexcept;
+  ~UniformGrid();
 
   /// Closest hit in [tmin, tmax]; a zero direction never hits.
-  std::optional<Hit> intersect(const Ray& ray) const;
+  Hit intersect(const Ray& ray) const;
   /// True when any triangle is hit in [tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics: node_count = cells, leaf_count = non-empty cells, reference_count, bytes, ms.
-  const AccelStats& stats() const { return stats_; }
-  /// The --accel name, "grid".
+  const AccelStats& stats() const;
+  /// The registry name, "grid".
   static std::string name() { return "grid"; }
+  static constexpr Exactness exactness = Exactness::exact;
 
   /// Cell geometry and resolution (nx, ny, nz).
-  const GridLayout& layout() const { return layout_; }
+  const GridGeometry& geometry() const;
   /// Cells per axis (nx, ny, nz).
-  const std::array<int, 3>& resolution() const { return layout_.resolution; }
+  const std::array<int, 3>& resolution() const { return geometry().resolution; }
   /// cells + 1 offsets into the reference array: cell c holds cell_starts()[c+1] - cell_starts()[c]
   /// references (listed by cell_references(c)); the last entry is the reference count.
-  std::span<const std::uint32_t> cell_starts() const { return cell_start_; }
+  std::span<const std::uint32_t> cell_starts() const;
   /// TriangleSet indices of the triangles meeting cell `cell`, in increasing order.
-  std::span<const std::uint32_t> cell_references(std::size_t cell) const {
-    return std::span<const std::uint32_t>(refs_).subspan(cell_start_[cell], cell_start_[cell + 1] - cell_start_[cell]);
-  }
+  std::span<const std::uint32_t> cell_references(std::size_t cell) const;
 
  private:
-  struct BestHit {
-    float t, u, v;
-    std::uint32_t triangle;
-  };
-  template <bool kAnyHit>
-  bool walk(const Ray& ray, BestHit& best) const;
-
-  GridLayout layout_;
-  std::vector<std::array<Vec3f, 3>> triangles_;  ///< Copy of the TriangleSet's corners, same order.
-  std::vector<std::uint32_t> prim_, instance_;   ///< Copies of the TriangleSet id maps.
-  std::vector<std::uint32_t> cell_start_;        ///< cells + 1 offsets into refs_.
-  std::vector<std::uint32_t> refs_;              ///< Triangle indices, grouped by cell.
-  double slack_distance_ = 0.0;                  ///< Traversal slack in distance units (see traversal.cpp).
-  AccelStats stats_;
+  explicit UniformGrid(std::unique_ptr<const grid::GridLayout> layout);
+  std::unique_ptr<const grid::GridLayout> layout_;
 };
 
 }  // namespace vf

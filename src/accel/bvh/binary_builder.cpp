@@ -12,7 +12,7 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
-#include "bvh/bvh_impl.hpp"
+#include "bvh/wide_nodes.hpp"
 #include "simd/lanes.hpp"
 #include "visfield/accel/aligned_vector.hpp"
 
@@ -119,15 +119,15 @@ struct Range {
 
 class Builder {
  public:
-  Builder(const TriangleSet& set, const BvhConfig& config, int leaf_width)
-      : config_(config), leaf_width_(leaf_width), prims_(set.size()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.size(), 4096), [&](const auto& r) {
+  Builder(std::span<const Bounds3f> boxes, const BvhConfig& config, int leaf_width)
+      : config_(config), leaf_width_(leaf_width), prims_(boxes.size()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 4096), [&](const auto& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        alignas(16) const float lo[4] = {boxes[i].lo.x, boxes[i].lo.y, boxes[i].lo.z, 0.0f};
+        alignas(16) const float hi[4] = {boxes[i].hi.x, boxes[i].hi.y, boxes[i].hi.z, 0.0f};
         Box4 b;
-        for (const Vec3f& p : set.triangles[i]) {
-          alignas(16) const float f[4] = {p.x, p.y, p.z, 0.0f};
-          b.extend(V4::load(f));
-        }
+        b.extend(V4::load(lo));
+        b.extend(V4::load(hi));
         prims_[i] = b;
       }
     });
@@ -346,8 +346,8 @@ class Builder {
 
 }  // namespace
 
-BinaryTree build_binary_tree(const TriangleSet& set, const BvhConfig& config, int leaf_width) {
-  return Builder(set, config, leaf_width).build();
+BinaryTree build_binary_tree(std::span<const Bounds3f> boxes, const BvhConfig& config, int leaf_width) {
+  return Builder(boxes, config, leaf_width).build();
 }
 
 }  // namespace vf::bvh

@@ -1,13 +1,14 @@
 #pragma once
-/// \file Binned SAH construction of a binary BVH (build-only, private to the accel module).
+/// \file Binned SAH construction of a binary BVH over boxes (build-only, private to the accel module):
+/// triangles for the Bvh, object bounds for the instance layer's top level.
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/bounds.hpp"
-#include "visfield/core/triangle_set.hpp"
 
 namespace vf::bvh {
 
@@ -21,16 +22,16 @@ struct BinaryNode {
   bool is_leaf() const { return left == nullptr; }
 };
 
-/// The binary tree and the triangle order its leaves index into.
+/// The binary tree and the primitive order its leaves index into.
 struct BinaryTree {
-  std::unique_ptr<BinaryNode> root;  ///< Null for an empty set.
-  std::vector<std::uint32_t> order;  ///< TriangleSet indices, grouped by leaf.
+  std::unique_ptr<BinaryNode> root;  ///< Null when there are no boxes.
+  std::vector<std::uint32_t> order;  ///< Box indices, grouped by leaf.
 };
 
-/// Builds the binary SAH tree over `set`: `config.bin_count` bins over the centroid bounds of each
-/// node, leaf costs counted in blocks of `leaf_width` triangles, leaves of at most
-/// config.max_leaf_size triangles, no leaf deeper than kMaxBinaryDepth. Parallel over TBB's threads;
-/// the tree does not depend on the thread count.
-BinaryTree build_binary_tree(const TriangleSet& set, const BvhConfig& config, int leaf_width);
+/// Builds the binary SAH tree over `boxes` (one per primitive, none empty): `config.bin_count` bins
+/// over the centroid bounds of each node, leaf costs counted in blocks of `leaf_width` primitives,
+/// leaves of at most config.max_leaf_size primitives, no leaf deeper than kMaxBinaryDepth. Parallel
+/// over TBB's threads; the tree does not depend on the thread count.
+BinaryTree build_binary_tree(std::span<const Bounds3f> boxes, const BvhConfig& config, int leaf_width);
 
 }  // namespace vf::bvh

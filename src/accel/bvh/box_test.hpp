@@ -14,7 +14,8 @@
 
 #include <cmath>
 
-#include "bvh/bvh_impl.hpp"
+#include "bvh/wide_nodes.hpp"
+#include "visfield/core/ray.hpp"
 #include "simd/lanes.hpp"
 
 namespace vf::bvh {

@@ -1,12 +1,16 @@
 #include "visfield/accel/bvh.hpp"
 
-#include <chrono>
 #include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "bvh/binary_builder.hpp"
-#include "bvh/bvh_impl.hpp"
+#include "bvh/bvh_layout.hpp"
 #include "bvh/collapse.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/stopwatch.hpp"
 
 namespace vf {
 namespace {
@@ -14,7 +18,7 @@ namespace {
 void validate(const BvhConfig& c, std::size_t triangle_count) {
   if (c.bin_count < 2 || c.bin_count > 64)
     throw Error("bvh: bin_count must be in [2, 64], got " + std::to_string(c.bin_count));
-  const int max_leaf = bvh::kMaxLeafBlocks * bvh::kLeafWidth;
+  const int max_leaf = bvh::kMaxLeafItems * bvh::kLeafWidth;
   if (c.max_leaf_size < 1 || c.max_leaf_size > max_leaf)
     throw Error("bvh: max_leaf_size must be in [1, " + std::to_string(max_leaf) + "], got " +
                 std::to_string(c.max_leaf_size));
@@ -26,37 +30,83 @@ void validate(const BvhConfig& c, std::size_t triangle_count) {
                 std::to_string((std::size_t{1} << bvh::kLeafCountShift) - 1));
 }
 
+std::vector<Bounds3f> triangle_boxes(const TriangleSet& set) {
+  std::vector<Bounds3f> boxes(set.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.size(), 4096), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      for (const Vec3f& p : set.triangles[i]) boxes[i].extend(p);
+  });
+  return boxes;
+}
+
+std::size_t count_blocks(const bvh::BinaryNode& n) {
+  if (n.is_leaf()) return (n.count + bvh::kLeafWidth - 1) / bvh::kLeafWidth;
+  return count_blocks(*n.left) + count_blocks(*n.right);
+}
+
+/// Copies a binary leaf's triangles into SIMD blocks (unused lanes empty) and returns its reference.
+std::uint32_t write_triangle_leaf(const bvh::BinaryNode& leaf, const bvh::BinaryTree& tree, const TriangleSet& set,
+                                  bvh::BvhLayout& out) {
+  using bvh::kLeafWidth;
+  const auto first = static_cast<std::uint32_t>(out.blocks.size());
+  const std::uint32_t block_count = (leaf.count + kLeafWidth - 1) / kLeafWidth;
+  for (std::uint32_t b = 0; b < block_count; ++b) {
+    bvh::LeafBlock block;
+    for (int lane = 0; lane < kLeafWidth; ++lane) {
+      const std::uint32_t j = b * kLeafWidth + static_cast<std::uint32_t>(lane);
+      if (j < leaf.count) {
+        const std::uint32_t t = tree.order[leaf.begin + j];
+        block.set(lane, set.triangles[t][0], set.triangles[t][1], set.triangles[t][2]);
+        out.lane_triangle.push_back(t);
+      } else {
+        block.clear(lane);
+        out.lane_triangle.push_back(kInvalidId);
+      }
+    }
+    out.blocks.push_back(block);
+  }
+  out.stats.reference_count += leaf.count;
+  return bvh::leaf_ref(first, block_count);
+}
+
 }  // namespace
 
-Bvh::Bvh(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Bvh::Bvh(std::unique_ptr<const bvh::BvhLayout> layout) : layout_(std::move(layout)) {}
 Bvh::Bvh(Bvh&&) noexcept = default;
 Bvh& Bvh::operator=(Bvh&&) noexcept = default;
 Bvh::~Bvh() = default;
 
 Bvh Bvh::build(const TriangleSet& set, const BvhConfig& config) {
   validate(config, set.size());
-  const auto start = std::chrono::steady_clock::now();
-  auto impl = std::make_unique<Impl>();
-  impl->config = config;
+  const Stopwatch watch;
+  auto layout = std::make_unique<bvh::BvhLayout>();
   {
-    const bvh::BinaryTree tree = bvh::build_binary_tree(set, config, bvh::kLeafWidth);
-    bvh::collapse_to_wide(tree, set, *impl);
+    const bvh::BinaryTree tree = bvh::build_binary_tree(triangle_boxes(set), config, bvh::kLeafWidth);
+    if (tree.root) {
+      const std::size_t blocks = count_blocks(*tree.root);
+      layout->blocks.reserve(blocks);
+      layout->lane_triangle.reserve(blocks * bvh::kLeafWidth);
+    }
+    bvh::collapse_to_wide(tree, layout->nodes, layout->stats, [&](const bvh::BinaryNode& leaf) {
+      return write_triangle_leaf(leaf, tree, set, *layout);
+    });
   }
-  impl->nodes.shrink_to_fit();
-  impl->blocks.shrink_to_fit();
-  impl->lane_triangle.shrink_to_fit();
-  impl->prim = set.prim;
-  impl->instance = set.instance;
-  AccelStats& s = impl->stats;
-  s.memory_bytes = impl->nodes.capacity() * sizeof(bvh::Node8) + impl->blocks.capacity() * sizeof(bvh::LeafBlock) +
-                   (impl->lane_triangle.capacity() + impl->prim.capacity() + impl->instance.capacity()) *
+  layout->nodes.shrink_to_fit();
+  layout->blocks.shrink_to_fit();
+  layout->lane_triangle.shrink_to_fit();
+  layout->prim = set.prim;
+  layout->instance = set.instance;
+  AccelStats& s = layout->stats;
+  s.memory_bytes = layout->nodes.capacity() * sizeof(bvh::Node8) +
+                   layout->blocks.capacity() * sizeof(bvh::LeafBlock) +
+                   (layout->lane_triangle.capacity() + layout->prim.capacity() + layout->instance.capacity()) *
                        sizeof(std::uint32_t);
-  s.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return Bvh(std::move(impl));
+  s.build_ms = watch.elapsed_ms();
+  return Bvh(std::move(layout));
 }
 
-std::optional<Hit> Bvh::intersect(const Ray& ray) const { return impl_->intersect(ray); }
-bool Bvh::occluded(const Ray& ray) const { return impl_->occluded(ray); }
-const AccelStats& Bvh::stats() const { return impl_->stats; }
+Hit Bvh::intersect(const Ray& ray) const { return bvh::intersect(*layout_, ray); }
+bool Bvh::occluded(const Ray& ray) const { return bvh::occluded(*layout_, ray); }
+const AccelStats& Bvh::stats() const { return layout_->stats; }
 
 }  // namespace vf

@@ -29,34 +29,25 @@ Bounds3f grown(const Bounds3f& b) {
 
 class Collapser {
  public:
-  Collapser(const BinaryTree& tree, const TriangleSet& set, Bvh::Impl& out) : tree_(tree), set_(set), out_(out) {}
+  Collapser(AlignedVector<Node8>& nodes, AccelStats& stats, const LeafWriter& write_leaf)
+      : nodes_(nodes), stats_(stats), write_leaf_(write_leaf) {}
 
-  void run() {
-    const BinaryNode& root = *tree_.root;
-    const std::size_t blocks = count_blocks(root);
-    out_.blocks.reserve(blocks);
-    out_.lane_triangle.reserve(blocks * kLeafWidth);
+  void run(const BinaryNode& root) {
     if (root.is_leaf()) {
       // A single leaf still gets a root node, so traversal always starts at nodes[0].
-      out_.nodes.push_back(Node8::empty());
-      out_.nodes[0].set_bounds(0, grown(root.bounds));
-      out_.nodes[0].child[0] = emit_leaf(root, 1);
+      nodes_.push_back(Node8::empty());
+      nodes_[0].set_bounds(0, grown(root.bounds));
+      nodes_[0].child[0] = emit_leaf(root, 1);
     } else {
       emit_node(root, 0);
     }
-    out_.stats.node_count = out_.nodes.size();
+    stats_.node_count = nodes_.size();
   }
 
  private:
-  static std::size_t count_blocks(const BinaryNode& n) {
-    if (n.is_leaf()) return (n.count + kLeafWidth - 1) / kLeafWidth;
-    return count_blocks(*n.left) + count_blocks(*n.right);
-  }
-
   // Appends the node for binary node `n` and, depth first, its subtrees; returns its index.
   std::uint32_t emit_node(const BinaryNode& n, int depth) {
-    if (out_.nodes.size() >= kMaxNodes)
-      throw Error("bvh: the tree needs more than " + std::to_string(kMaxNodes) + " nodes");
+    if (nodes_.size() >= kMaxNodes) throw Error("bvh: the tree needs more than " + std::to_string(kMaxNodes) + " nodes");
     const BinaryNode* kids[8] = {n.left.get(), n.right.get()};
     int count = 2;
     while (count < 8) {
@@ -78,12 +69,12 @@ class Collapser {
       kids[open + 1] = opened->right.get();
       ++count;
     }
-    const auto index = static_cast<std::uint32_t>(out_.nodes.size());
-    out_.nodes.push_back(Node8::empty());
+    const auto index = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.push_back(Node8::empty());
     for (int i = 0; i < count; ++i) {
       const std::uint32_t ref =
           kids[i]->is_leaf() ? emit_leaf(*kids[i], depth + 1) : node_ref(emit_node(*kids[i], depth + 1));
-      Node8& node = out_.nodes[index];  // re-fetched: emit_node may have grown the array
+      Node8& node = nodes_[index];  // re-fetched: emit_node may have grown the array
       node.set_bounds(i, grown(kids[i]->bounds));
       node.child[i] = ref;
     }
@@ -91,39 +82,22 @@ class Collapser {
   }
 
   std::uint32_t emit_leaf(const BinaryNode& leaf, int depth) {
-    const auto first = static_cast<std::uint32_t>(out_.blocks.size());
-    const std::uint32_t block_count = (leaf.count + kLeafWidth - 1) / kLeafWidth;
-    for (std::uint32_t b = 0; b < block_count; ++b) {
-      LeafBlock block;
-      for (int lane = 0; lane < kLeafWidth; ++lane) {
-        const std::uint32_t j = b * kLeafWidth + static_cast<std::uint32_t>(lane);
-        if (j < leaf.count) {
-          const std::uint32_t t = tree_.order[leaf.begin + j];
-          block.set(lane, set_.triangles[t][0], set_.triangles[t][1], set_.triangles[t][2]);
-          out_.lane_triangle.push_back(t);
-        } else {
-          block.clear(lane);
-          out_.lane_triangle.push_back(kInvalidId);
-        }
-      }
-      out_.blocks.push_back(block);
-    }
-    ++out_.stats.leaf_count;
-    out_.stats.reference_count += leaf.count;
-    out_.stats.max_depth = std::max(out_.stats.max_depth, depth);
-    return leaf_ref(first, block_count);
+    ++stats_.leaf_count;
+    stats_.max_depth = std::max(stats_.max_depth, depth);
+    return write_leaf_(leaf);
   }
 
-  const BinaryTree& tree_;
-  const TriangleSet& set_;
-  Bvh::Impl& out_;
+  AlignedVector<Node8>& nodes_;
+  AccelStats& stats_;
+  const LeafWriter& write_leaf_;
 };
 
 }  // namespace
 
-void collapse_to_wide(const BinaryTree& tree, const TriangleSet& set, Bvh::Impl& out) {
+void collapse_to_wide(const BinaryTree& tree, AlignedVector<Node8>& nodes, AccelStats& stats,
+                      const LeafWriter& write_leaf) {
   if (!tree.root) return;
-  Collapser(tree, set, out).run();
+  Collapser(nodes, stats, write_leaf).run(*tree.root);
 }
 
 }  // namespace vf::bvh

@@ -1,15 +1,27 @@
 #pragma once
-/// \file Turns the binary SAH tree into the 8-wide node layout with SIMD leaf blocks (build-only).
+/// \file Turns a binary SAH tree into 8-wide nodes (build-only, private to the accel module).
+
+#include <cstdint>
+#include <functional>
 
 #include "bvh/binary_builder.hpp"
-#include "bvh/bvh_impl.hpp"
+#include "bvh/wide_nodes.hpp"
+#include "visfield/accel/aligned_vector.hpp"
+#include "visfield/accel/query.hpp"
 
 namespace vf::bvh {
 
-/// Fills out.nodes, out.blocks and out.lane_triangle from `tree` (nodes and blocks in depth-first
-/// order) and the node/leaf/reference/depth counts of out.stats. Each 8-wide node takes the two
-/// children of a binary node and repeatedly replaces the interior child of largest surface area by
-/// its two children while it has fewer than eight. O(nodes), serial.
-void collapse_to_wide(const BinaryTree& tree, const TriangleSet& set, Bvh::Impl& out);
+/// Writes the items of one binary leaf wherever the tree's owner keeps them and returns the leaf's
+/// child reference (leaf_ref(first, count)).
+using LeafWriter = std::function<std::uint32_t(const BinaryNode& leaf)>;
+
+/// Fills `nodes` from `tree` (depth-first; nodes[0] is the root, even when the root is a leaf) and
+/// the node, leaf and depth counts of `stats`, calling `write_leaf` for every leaf in depth-first
+/// order. Each 8-wide node takes the two children of a binary node and repeatedly replaces the
+/// interior child of largest surface area by its two children while it has fewer than eight. Child
+/// boxes are grown by a small margin (see collapse.cpp). O(nodes), serial. Throws vf::Error when the
+/// tree needs more than kMaxNodes nodes.
+void collapse_to_wide(const BinaryTree& tree, AlignedVector<Node8>& nodes, AccelStats& stats,
+                      const LeafWriter& write_leaf);
 
 }  // namespace vf::bvh

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -23,8 +22,9 @@
 
 #include "grid/cell_overlap.hpp"
 #include "visfield/core/memory.hpp"
-#include "grid/layout.hpp"
-#include "visfield/accel/uniform_grid.hpp"
+#include "grid/geometry.hpp"
+#include "grid/grid_layout.hpp"
+#include "visfield/core/stopwatch.hpp"
 #include "visfield/core/error.hpp"
 
 namespace vf {
@@ -186,16 +186,29 @@ std::size_t sort_buckets(const std::vector<Reference>& by_bucket, const std::vec
 
 }  // namespace
 
+UniformGrid::UniformGrid(std::unique_ptr<const grid::GridLayout> layout) : layout_(std::move(layout)) {}
+UniformGrid::UniformGrid(UniformGrid&&) noexcept = default;
+UniformGrid& UniformGrid::operator=(UniformGrid&&) noexcept = default;
+UniformGrid::~UniformGrid() = default;
+
+const AccelStats& UniformGrid::stats() const { return layout_->stats; }
+const GridGeometry& UniformGrid::geometry() const { return layout_->geometry; }
+std::span<const std::uint32_t> UniformGrid::cell_starts() const { return layout_->cell_start; }
+std::span<const std::uint32_t> UniformGrid::cell_references(std::size_t cell) const {
+  const std::vector<std::uint32_t>& start = layout_->cell_start;
+  return std::span<const std::uint32_t>(layout_->refs).subspan(start[cell], start[cell + 1] - start[cell]);
+}
+
 UniformGrid UniformGrid::build(const TriangleSet& set, const UniformGridConfig& config) {
-  const auto start = std::chrono::steady_clock::now();
-  UniformGrid g;
-  g.layout_ = grid::make_layout(set, config);
-  g.slack_distance_ = set.size() > 0 ? grid::traversal_slack(g.layout_) : 0.0;
-  const std::size_t cells = g.layout_.cell_count();
+  const Stopwatch watch;
+  auto g = std::make_unique<grid::GridLayout>();
+  g->geometry = grid::make_geometry(set, config);
+  g->slack_distance = set.size() > 0 ? grid::traversal_slack(g->geometry) : 0.0;
+  const std::size_t cells = g->geometry.cell_count();
   const auto build_cells = [&] {
-    g.cell_start_.resize(cells + 1);
+    g->cell_start.resize(cells + 1);
     if (cells == 0) return;
-    const grid::CellFinder finder(g.layout_, grid::overlap_margin(g.layout_), config.exact_overlap);
+    const grid::CellFinder finder(g->geometry, grid::overlap_margin(g->geometry), config.exact_overlap);
     const Partition partition = make_partition(set.size(), cells);
     FoundCells found;
     find_cells(set.triangles, finder, partition, reference_limit(), found);
@@ -204,25 +217,25 @@ UniformGrid UniformGrid::build(const TriangleSet& set, const UniformGridConfig& 
     std::vector<Reference> by_bucket(total);
     scatter_to_buckets(found, partition, set.size(), found.bucket_counts, by_bucket);
     found = FoundCells{};
-    g.refs_.resize(total);
-    g.stats_.leaf_count = sort_buckets(by_bucket, bucket_start, partition, cells, g.cell_start_, g.refs_);
-    g.cell_start_[cells] = static_cast<std::uint32_t>(total);
+    g->refs.resize(total);
+    g->stats.leaf_count = sort_buckets(by_bucket, bucket_start, partition, cells, g->cell_start, g->refs);
+    g->cell_start[cells] = static_cast<std::uint32_t>(total);
   };
   // The triangle set is copied while the cells are built.
   tbb::parallel_invoke(build_cells, [&] {
-    g.triangles_ = set.triangles;
-    g.prim_ = set.prim;
-    g.instance_ = set.instance;
+    g->triangles = set.triangles;
+    g->prim = set.prim;
+    g->instance = set.instance;
   });
-  AccelStats& s = g.stats_;
+  AccelStats& s = g->stats;
   s.node_count = cells;
-  s.reference_count = g.refs_.size();
+  s.reference_count = g->refs.size();
   s.max_depth = 0;
-  s.memory_bytes = g.triangles_.capacity() * sizeof(g.triangles_[0]) +
-                   (g.prim_.capacity() + g.instance_.capacity() + g.cell_start_.capacity() + g.refs_.capacity()) *
+  s.memory_bytes = g->triangles.capacity() * sizeof(g->triangles[0]) +
+                   (g->prim.capacity() + g->instance.capacity() + g->cell_start.capacity() + g->refs.capacity()) *
                        sizeof(std::uint32_t);
-  s.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return g;
+  s.build_ms = watch.elapsed_ms();
+  return UniformGrid(std::move(g));
 }
 
 }  // namespace vf

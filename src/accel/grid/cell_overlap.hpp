@@ -60,9 +60,9 @@ inline void polygon_range(const Point* p, int n, int axis, double& lo, double& h
 /// Per-build constants of the cell search. Thread-safe (const).
 class CellFinder {
  public:
-  CellFinder(const GridLayout& layout, double margin, bool exact_overlap)
-      : layout_(layout), margin_(margin),
-        inv_size_{1.0 / layout.cell_size[0], 1.0 / layout.cell_size[1], 1.0 / layout.cell_size[2]},
+  CellFinder(const GridGeometry& geometry, double margin, bool exact_overlap)
+      : geometry_(geometry), margin_(margin),
+        inv_size_{1.0 / geometry.cell_size[0], 1.0 / geometry.cell_size[1], 1.0 / geometry.cell_size[2]},
         exact_(exact_overlap) {}
 
   /// Calls emit(cell index) once for every cell the triangle meets.
@@ -79,7 +79,7 @@ class CellFinder {
       // The triangle is connected, so it meets every cell of a one-row box.
       for (int z = first[2]; z <= last[2]; ++z)
         for (int y = first[1]; y <= last[1]; ++y)
-          for (int x = first[0]; x <= last[0]; ++x) emit(layout_.cell_index(x, y, z));
+          for (int x = first[0]; x <= last[0]; ++x) emit(geometry_.cell_index(x, y, z));
       return;
     }
     Point triangle[3];
@@ -109,7 +109,7 @@ class CellFinder {
         polygon_range(pxy, nxy, 2, lo, hi);
         int z_first, z_last;
         span(2, lo, hi, z_first, z_last);
-        for (int z = z_first; z <= z_last; ++z) emit(layout_.cell_index(x, y, z));
+        for (int z = z_first; z <= z_last; ++z) emit(geometry_.cell_index(x, y, z));
       }
     }
   }
@@ -122,13 +122,13 @@ class CellFinder {
   }
   /// Cell index on `axis` of coordinate x, clamped to the grid.
   int cell_of(int axis, double x) const {
-    const double i = std::floor((x - layout_.origin[axis]) * inv_size_[axis]);
-    return static_cast<int>(std::clamp(i, 0.0, static_cast<double>(layout_.resolution[axis] - 1)));
+    const double i = std::floor((x - geometry_.origin[axis]) * inv_size_[axis]);
+    return static_cast<int>(std::clamp(i, 0.0, static_cast<double>(geometry_.resolution[axis] - 1)));
   }
   /// Writes the part of polygon (in, n) inside the enlarged slab i of `axis` to `out`; returns its
   /// corner count. A side the polygon lies entirely within is not clipped.
   int clip_to_slab(const Point* in, int n, int axis, int i, Point* out) const {
-    const double lo = layout_.plane(axis, i) - margin_, hi = layout_.plane(axis, i + 1) + margin_;
+    const double lo = geometry_.plane(axis, i) - margin_, hi = geometry_.plane(axis, i + 1) + margin_;
     double in_lo, in_hi;
     polygon_range(in, n, axis, in_lo, in_hi);
     if (in_hi < lo || in_lo > hi) return 0;
@@ -143,7 +143,7 @@ class CellFinder {
     return n;
   }
 
-  const GridLayout& layout_;
+  const GridGeometry& geometry_;
   double margin_;
   std::array<double, 3> inv_size_;
   bool exact_;

@@ -29,7 +29,7 @@
 #include <limits>
 
 #include "simd/watertight_block.hpp"
-#include "visfield/accel/uniform_grid.hpp"
+#include "grid/grid_layout.hpp"
 #include "visfield/core/triangle_intersect.hpp"
 
 namespace vf {
@@ -46,25 +46,29 @@ constexpr int kBlockWidth = 4;
 using Block = simd::TriangleBlock<kBlockWidth>;
 using BlockLanes = simd::Lanes<kBlockWidth>;
 
-}  // namespace
+struct BestHit {
+  float t, u, v;
+  std::uint32_t triangle;
+};
 
 template <bool kAnyHit>
-bool UniformGrid::walk(const Ray& ray, BestHit& best) const {
+bool walk(const grid::GridLayout& g, const Ray& ray, BestHit& best) {
+  const GridGeometry& geometry = g.geometry;
   best = {ray.tmax, 0.0f, 0.0f, kInvalidId};
-  if (refs_.empty()) return false;
+  if (g.refs.empty()) return false;
   const double org[3] = {ray.org.x, ray.org.y, ray.org.z};
   const double dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
   const double dir_max = std::max({std::fabs(dir[0]), std::fabs(dir[1]), std::fabs(dir[2])});
   if (!(dir_max > 0.0)) return false;
-  const double slack_base = slack_distance_ / dir_max;
+  const double slack_base = g.slack_distance / dir_max;
   const auto slack = [&](double t) { return slack_base + kRelativeSlack * std::fabs(t); };
 
   // Clip [tmin, tmax], widened by the slack, to the grid box grown by the slack distance.
   double t_enter = ray.tmin - slack(ray.tmin);
   double t_exit = ray.tmax + slack(ray.tmax);
   for (int a = 0; a < 3; ++a) {
-    const double lo = layout_.origin[a] - slack_distance_;
-    const double hi = layout_.plane(a, layout_.resolution[a]) + slack_distance_;
+    const double lo = geometry.origin[a] - g.slack_distance;
+    const double hi = geometry.plane(a, geometry.resolution[a]) + g.slack_distance;
     if (dir[a] == 0.0) {
       if (org[a] < lo || org[a] > hi) return false;
       continue;
@@ -80,20 +84,20 @@ bool UniformGrid::walk(const Ray& ray, BestHit& best) const {
   int cell[3], last[3], step[3];
   double t_next[3], t_delta[3];
   std::ptrdiff_t stride[3];
-  const std::ptrdiff_t nx = layout_.resolution[0], nxy = nx * layout_.resolution[1];
+  const std::ptrdiff_t nx = geometry.resolution[0], nxy = nx * geometry.resolution[1];
   const std::ptrdiff_t strides[3] = {1, nx, nxy};
   for (int a = 0; a < 3; ++a) {
-    const int n = layout_.resolution[a];
+    const int n = geometry.resolution[a];
     const double p = dir[a] == 0.0 ? org[a] : org[a] + t_enter * dir[a];
-    const double i = std::floor((p - layout_.origin[a]) / layout_.cell_size[a]);
+    const double i = std::floor((p - geometry.origin[a]) / geometry.cell_size[a]);
     cell[a] = static_cast<int>(std::clamp(i, 0.0, static_cast<double>(n - 1)));
     step[a] = dir[a] > 0.0 ? 1 : (dir[a] < 0.0 ? -1 : 0);
     last[a] = step[a] > 0 ? n - 1 : 0;
     stride[a] = step[a] * strides[a];
-    t_delta[a] = step[a] == 0 ? 0.0 : layout_.cell_size[a] / std::fabs(dir[a]);
+    t_delta[a] = step[a] == 0 ? 0.0 : geometry.cell_size[a] / std::fabs(dir[a]);
     t_next[a] = step[a] == 0 || cell[a] == last[a]
                     ? kInfinity
-                    : (layout_.plane(a, cell[a] + (step[a] > 0 ? 1 : 0)) - org[a]) / dir[a];
+                    : (geometry.plane(a, cell[a] + (step[a] > 0 ? 1 : 0)) - org[a]) / dir[a];
   }
 
   const WatertightRay wray(ray);
@@ -106,12 +110,12 @@ bool UniformGrid::walk(const Ray& ray, BestHit& best) const {
       t_exit = std::min(t_exit, static_cast<double>(t) + slack(t));
     }
   };
-  std::ptrdiff_t index = static_cast<std::ptrdiff_t>(layout_.cell_index(cell[0], cell[1], cell[2]));
+  std::ptrdiff_t index = static_cast<std::ptrdiff_t>(geometry.cell_index(cell[0], cell[1], cell[2]));
   for (;;) {
-    const std::uint32_t* const first = refs_.data() + cell_start_[static_cast<std::size_t>(index)];
-    const std::uint32_t* const end = refs_.data() + cell_start_[static_cast<std::size_t>(index) + 1];
+    const std::uint32_t* const first = g.refs.data() + g.cell_start[static_cast<std::size_t>(index)];
+    const std::uint32_t* const end = g.refs.data() + g.cell_start[static_cast<std::size_t>(index) + 1];
     if (end - first == 1) {
-      const std::array<Vec3f, 3>& tri = triangles_[*first];
+      const std::array<Vec3f, 3>& tri = g.triangles[*first];
       TriangleHit h;
       if (intersect_triangle(wray, tri[0], tri[1], tri[2], ray.tmin, best.t, h)) {
         if constexpr (kAnyHit) return true;
@@ -123,7 +127,7 @@ bool UniformGrid::walk(const Ray& ray, BestHit& best) const {
         const std::ptrdiff_t filled = end - r;
         for (int lane = 0; lane < kBlockWidth; ++lane) {
           if (lane < filled) {
-            const std::array<Vec3f, 3>& tri = triangles_[r[lane]];
+            const std::array<Vec3f, 3>& tri = g.triangles[r[lane]];
             block.set(lane, tri[0], tri[1], tri[2]);
           } else {
             block.clear(lane);
@@ -153,15 +157,19 @@ bool UniformGrid::walk(const Ray& ray, BestHit& best) const {
   return best.triangle != kInvalidId;
 }
 
-std::optional<Hit> UniformGrid::intersect(const Ray& ray) const {
+}  // namespace
+
+Hit UniformGrid::intersect(const Ray& ray) const {
   BestHit best;
-  if (!walk<false>(ray, best)) return std::nullopt;
-  return Hit{best.t, best.u, best.v, prim_[best.triangle], instance_[best.triangle]};
+  if (!walk<false>(*layout_, ray, best)) return Hit{};
+  const std::array<Vec3f, 3>& tri = layout_->triangles[best.triangle];
+  return Hit::triangle(best.t, best.u, best.v, layout_->prim[best.triangle], layout_->instance[best.triangle],
+                       cross(tri[1] - tri[0], tri[2] - tri[0]));
 }
 
 bool UniformGrid::occluded(const Ray& ray) const {
   BestHit unused;
-  return walk<true>(ray, unused);
+  return walk<true>(*layout_, ray, unused);
 }
 
 }  // namespace vf

@@ -3,6 +3,7 @@
 /// BSP builders, and the parallel recursion that drives both.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <utility>
@@ -11,6 +12,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include "kdtree/kd_nodes.hpp"
+#include "visfield/core/stopwatch.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf::kd {
@@ -79,6 +81,19 @@ void build_subtree(const Builder& builder, Node node, int depth, FlatTree& out) 
     out.end_interior(self, split->axis, split->position);
     build_subtree(builder, std::move(split->above), depth + 1, out);
   }
+}
+
+/// The build shared by KdTree and MedianBsp: the subtree of `make_root()` (called only for a non-empty
+/// set) built by `builder`, moved into a layout with its statistics and build time.
+template <class Builder, class MakeRoot>
+std::unique_ptr<const KdLayout> build_layout(const TriangleSet& set, const Builder& builder, MakeRoot&& make_root) {
+  const Stopwatch watch;
+  auto layout = std::make_unique<KdLayout>();
+  FlatTree tree;
+  if (set.size() > 0) build_subtree(builder, make_root(), 0, tree);
+  finish_layout(std::move(tree), set, *layout);
+  layout->stats.build_ms = watch.elapsed_ms();
+  return layout;
 }
 
 }  // namespace vf::kd

@@ -6,11 +6,10 @@
 #include <array>
 #include <bit>
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 #include "simd/watertight_block.hpp"
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/accel/aligned_vector.hpp"
 #include "visfield/core/bounds.hpp"
 #include "visfield/core/ray.hpp"
@@ -70,7 +69,8 @@ struct KdLayout {
   /// Per block, per axis: the bounds of its triangles within its leaf's cell (box_lo[axis][block]),
   /// followed by kBoxWidth padding entries so that any block starts a full load.
   std::array<std::vector<float>, 3> box_lo, box_hi;
-  std::vector<std::uint32_t> prim, instance; ///< Copies of the TriangleSet id maps.
+  std::vector<std::uint32_t> prim;           ///< Copy of the TriangleSet's triangle ids.
+  std::vector<ObjectId> instance;            ///< Copy of the TriangleSet's object ids.
   Bounds3f bounds;                           ///< The root cell: bounds of all triangles.
   AccelStats stats;
 
@@ -80,7 +80,7 @@ struct KdLayout {
 
 /// Closest hit in [tmin, tmax]: bit-identical (t, u, v, triangle) to intersect_triangle() run on
 /// every triangle in TriangleSet order with ties going to the lowest index. Thread-safe.
-std::optional<Hit> intersect(const KdLayout& kd, const Ray& ray);
+Hit intersect(const KdLayout& kd, const Ray& ray);
 
 /// True when some triangle is hit in [tmin, tmax]; stops at the first hit found. Thread-safe.
 bool occluded(const KdLayout& kd, const Ray& ray);

@@ -158,6 +158,7 @@ bool clip_to_root(const Bounds3f& box, const PlaneRay& r, float& t0, float& t1) 
 struct BestHit {
   float t = 0, u = 0, v = 0;
   std::uint32_t triangle = kInvalidId;
+  std::size_t slot = 0;  ///< Block lane of the hit (block * kLeafWidth + lane).
 };
 
 template <bool kAnyHit>
@@ -222,10 +223,11 @@ bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
           if (lanes == 0) continue;
           for (; lanes != 0; lanes &= lanes - 1) {
             const int l = simd::first_lane(lanes);
-            const std::uint32_t triangle = lane_triangle[std::size_t{b} * kLeafWidth + static_cast<std::uint32_t>(l)];
+            const std::size_t slot = std::size_t{b} * kLeafWidth + static_cast<std::uint32_t>(l);
+            const std::uint32_t triangle = lane_triangle[slot];
             // Lanes are not in index order, and a block may hit several times: equal t, lowest index.
             if (hits.t[l] < best.t || (hits.t[l] == best.t && triangle < best.triangle))
-              best = {hits.t[l], hits.u[l], hits.v[l], triangle};
+              best = {hits.t[l], hits.u[l], hits.v[l], triangle, slot};
           }
           tri_tmax = Lanes::broadcast(best.t);
           cull = slack.above(best.t);
@@ -244,10 +246,11 @@ bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
 
 }  // namespace
 
-std::optional<Hit> intersect(const KdLayout& kd, const Ray& ray) {
+Hit intersect(const KdLayout& kd, const Ray& ray) {
   BestHit best;
-  if (!traverse<false>(kd, ray, best)) return std::nullopt;
-  return Hit{best.t, best.u, best.v, kd.prim[best.triangle], kd.instance[best.triangle]};
+  if (!traverse<false>(kd, ray, best)) return Hit{};
+  return Hit::triangle(best.t, best.u, best.v, kd.prim[best.triangle], kd.instance[best.triangle],
+                       kd.blocks[best.slot / kLeafWidth].normal(static_cast<int>(best.slot % kLeafWidth)));
 }
 
 bool occluded(const KdLayout& kd, const Ray& ray) {

@@ -1,7 +1,6 @@
 #include "visfield/accel/kdtree.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -65,26 +64,18 @@ class SahBuilder {
 
 }  // namespace
 
-KdTree::KdTree(std::unique_ptr<kd::KdLayout> layout) : layout_(std::move(layout)) {}
+KdTree::KdTree(std::unique_ptr<const kd::KdLayout> layout) : layout_(std::move(layout)) {}
 KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 KdTree::~KdTree() = default;
 
 KdTree KdTree::build(const TriangleSet& set, const KdTreeConfig& config) {
   validate(config, set);
-  const auto start = std::chrono::steady_clock::now();
-  auto layout = std::make_unique<kd::KdLayout>();
-  kd::FlatTree tree;
-  if (set.size() > 0) {
-    const int max_depth = config.max_depth > 0 ? config.max_depth : automatic_max_depth(set.size());
-    kd::build_subtree(SahBuilder(set, config, max_depth), kd::make_root(set), 0, tree);
-  }
-  kd::finish_layout(std::move(tree), set, *layout);
-  layout->stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return KdTree(std::move(layout));
+  const int max_depth = config.max_depth > 0 ? config.max_depth : automatic_max_depth(set.size());
+  return KdTree(kd::build_layout(set, SahBuilder(set, config, max_depth), [&] { return kd::make_root(set); }));
 }
 
-std::optional<Hit> KdTree::intersect(const Ray& ray) const { return kd::intersect(*layout_, ray); }
+Hit KdTree::intersect(const Ray& ray) const { return kd::intersect(*layout_, ray); }
 bool KdTree::occluded(const Ray& ray) const { return kd::occluded(*layout_, ray); }
 const AccelStats& KdTree::stats() const { return layout_->stats; }
 

@@ -1,7 +1,6 @@
 #include "visfield/accel/median_bsp.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -99,26 +98,18 @@ MedianNode make_root(const TriangleSet& set) {
 
 }  // namespace
 
-MedianBsp::MedianBsp(std::unique_ptr<kd::KdLayout> layout) : layout_(std::move(layout)) {}
+MedianBsp::MedianBsp(std::unique_ptr<const kd::KdLayout> layout) : layout_(std::move(layout)) {}
 MedianBsp::MedianBsp(MedianBsp&&) noexcept = default;
 MedianBsp& MedianBsp::operator=(MedianBsp&&) noexcept = default;
 MedianBsp::~MedianBsp() = default;
 
 MedianBsp MedianBsp::build(const TriangleSet& set, const MedianBspConfig& config) {
   validate(config, set);
-  const auto start = std::chrono::steady_clock::now();
-  auto layout = std::make_unique<kd::KdLayout>();
-  kd::FlatTree tree;
-  if (set.size() > 0) {
-    const int max_depth = config.max_depth > 0 ? config.max_depth : automatic_median_depth(set.size());
-    kd::build_subtree(MedianBuilder(set, config, max_depth), make_root(set), 0, tree);
-  }
-  kd::finish_layout(std::move(tree), set, *layout);
-  layout->stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return MedianBsp(std::move(layout));
+  const int max_depth = config.max_depth > 0 ? config.max_depth : automatic_median_depth(set.size());
+  return MedianBsp(kd::build_layout(set, MedianBuilder(set, config, max_depth), [&] { return make_root(set); }));
 }
 
-std::optional<Hit> MedianBsp::intersect(const Ray& ray) const { return kd::intersect(*layout_, ray); }
+Hit MedianBsp::intersect(const Ray& ray) const { return kd::intersect(*layout_, ray); }
 bool MedianBsp::occluded(const Ray& ray) const { return kd::occluded(*layout_, ray); }
 const AccelStats& MedianBsp::stats() const { return layout_->stats; }
 

@@ -26,6 +26,15 @@ struct alignas(W * 4 > 64 ? 64 : W * 4) TriangleBlock {
     for (int k = 0; k < 3; ++k)
       for (int axis = 0; axis < 3; ++axis) p[(k * 3 + axis) * W + lane] = (*corners[k])[axis];
   }
+  /// Corner `corner` (0..2) of the triangle in `lane`.
+  Vec3f corner(int lane, int corner) const {
+    return {row(corner, 0)[lane], row(corner, 1)[lane], row(corner, 2)[lane]};
+  }
+  /// Geometric normal of the triangle in `lane`: cross(p1 - p0, p2 - p0), not normalised (a Hit's normal).
+  Vec3f normal(int lane) const {
+    const Vec3f p0 = corner(lane, 0);
+    return cross(corner(lane, 1) - p0, corner(lane, 2) - p0);
+  }
   /// Makes `lane` empty (NaN corners).
   void clear(int lane) {
     for (int k = 0; k < 9; ++k) p[k * W + lane] = std::numeric_limits<float>::quiet_NaN();

@@ -1,41 +1,37 @@
 #pragma once
-/// \file Memory layout of the built Bvh (private to the accel module): 8-wide nodes with child
-/// boxes in structure-of-arrays form, and leaves made of SIMD triangle blocks.
+/// \file The 8-wide node format (private to the accel module), shared by the triangle Bvh and the
+/// instance layer's top level: child boxes in structure-of-arrays form, child references that name
+/// either a node or a leaf (a run of leaf items whose meaning belongs to the tree's owner).
 
 #include <cstdint>
 #include <limits>
 #include <vector>
 
-#include "simd/watertight_block.hpp"
-#include "visfield/accel/aligned_vector.hpp"
-#include "visfield/accel/bvh.hpp"
+#include "visfield/core/bounds.hpp"
 
 namespace vf::bvh {
 
-/// Triangles per leaf block (the SIMD width of the leaf triangle test).
-inline constexpr int kLeafWidth = 8;
-/// A leaf holds at most this many blocks (4 bits of the child reference).
-inline constexpr int kMaxLeafBlocks = 16;
+/// A leaf holds at most this many items (4 bits of the child reference): triangle blocks in the
+/// Bvh, objects in the instance layer's top level.
+inline constexpr int kMaxLeafItems = 16;
 /// No leaf is deeper than this many binary levels, so traversal stacks have a fixed size.
 inline constexpr int kMaxBinaryDepth = 64;
 
-using LeafBlock = simd::TriangleBlock<kLeafWidth>;
-
 /// Child references: an interior child is the byte offset of its Node8 in the node array (an
 /// offset rather than an index saves a multiplication on the traversal's critical path); a leaf
-/// child has kLeafFlag set, its block count minus one in bits 27..30 and its first block index in
+/// child has kLeafFlag set, its item count minus one in bits 27..30 and its first item index in
 /// bits 0..26.
 inline constexpr std::uint32_t kLeafFlag = 1u << 31;
 inline constexpr int kLeafCountShift = 27;
 inline constexpr std::uint32_t kLeafFirstMask = (1u << kLeafCountShift) - 1;
 
-/// Builds the reference of a leaf of `count` (1..kMaxLeafBlocks) blocks starting at block `first`.
+/// Builds the reference of a leaf of `count` (1..kMaxLeafItems) items starting at item `first`.
 constexpr std::uint32_t leaf_ref(std::uint32_t first, std::uint32_t count) {
   return kLeafFlag | ((count - 1) << kLeafCountShift) | first;
 }
 constexpr bool is_leaf(std::uint32_t ref) { return (ref & kLeafFlag) != 0; }
-constexpr std::uint32_t leaf_first_block(std::uint32_t ref) { return ref & kLeafFirstMask; }
-constexpr std::uint32_t leaf_block_count(std::uint32_t ref) { return ((ref >> kLeafCountShift) & 15u) + 1; }
+constexpr std::uint32_t leaf_first_item(std::uint32_t ref) { return ref & kLeafFirstMask; }
+constexpr std::uint32_t leaf_item_count(std::uint32_t ref) { return ((ref >> kLeafCountShift) & 15u) + 1; }
 
 /// Bounds rows of a Node8.
 enum BoundsRow { kLoX, kLoY, kLoZ, kHiX, kHiY, kHiZ };
@@ -77,20 +73,3 @@ inline const Node8& node_at(const Node8* nodes, std::uint32_t ref) {
 inline constexpr std::size_t kMaxNodes = kLeafFlag / sizeof(Node8);
 
 }  // namespace vf::bvh
-
-namespace vf {
-
-/// The built hierarchy. nodes[0] is the root whenever the set has triangles.
-struct Bvh::Impl {
-  BvhConfig config;
-  AlignedVector<bvh::Node8> nodes;
-  AlignedVector<bvh::LeafBlock> blocks;
-  std::vector<std::uint32_t> lane_triangle;  ///< TriangleSet index per block lane; kInvalidId in unused lanes.
-  std::vector<std::uint32_t> prim, instance; ///< Copies of the TriangleSet id maps.
-  AccelStats stats;
-
-  std::optional<Hit> intersect(const Ray& ray) const;
-  bool occluded(const Ray& ray) const;
-};
-
-}  // namespace vf

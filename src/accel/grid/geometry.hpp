@@ -25,23 +25,20 @@ std::array<int, 3> resolution_for(const std::array<double, 3>& extent, double ta
 /// The grid box and resolution for `set` under `config` (validated; throws vf::Error naming the
 /// bad field). Axes of zero (or negligible) extent are thickened so every cell has a volume. An
 /// empty set gives resolution {0, 0, 0}.
-GridLayout make_layout(const TriangleSet& set, const UniformGridConfig& config);
-
-/// `bytes` as text in GiB with one decimal, for messages.
-std::string gibibytes(double bytes);
+GridGeometry make_geometry(const TriangleSet& set, const UniformGridConfig& config);
 
 /// Coordinate scale of the grid: largest coordinate magnitude of its box plus its largest extent.
 /// Float rounding of points in or near the grid is a small multiple of 2^-24 times this.
-double coordinate_scale(const GridLayout& layout);
+double coordinate_scale(const GridGeometry& geometry);
 
 /// Cells are enlarged by this distance when triangles are assigned to them, so that points the
 /// watertight test counts as on a triangle (which may lie a few ulps outside it) are in a cell that
 /// references the triangle. 2^-18 of the scale: 64 ulps, and far below a cell.
-inline double overlap_margin(const GridLayout& layout) { return 0x1p-18 * coordinate_scale(layout); }
+inline double overlap_margin(const GridGeometry& geometry) { return 0x1p-18 * coordinate_scale(geometry); }
 
 /// Spatial part of the traversal slack: a hit whose t lies within this distance (in t units: divided
 /// by the largest |dir| component) of a cell's exit is also looked for in the next cell. Covers the
 /// t error of the watertight test; 2^-16 of the scale.
-inline double traversal_slack(const GridLayout& layout) { return 0x1p-16 * coordinate_scale(layout); }
+inline double traversal_slack(const GridGeometry& geometry) { return 0x1p-16 * coordinate_scale(geometry); }
 
 }  // namespace vf::grid

@@ -1,4 +1,4 @@
-#include "grid/layout.hpp"
+#include "grid/geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -101,10 +101,10 @@ std::array<int, 3> resolution_for(const std::array<double, 3>& extent, double ta
   }
 }
 
-GridLayout make_layout(const TriangleSet& set, const UniformGridConfig& config) {
+GridGeometry make_geometry(const TriangleSet& set, const UniformGridConfig& config) {
   validate(config, set);
-  GridLayout layout;
-  if (set.size() == 0) return layout;
+  GridGeometry geometry;
+  if (set.size() == 0) return geometry;
   const Bounds3f& box = config.box.empty() ? set.bounds : config.box;
   std::array<double, 3> lo{}, extent{};
   double longest = 0.0;
@@ -125,34 +125,26 @@ GridLayout make_layout(const TriangleSet& set, const UniformGridConfig& config) 
     }
   }
   const bool forced = config.resolution[0] > 0;
-  layout.resolution = forced ? config.resolution
+  geometry.resolution = forced ? config.resolution
                              : resolution_for(sized, static_cast<double>(config.density) * static_cast<double>(set.size()));
-  if (layout.cell_count() > kMaxCells)
-    throw Error("grid: resolution " + resolution_text(layout.resolution) + " has more than " +
+  if (geometry.cell_count() > kMaxCells)
+    throw Error("grid: resolution " + resolution_text(geometry.resolution) + " has more than " +
                 std::to_string(kMaxCells) + " cells");
-  const double offset_bytes = 4.0 * static_cast<double>(layout.cell_count());
-  if (offset_bytes > allocation_budget_bytes())
-    throw Error("grid: resolution " + resolution_text(layout.resolution) + " would need " + gibibytes(offset_bytes) +
-                " of cell offsets, more than half of this machine's " + gibibytes(2.0 * allocation_budget_bytes()));
+  require_memory(4.0 * static_cast<double>(geometry.cell_count()),
+                 "grid: the cell offsets of resolution " + resolution_text(geometry.resolution));
   for (int a = 0; a < 3; ++a) {
-    layout.origin[a] = lo[a];
-    layout.cell_size[a] = extent[a] / layout.resolution[a];
+    geometry.origin[a] = lo[a];
+    geometry.cell_size[a] = extent[a] / geometry.resolution[a];
   }
-  return layout;
+  return geometry;
 }
 
-std::string gibibytes(double bytes) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f GiB", bytes / (1 << 30));
-  return text;
-}
-
-double coordinate_scale(const GridLayout& layout) {
+double coordinate_scale(const GridGeometry& geometry) {
   double magnitude = 0.0, longest = 0.0;
   for (int a = 0; a < 3; ++a) {
-    const double hi = layout.plane(a, layout.resolution[a]);
-    magnitude = std::max({magnitude, std::fabs(layout.origin[a]), std::fabs(hi)});
-    longest = std::max(longest, hi - layout.origin[a]);
+    const double hi = geometry.plane(a, geometry.resolution[a]);
+    magnitude = std::max({magnitude, std::fabs(geometry.origin[a]), std::fabs(hi)});
+    longest = std::max(longest, hi - geometry.origin[a]);
   }
   return magnitude + longest;
 }

@@ -1,0 +1,35 @@
+#pragma once
+/// \file Memory layout of the built Bvh (private to the accel module): 8-wide nodes whose leaves are
+/// runs of SIMD triangle blocks.
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/wide_nodes.hpp"
+#include "simd/watertight_block.hpp"
+#include "visfield/accel/aligned_vector.hpp"
+#include "visfield/accel/query.hpp"
+
+namespace vf::bvh {
+
+/// Triangles per leaf block (the SIMD width of the leaf triangle test).
+inline constexpr int kLeafWidth = 8;
+using LeafBlock = simd::TriangleBlock<kLeafWidth>;
+
+/// The built hierarchy. nodes[0] is the root whenever the set has triangles; a leaf reference names
+/// a run of blocks.
+struct BvhLayout {
+  AlignedVector<Node8> nodes;
+  AlignedVector<LeafBlock> blocks;
+  std::vector<std::uint32_t> lane_triangle;  ///< TriangleSet index per block lane; kInvalidId in unused lanes.
+  std::vector<std::uint32_t> prim;           ///< Copy of the TriangleSet's triangle ids.
+  std::vector<ObjectId> instance;            ///< Copy of the TriangleSet's object ids.
+  AccelStats stats;
+};
+
+/// Closest hit in [tmin, tmax] (see Bvh::intersect). Thread-safe.
+Hit intersect(const BvhLayout& bvh, const Ray& ray);
+/// Any hit in [tmin, tmax] (see Bvh::occluded). Thread-safe.
+bool occluded(const BvhLayout& bvh, const Ray& ray);
+
+}  // namespace vf::bvh
