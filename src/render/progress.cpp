@@ -12,15 +12,14 @@ constexpr int kBarWidth = 30;
 }  // namespace
 
 ProgressBar::ProgressBar(std::string label, std::size_t total, bool enabled, double delay_s)
-    : label_(std::move(label)), total_(total), enabled_(enabled), delay_s_(delay_s), start_(std::chrono::steady_clock::now()) {}
+    : label_(std::move(label)), total_(total), enabled_(enabled), delay_s_(delay_s) {}
 
 ProgressBar::~ProgressBar() { finish(); }
 
 void ProgressBar::tick(std::size_t n) {
   const std::size_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
   if (!enabled_ || finished_.load(std::memory_order_relaxed)) return;
-  const auto elapsed = std::chrono::steady_clock::now() - start_;
-  const std::int64_t ms = std::chrono::duration_cast<std::chrono::milliseconds>(elapsed).count();
+  const auto ms = static_cast<std::int64_t>(watch_.elapsed_ms());
   if (static_cast<double>(ms) < delay_s_ * 1000.0) return;
   std::int64_t last = last_draw_ms_.load(std::memory_order_relaxed);
   if (ms - last < kRedrawIntervalMs) return;

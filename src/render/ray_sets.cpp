@@ -1,6 +1,6 @@
 #include "visfield/render/ray_sets.hpp"
 
-#include <sstream>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -15,16 +15,9 @@
 namespace vf {
 namespace {
 
-// Refuses, before allocating, a ray set larger than half the machine's physical memory.
+// Refuses, before allocating, a ray set larger than the allocation budget.
 void check_fits_in_memory(std::size_t count, const char* what) {
-  const double budget = allocation_budget_bytes();
-  const double bytes = static_cast<double>(count) * sizeof(Ray);
-  if (bytes > budget) {
-    std::ostringstream msg;
-    msg << what << ": " << count << " rays would need " << bytes / (1 << 30) << " GiB, more than half of this machine's "
-        << 2.0 * budget / (1 << 30) << " GiB of memory";
-    throw Error(msg.str());
-  }
+  require_memory(static_cast<double>(count) * sizeof(Ray), std::string(what) + ": " + std::to_string(count) + " rays");
 }
 
 // Start index of each hit pixel's rays in the output, and the total; pixels are taken in order.
@@ -36,7 +29,7 @@ std::vector<std::size_t> hit_offsets(std::span<const Ray> primary, std::span<con
   total = 0;
   for (std::size_t i = 0; i < hits.size(); ++i) {
     offsets[i] = total;
-    if (hits[i].prim != kInvalidId) total += rays_per_hit;
+    if (hits[i]) total += rays_per_hit;
   }
   return offsets;
 }
@@ -66,9 +59,9 @@ void for_each_surface_point(const Scene& scene, std::span<const Ray> primary, st
   const float scale = spawn_scale(scene);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
-      if (hits[pixel].prim == kInvalidId) continue;
+      if (!hits[pixel]) continue;
       Rng rng(seed, pixel, 0);
-      f(pixel, rng, surface_point(scene, scale, primary[pixel], hits[pixel]));
+      f(pixel, rng, surface_point(scale, primary[pixel], hits[pixel]));
     }
   });
 }

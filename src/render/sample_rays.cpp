@@ -35,9 +35,9 @@ float spawn_offset(const Ray& ray, float hit_t, float scene_scale) {
   return kRayRelativeOffset * ray_scale + kSceneRelativeOffset * scene_scale;
 }
 
-SurfacePoint surface_point(const Scene& scene, float scene_scale, const Ray& ray, const Hit& hit) {
+SurfacePoint surface_point(float scene_scale, const Ray& ray, const Hit& hit) {
   SurfacePoint point;
-  point.normal = scene.geometric_normal(hit.instance, hit.prim);
+  point.normal = hit.has_normal ? normalize(hit.normal) : -normalize(ray.dir);
   if (dot(point.normal, ray.dir) > 0.0f) point.normal = -point.normal;
   const Vec3f hit_point = ray.org + ray.dir * hit.t;
   point.position = hit_point + point.normal * spawn_offset(ray, hit.t, scene_scale);

@@ -2,18 +2,18 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "visfield/core/stopwatch.hpp"
 #include "visfield/render/progress.hpp"
 
 namespace vf {
 
 void for_each_tile(int width, int height, int tile_size, const std::string& label, bool progress,
                    const std::function<std::uint64_t(const ImageTile&)>& shade, RenderStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   const int tiles_x = (width + tile_size - 1) / tile_size;
   const int tiles_y = (height + tile_size - 1) / tile_size;
   const auto tile_count = static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y);
@@ -35,7 +35,7 @@ void for_each_tile(int width, int height, int tile_size, const std::string& labe
     stats->width = width;
     stats->height = height;
     stats->rays = rays.load();
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->seconds = watch.elapsed_s();
   }
 }
 

@@ -17,8 +17,8 @@ const Calibration& builtin_calibration() {
     c.settings.sample_rays = 500;
     c.settings.build_repetitions = 5;
     c.constants.build_ms_per_n_log2_n = 4.802010045434388e-05;
-    c.constants.ray_us_per_log2_n[ray_kind_index(RayKind::random)] = 0.0055662229810609235;
-    c.constants.ray_us_per_log2_n[ray_kind_index(RayKind::path)] = 0.005091546079563168;
+    c.constants.ray_us_per_log2_n[calibrated_kind_index(RayKind::random)] = 0.0055662229810609235;
+    c.constants.ray_us_per_log2_n[calibrated_kind_index(RayKind::path)] = 0.005091546079563168;
     return c;
   }();
   return calibration;

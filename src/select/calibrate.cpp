@@ -53,18 +53,18 @@ SceneMeasurement measure_scene(const NamedScene& named, const CalibrationOptions
   m.grid_statistics = compute_grid_statistics(grid.structure);
   // The decision algorithm's sample, right after the grid build as in select_structure (the build leaves
   // the grid in cache, and so would an application's).
-  for (RayKind kind : kRayKinds) {
+  for (RayKind kind : kCalibratedKinds) {
     const SampleTiming sample = time_sample(kind, grid.structure, named.scene, triangles, options.sample_rays,
                                             options.seed + 1, options.path_bounces, threads);
-    m.rays[ray_kind_index(kind)].sample_count = sample.count;
-    m.rays[ray_kind_index(kind)].grid_sample_us = sample.query_us;
+    m.rays[calibrated_kind_index(kind)].sample_count = sample.count;
+    m.rays[calibrated_kind_index(kind)].grid_sample_us = sample.query_us;
   }
   auto tree = timed_build([&] { return KdTree::build(triangles); }, options.build_repetitions);
   m.tree_build_ms = tree.build_ms;
   m.tree_memory_bytes = tree.structure.stats().memory_bytes;
 
-  for (RayKind kind : kRayKinds) {
-    RayTimings& t = m.rays[ray_kind_index(kind)];
+  for (RayKind kind : kCalibratedKinds) {
+    RayTimings& t = m.rays[calibrated_kind_index(kind)];
     // The kd-tree generates the path rays (it is the faster tracer); any exact structure gives the same rays.
     const QuerySet queries = make_queries(kind, tree.structure, named.scene, triangles, options.rays, options.seed,
                                           options.path_bounces);

@@ -10,6 +10,12 @@
 
 namespace vf {
 
+std::size_t calibrated_kind_index(RayKind kind) {
+  for (std::size_t i = 0; i < kCalibratedKinds.size(); ++i)
+    if (kCalibratedKinds[i] == kind) return i;
+  throw Error("calibration: " + std::string(ray_kind_name(kind)) + " rays are not calibrated (only random and path)");
+}
+
 double cost_log2(std::uint64_t triangles) { return std::log2(static_cast<double>(std::max<std::uint64_t>(triangles, 2))); }
 
 CalibrationConstants compute_constants(std::span<const SceneMeasurement> scenes, std::span<const std::size_t> subset) {
@@ -22,7 +28,7 @@ CalibrationConstants compute_constants(std::span<const SceneMeasurement> scenes,
     const SceneMeasurement& scene = scenes[index];
     const double log_n = cost_log2(scene.triangles);
     constants.build_ms_per_n_log2_n += scene.tree_build_ms / (static_cast<double>(scene.triangles) * log_n);
-    for (RayKind kind : kRayKinds) constants.ray_us_per_log2_n[ray_kind_index(kind)] += scene.timings(kind).tree_us / log_n;
+    for (RayKind kind : kCalibratedKinds) constants.ray_us_per_log2_n[calibrated_kind_index(kind)] += scene.timings(kind).tree_us / log_n;
   }
   const double s = static_cast<double>(subset.size());
   constants.build_ms_per_n_log2_n /= s;

@@ -6,89 +6,19 @@
 #include <nlohmann/json.hpp>
 
 #include "visfield/core/error.hpp"
+#include "visfield/io/json_reader.hpp"
 #include "visfield/select/calibration.hpp"
 
 namespace vf {
 namespace {
 
-using nlohmann::json;
 using ordered = nlohmann::ordered_json;  // written in the order a reader expects: format and version first
 
 constexpr const char* kFormat = "visfield-calibration";
 constexpr int kVersion = 1;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Reads fields of one document, throwing "<source>: <field path>: <problem>" on the first bad one.
-class Reader {
- public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-    throw Error(source_ + ": " + path + ": " + problem);
-  }
-
-  const json& member(const json& object, const std::string& path, const std::string& key) const {
-    const std::string field = path.empty() ? key : path + "." + key;
-    if (!object.is_object()) fail(path.empty() ? "(top level)" : path, "expected an object, got " + shown(object));
-    const auto it = object.find(key);
-    if (it == object.end()) fail(field, "missing");
-    return *it;
-  }
-
-  const json& object(const json& parent, const std::string& path, const std::string& key) const {
-    const json& value = member(parent, path, key);
-    if (!value.is_object()) fail(join(path, key), "expected an object, got " + shown(value));
-    return value;
-  }
-
-  std::string string(const json& parent, const std::string& path, const std::string& key) const {
-    const json& value = member(parent, path, key);
-    if (!value.is_string()) fail(join(path, key), "expected a string, got " + shown(value));
-    return value.get<std::string>();
-  }
-
-  double number(const json& parent, const std::string& path, const std::string& key, double lo, double hi,
-                bool lo_inclusive = true) const {
-    const json& value = member(parent, path, key);
-    if (!value.is_number()) fail(join(path, key), "expected a number, got " + shown(value));
-    const double x = value.get<double>();
-    if (!std::isfinite(x) || (lo_inclusive ? x < lo : x <= lo) || x > hi)
-      fail(join(path, key), "expected a number " + range_text(lo, hi, lo_inclusive) + ", got " + shown(value));
-    return x;
-  }
-
-  std::uint64_t unsigned_integer(const json& parent, const std::string& path, const std::string& key, std::uint64_t lo,
-                                 std::uint64_t hi = std::numeric_limits<std::uint64_t>::max()) const {
-    const json& value = member(parent, path, key);
-    if (!value.is_number_unsigned())  // JSON parsing gives non-negative integers, and only those, this type
-      fail(join(path, key), "expected a non-negative integer, got " + shown(value));
-    const auto x = value.get<std::uint64_t>();
-    if (x < lo || x > hi)
-      fail(join(path, key), "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + shown(value));
-    return x;
-  }
-
-  int integer(const json& parent, const std::string& path, const std::string& key, int lo, int hi) const {
-    return static_cast<int>(unsigned_integer(parent, path, key, static_cast<std::uint64_t>(lo), static_cast<std::uint64_t>(hi)));
-  }
-
-  static std::string join(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
-
- private:
-  static std::string shown(const json& value) {
-    std::string text = value.dump();
-    if (text.size() > 40) text = text.substr(0, 37) + "...";
-    return text;
-  }
-  static std::string range_text(double lo, double hi, bool lo_inclusive) {
-    std::ostringstream s;
-    s << (lo_inclusive ? ">= " : "> ") << lo;
-    if (hi != kInf) s << " and <= " << hi;
-    return s.str();
-  }
-
-  std::string source_;
-};
+constexpr std::uint64_t kMaxUint64 = std::numeric_limits<std::uint64_t>::max();
+using json::JsonField;
+using json::NumberRange;
 
 ordered statistics_to_json(const GridStatistics& s) {
   return ordered{{"cell_count", s.cell_count}, {"empty_cells", s.empty_cells}, {"sparseness", s.sparseness},
@@ -96,17 +26,19 @@ ordered statistics_to_json(const GridStatistics& s) {
               {"std_dev", s.std_dev},       {"skewness", s.skewness},       {"kurtosis", s.kurtosis}};
 }
 
-GridStatistics statistics_from_json(const Reader& r, const json& j, const std::string& path) {
+GridStatistics statistics_from_json(const JsonField& j) {
+  j.require_object({"cell_count", "empty_cells", "sparseness", "max_refs", "mean", "variance", "std_dev", "skewness",
+                    "kurtosis"});
   GridStatistics s;
-  s.cell_count = r.unsigned_integer(j, path, "cell_count", 1);
-  s.empty_cells = r.unsigned_integer(j, path, "empty_cells", 0, s.cell_count);
-  s.sparseness = r.number(j, path, "sparseness", 0.0, 1.0);
-  s.max_refs = static_cast<std::uint32_t>(r.unsigned_integer(j, path, "max_refs", 0, std::numeric_limits<std::uint32_t>::max()));
-  s.mean = r.number(j, path, "mean", 0.0, kInf);
-  s.variance = r.number(j, path, "variance", 0.0, kInf);
-  s.std_dev = r.number(j, path, "std_dev", 0.0, kInf);
-  s.skewness = r.number(j, path, "skewness", -kInf, kInf);
-  s.kurtosis = r.number(j, path, "kurtosis", -kInf, kInf);
+  s.cell_count = j.member("cell_count").as_uint64(1, kMaxUint64);
+  s.empty_cells = j.member("empty_cells").as_uint64(0, s.cell_count);
+  s.sparseness = j.member("sparseness").as_double(NumberRange::closed(0.0, 1.0));
+  s.max_refs = static_cast<std::uint32_t>(j.member("max_refs").as_uint64(0, std::numeric_limits<std::uint32_t>::max()));
+  s.mean = j.member("mean").as_double(NumberRange::non_negative());
+  s.variance = j.member("variance").as_double(NumberRange::non_negative());
+  s.std_dev = j.member("std_dev").as_double(NumberRange::non_negative());
+  s.skewness = j.member("skewness").as_double();
+  s.kurtosis = j.member("kurtosis").as_double();
   return s;
 }
 
@@ -118,19 +50,20 @@ ordered timings_to_json(const RayTimings& t) {
               {"grid_sample_us", t.grid_sample_us}};
 }
 
-RayTimings timings_from_json(const Reader& r, const json& j, const std::string& path) {
+RayTimings timings_from_json(const JsonField& j) {
+  j.require_object({"count", "grid_us", "kdtree_us", "sample_count", "grid_sample_us"});
   RayTimings t;
-  t.ray_count = r.unsigned_integer(j, path, "count", 1);
-  t.grid_us = r.number(j, path, "grid_us", 0.0, kInf);
-  t.tree_us = r.number(j, path, "kdtree_us", 0.0, kInf);
-  t.sample_count = r.unsigned_integer(j, path, "sample_count", 1);
-  t.grid_sample_us = r.number(j, path, "grid_sample_us", 0.0, kInf);
+  t.ray_count = j.member("count").as_uint64(1, kMaxUint64);
+  t.grid_us = j.member("grid_us").as_double(NumberRange::non_negative());
+  t.tree_us = j.member("kdtree_us").as_double(NumberRange::non_negative());
+  t.sample_count = j.member("sample_count").as_uint64(1, kMaxUint64);
+  t.grid_sample_us = j.member("grid_sample_us").as_double(NumberRange::non_negative());
   return t;
 }
 
 ordered scene_to_json(const SceneMeasurement& s) {
   ordered rays = ordered::object();
-  for (RayKind kind : kRayKinds) rays[ray_kind_name(kind)] = timings_to_json(s.timings(kind));
+  for (RayKind kind : kCalibratedKinds) rays[std::string(ray_kind_name(kind))] = timings_to_json(s.timings(kind));
   return ordered{{"name", s.name},
               {"triangles", s.triangles},
               {"grid",
@@ -142,33 +75,28 @@ ordered scene_to_json(const SceneMeasurement& s) {
               {"rays", rays}};
 }
 
-SceneMeasurement scene_from_json(const Reader& r, const json& j, const std::string& path) {
+SceneMeasurement scene_from_json(const JsonField& j) {
+  j.require_object({"name", "triangles", "grid", "kdtree", "rays"});
   SceneMeasurement s;
-  if (!j.is_object()) r.fail(path, "expected an object");
-  s.name = r.string(j, path, "name");
-  s.triangles = r.unsigned_integer(j, path, "triangles", 1);
-  const std::string grid_path = path + ".grid";
-  const json& grid = r.object(j, path, "grid");
-  const json& resolution = r.member(grid, grid_path, "resolution");
-  if (!resolution.is_array() || resolution.size() != 3)
-    r.fail(grid_path + ".resolution", "expected an array of 3 cell counts");
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    const json& cells = resolution[axis];
-    if (!cells.is_number_unsigned() || cells.get<std::uint64_t>() < 1 || cells.get<std::uint64_t>() > (1u << 30))
-      r.fail(grid_path + ".resolution[" + std::to_string(axis) + "]", "expected an integer in 1..1073741824, got " + cells.dump());
-    s.grid_resolution[axis] = cells.get<int>();
-  }
-  s.grid_memory_bytes = r.unsigned_integer(grid, grid_path, "memory_bytes", 0);
-  s.grid_build_ms = r.number(grid, grid_path, "build_ms", 0.0, kInf);
-  s.grid_statistics = statistics_from_json(r, r.object(grid, grid_path, "statistics"), grid_path + ".statistics");
-  const json& tree = r.object(j, path, "kdtree");
-  s.tree_build_ms = r.number(tree, path + ".kdtree", "build_ms", 0.0, kInf);
-  s.tree_memory_bytes = r.unsigned_integer(tree, path + ".kdtree", "memory_bytes", 0);
-  const json& rays = r.object(j, path, "rays");
-  for (RayKind kind : kRayKinds) {
-    const std::string name = ray_kind_name(kind);
-    s.rays[ray_kind_index(kind)] = timings_from_json(r, r.object(rays, path + ".rays", name), path + ".rays." + name);
-  }
+  s.name = j.member("name").as_string();
+  s.triangles = j.member("triangles").as_uint64(1, kMaxUint64);
+  const JsonField grid = j.member("grid");
+  grid.require_object({"resolution", "memory_bytes", "build_ms", "statistics"});
+  const JsonField resolution = grid.member("resolution");
+  if (!resolution.json().is_array() || resolution.json().size() != 3) resolution.fail_expected("an array of 3 cell counts");
+  const std::vector<JsonField> cells = resolution.elements();
+  for (std::size_t axis = 0; axis < 3; ++axis) s.grid_resolution[axis] = cells[axis].as_int(1, 1 << 30);
+  s.grid_memory_bytes = grid.member("memory_bytes").as_uint64(0, kMaxUint64);
+  s.grid_build_ms = grid.member("build_ms").as_double(NumberRange::non_negative());
+  s.grid_statistics = statistics_from_json(grid.member("statistics"));
+  const JsonField tree = j.member("kdtree");
+  tree.require_object({"build_ms", "memory_bytes"});
+  s.tree_build_ms = tree.member("build_ms").as_double(NumberRange::non_negative());
+  s.tree_memory_bytes = tree.member("memory_bytes").as_uint64(0, kMaxUint64);
+  const JsonField rays = j.member("rays");
+  rays.require_object({ray_kind_name(kCalibratedKinds[0]), ray_kind_name(kCalibratedKinds[1])});
+  for (RayKind kind : kCalibratedKinds)
+    s.rays[calibrated_kind_index(kind)] = timings_from_json(rays.member(ray_kind_name(kind)));
   return s;
 }
 
@@ -176,7 +104,7 @@ SceneMeasurement scene_from_json(const Reader& r, const json& j, const std::stri
 
 std::string calibration_to_json(const Calibration& c) {
   ordered per_kind = ordered::object();
-  for (RayKind kind : kRayKinds) per_kind[ray_kind_name(kind)] = c.constants.ray_us(kind);
+  for (RayKind kind : kCalibratedKinds) per_kind[std::string(ray_kind_name(kind))] = c.constants.ray_us(kind);
   ordered scenes = ordered::array();
   for (const SceneMeasurement& s : c.scenes) scenes.push_back(scene_to_json(s));
   const ordered doc{
@@ -195,47 +123,42 @@ std::string calibration_to_json(const Calibration& c) {
 }
 
 Calibration calibration_from_json(const std::string& text, const std::string& source) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    std::string reason = e.what();
-    const std::size_t tag_end = reason.find("] ");  // drop nlohmann's "[json.exception.parse_error.N] " tag
-    if (tag_end != std::string::npos) reason = reason.substr(tag_end + 2);
-    throw Error(source + ": not valid JSON: " + reason);
-  }
-  const Reader r(source);
-  if (!doc.is_object()) r.fail("(top level)", "expected an object");
-  if (r.string(doc, "", "format") != kFormat)
-    r.fail("format", "expected \"" + std::string(kFormat) + "\", got " + doc["format"].dump());
-  const json& version = r.member(doc, "", "version");
-  if (!version.is_number_integer() || version.get<std::int64_t>() != kVersion)
-    r.fail("version", "unsupported version " + version.dump() + " (this build reads version " + std::to_string(kVersion) + ")");
+  const nlohmann::json doc = json::parse_json_text(text, source);
+  const JsonField root(doc, source);
+  root.require_object({"format", "version", "machine", "settings", "constants", "scenes"});
+  const JsonField format = root.member("format");
+  if (!format.json().is_string() || format.json().get<std::string>() != kFormat)
+    format.fail_expected("\"" + std::string(kFormat) + "\"");
+  const JsonField version = root.member("version");
+  if (!version.json().is_number_integer() || version.json().get<std::int64_t>() != kVersion)
+    version.fail("unsupported version " + version.json().dump() + " (this build reads version " +
+                 std::to_string(kVersion) + ")");
 
   Calibration c;
-  const json& machine = r.object(doc, "", "machine");
-  c.machine.hostname = r.string(machine, "machine", "hostname");
-  c.machine.threads = r.integer(machine, "machine", "threads", 1, 1 << 20);
-  c.machine.cpu_model = r.string(machine, "machine", "cpu_model");
+  const JsonField machine = root.member("machine");
+  machine.require_object({"hostname", "threads", "cpu_model"});
+  c.machine.hostname = machine.member("hostname").as_string();
+  c.machine.threads = machine.member("threads").as_int(1, 1 << 20);
+  c.machine.cpu_model = machine.member("cpu_model").as_string();
 
-  const json& settings = r.object(doc, "", "settings");
-  c.settings.rays = r.unsigned_integer(settings, "settings", "rays", 1);
-  c.settings.sample_rays = r.unsigned_integer(settings, "settings", "sample_rays", 5);
-  c.settings.build_repetitions = r.integer(settings, "settings", "build_repetitions", 1, 1000);
-  c.settings.path_bounces = r.integer(settings, "settings", "path_bounces", 0, 16);
-  c.settings.seed = r.unsigned_integer(settings, "settings", "seed", 0);
+  const JsonField settings = root.member("settings");
+  settings.require_object({"rays", "sample_rays", "build_repetitions", "path_bounces", "seed"});
+  c.settings.rays = settings.member("rays").as_uint64(1, kMaxUint64);
+  c.settings.sample_rays = settings.member("sample_rays").as_uint64(5, kMaxUint64);
+  c.settings.build_repetitions = settings.member("build_repetitions").as_int(1, 1000);
+  c.settings.path_bounces = settings.member("path_bounces").as_int(0, 16);
+  c.settings.seed = settings.member("seed").as_uint64(0, kMaxUint64);
 
-  const json& constants = r.object(doc, "", "constants");
-  c.constants.build_ms_per_n_log2_n = r.number(constants, "constants", "build_ms_per_n_log2_n", 0.0, kInf, false);
-  const json& per_kind = r.object(constants, "constants", "ray_us_per_log2_n");
-  for (RayKind kind : kRayKinds)
-    c.constants.ray_us_per_log2_n[ray_kind_index(kind)] =
-        r.number(per_kind, "constants.ray_us_per_log2_n", ray_kind_name(kind), 0.0, kInf, false);
+  const JsonField constants = root.member("constants");
+  constants.require_object({"build_ms_per_n_log2_n", "ray_us_per_log2_n"});
+  c.constants.build_ms_per_n_log2_n = constants.member("build_ms_per_n_log2_n").as_double(NumberRange::positive());
+  const JsonField per_kind = constants.member("ray_us_per_log2_n");
+  per_kind.require_object({ray_kind_name(kCalibratedKinds[0]), ray_kind_name(kCalibratedKinds[1])});
+  for (RayKind kind : kCalibratedKinds)
+    c.constants.ray_us_per_log2_n[calibrated_kind_index(kind)] =
+        per_kind.member(ray_kind_name(kind)).as_double(NumberRange::positive());
 
-  const json& scenes = r.member(doc, "", "scenes");
-  if (!scenes.is_array()) r.fail("scenes", "expected an array, got " + scenes.dump().substr(0, 40));
-  for (std::size_t i = 0; i < scenes.size(); ++i)
-    c.scenes.push_back(scene_from_json(r, scenes[i], "scenes[" + std::to_string(i) + "]"));
+  for (const JsonField& scene : root.member("scenes").elements()) c.scenes.push_back(scene_from_json(scene));
   return c;
 }
 

@@ -29,8 +29,8 @@ Selection select_structure(const Scene& scene, const TriangleSet& triangles, std
   s.triangles = triangles.size();
 
   // Step 1: build the grid (timed).
-  std::optional<UniformGrid> grid;
-  s.grid_build_ms = time_ms([&] { grid.emplace(UniformGrid::build(triangles)); });
+  std::optional<UniformGrid> grid(UniformGrid::build(triangles));
+  s.grid_build_ms = grid->stats().build_ms;
   s.grid_resolution = grid->resolution();
   s.grid_memory_bytes = grid->stats().memory_bytes;
   s.grid_statistics = compute_grid_statistics(*grid);
@@ -56,12 +56,6 @@ Selection select_structure(const Scene& scene, const TriangleSet& triangles, std
   s.structure = grid_wins(r, s.critical_rays) ? UniformGrid::name() : KdTree::name();
   s.grid = std::move(grid);
   return s;
-}
-
-std::string resolve_auto_accel(const Scene& scene, const TriangleSet& triangles, std::uint64_t rays,
-                               const std::optional<std::string>& calibration_path, RayKind kind) {
-  const Calibration calibration = calibration_path ? load_calibration(*calibration_path) : builtin_calibration();
-  return select_structure(scene, triangles, rays, calibration, kind).structure;
 }
 
 }  // namespace vf

@@ -60,10 +60,10 @@ void PathChunk::advance(std::span<const Hit> hits) {
   std::vector<std::uint8_t> continues(pending_.size(), 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending_.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (hits[i].prim == kInvalidId) continue;
+      if (!hits[i]) continue;
       const std::size_t path = pending_path_[i];
       Rng rng(options_.seed, first_path_ + path, static_cast<std::uint64_t>(depth_) + 1);
-      const SurfacePoint point = surface_point(scene_, scene_scale_, pending_[i], hits[i]);
+      const SurfacePoint point = surface_point(scene_scale_, pending_[i], hits[i]);
       const std::size_t shadow_slot = path * slots + 2 * static_cast<std::size_t>(depth_) + 1;
       slots_[shadow_slot] = shadow_ray(point, lights.sample(point.position, rng));
       used_[shadow_slot] = 1;

@@ -88,7 +88,7 @@ void write_table1(std::ostringstream& md, const Calibration& c, const ReportOpti
     const SceneMeasurement& s = c.scenes[i];
     md << "| " << scene_label(s.name) << " | " << grouped(static_cast<double>(s.triangles)) << " | "
        << fixed(s.grid_statistics.std_dev, 2) << " | " << fixed(s.grid_build_ms, 2) << " | " << fixed(s.tree_build_ms, 2);
-    for (RayKind kind : kRayKinds) {
+    for (RayKind kind : kCalibratedKinds) {
       const CriticalRaysEstimate& e = kind == RayKind::random ? random[i] : path[i];
       md << " | " << fixed(s.timings(kind).grid_us, 3) << " | " << fixed(s.timings(kind).tree_us, 3) << " | "
          << grouped(e.exact) << " | " << grouped(e.estimate) << " | " << fixed(e.error_percent, 1);
@@ -113,7 +113,7 @@ void write_statistics(std::ostringstream& md, const Calibration& c) {
        << " | " << fixed(g.sparseness, 3) << " | " << g.max_refs << " | " << fixed(g.mean, 2) << " | " << fixed(g.variance, 1)
        << " | " << fixed(g.skewness, 2) << " | " << fixed(g.kurtosis, 1) << " | "
        << fixed(estimated_tree_build_ms(constants, s.triangles) / s.tree_build_ms, 2);
-    for (RayKind kind : kRayKinds) {
+    for (RayKind kind : kCalibratedKinds) {
       const RayTimings& t = s.timings(kind);
       md << " | " << fixed(estimated_tree_ray_us(constants, kind, s.triangles) / t.tree_us, 2) << " | "
          << fixed(t.grid_sample_us / t.grid_us, 2);
@@ -149,7 +149,7 @@ void write_decisions(std::ostringstream& md, const Calibration& c, const ReportO
      << "| rays | R | decision right | % | always grid right | always kd-tree right | time / best |\n"
      << "|---|--:|--:|--:|--:|--:|--:|\n";
   std::size_t right = 0, total = 0;
-  for (RayKind kind : kRayKinds) {
+  for (RayKind kind : kCalibratedKinds) {
     for (const DecisionRow& row : decision_accuracy(c.scenes, kind, options.decision_rays, options.epsilon)) {
       md << "| " << ray_kind_name(kind) << " | " << scientific(row.rays) << " | " << row.right << "/" << row.scenes << " | "
          << percent(row.right, row.scenes) << " | " << percent(row.grid_right, row.scenes) << " | "

@@ -1,12 +1,13 @@
 #pragma once
-/// \file Ambient occlusion over any Accelerator: per pixel, the fraction of cosine-weighted directions
-/// from the first visible surface that reach max_distance (or the sky) unoccluded. Grey, no albedo.
+/// \file Ambient occlusion: per pixel, the fraction of cosine-weighted directions from the first
+/// visible surface that reach max_distance (or the sky) unoccluded. Grey, no albedo. Camera rays go
+/// to one structure (the closest-hit role) and occlusion rays to another (the occlusion role), which
+/// may be the same object, an exact one or an approximate one.
 
 #include <cstdint>
 #include <limits>
-#include <optional>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/core/image.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/render/camera.hpp"
@@ -33,21 +34,23 @@ inline constexpr float kAoBackground = 1.0f;
 void validate_ao_options(const AoOptions& options);
 
 /// Ambient occlusion of one primary hit: the fraction of `ao_rays` rays from `point` (drawn from `rng`
-/// by ao_ray()) that accel.occluded() reports clear.
-template <Accelerator A>
-float ambient_occlusion(const A& accel, const SurfacePoint& point, Rng& rng, int ao_rays, float max_distance) {
+/// by ao_ray()) that occluder.occluded() reports clear.
+template <OcclusionQuery O>
+float ambient_occlusion(const O& occluder, const SurfacePoint& point, Rng& rng, int ao_rays, float max_distance) {
   int clear = 0;
-  for (int k = 0; k < ao_rays; ++k) clear += accel.occluded(ao_ray(point, rng, max_distance)) ? 0 : 1;
+  for (int k = 0; k < ao_rays; ++k) clear += occluder.occluded(ao_ray(point, rng, max_distance)) ? 0 : 1;
   return static_cast<float>(clear) / static_cast<float>(ao_rays);
 }
 
-/// Renders `camera`'s view of `scene` (traced through `accel`, built over flatten(scene)) with ambient
-/// occlusion: per pixel and sample s, Rng(seed, pixel, s) draws the jitter and the AO directions; the
-/// pixel is the mean over samples of the unoccluded fraction, or kAoBackground on a miss. Parallel over
-/// tiles; identical images for any thread count. `stats` (optional) gets every ray traced and the wall
-/// time. Throws vf::Error on bad options or camera. Cost: width*height*spp*(1 + ao_rays * hit fraction) queries.
-template <Accelerator A>
-Image render_ao(const A& accel, const Scene& scene, const Camera& camera, const AoOptions& opt, RenderStats* stats = nullptr) {
+/// Renders `camera`'s view of `scene` with ambient occlusion, camera rays traced through `closest` and
+/// AO rays through `occluder` (both built over `scene`; they may be the same structure): per pixel and
+/// sample s, Rng(seed, pixel, s) draws the jitter and the AO directions; the pixel is the mean over
+/// samples of the unoccluded fraction, or kAoBackground on a miss. Parallel over tiles; identical
+/// images for any thread count. `stats` (optional) gets every ray traced and the wall time. Throws
+/// vf::Error on bad options or camera. Cost: width*height*spp*(1 + ao_rays * hit fraction) queries.
+template <ClosestHitQuery C, OcclusionQuery O>
+Image render_ao(const C& closest, const O& occluder, const Scene& scene, const Camera& camera, const AoOptions& opt,
+                RenderStats* stats = nullptr) {
   validate_ao_options(opt);
   const PinholeCamera pinhole(camera);
   const float scale = spawn_scale(scene);
@@ -62,13 +65,13 @@ Image render_ao(const A& accel, const Scene& scene, const Camera& camera, const 
           Rng rng(opt.seed, pixel, static_cast<std::uint64_t>(s));
           const Ray primary = pixel_ray(pinhole, x, y, opt.spp > 1, rng);
           ++rays;
-          const std::optional<Hit> hit = accel.intersect(primary);
+          const Hit hit = closest.intersect(primary);
           if (!hit) {
             sum += kAoBackground;
             continue;
           }
-          const SurfacePoint point = surface_point(scene, scale, primary, *hit);
-          sum += ambient_occlusion(accel, point, rng, opt.ao_rays, opt.max_distance);
+          const SurfacePoint point = surface_point(scale, primary, hit);
+          sum += ambient_occlusion(occluder, point, rng, opt.ao_rays, opt.max_distance);
           rays += static_cast<std::uint64_t>(opt.ao_rays);
         }
         image.at(x, y) = Vec3f(sum / static_cast<float>(opt.spp));

@@ -2,10 +2,11 @@
 /// \file A progress bar on stderr for long jobs; thread-safe ticks.
 
 #include <atomic>
-#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <string>
+
+#include "visfield/core/stopwatch.hpp"
 
 namespace vf {
 
@@ -30,7 +31,7 @@ class ProgressBar {
   std::size_t total_;
   bool enabled_;
   double delay_s_;
-  std::chrono::steady_clock::time_point start_;
+  Stopwatch watch_;
   std::atomic<std::size_t> done_{0};
   std::atomic<std::int64_t> last_draw_ms_{-1000};
   std::atomic<bool> shown_{false}, finished_{false};

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/bounds.hpp"
 #include "visfield/core/ray.hpp"
@@ -24,8 +24,7 @@ std::vector<Ray> make_primary_rays(const Scene& scene, const Camera& camera);
 /// The AO rays of the primary hits: for each pixel whose ray hits (pixel order), `rays_per_hit` rays
 /// drawn from Rng(seed, pixel, 0) by ao_ray(), exactly the rays render_ao traces with spp = 1 and the
 /// same seed, ao_rays and max_distance. `primary` and `hits` come from make_primary_rays and a closest-hit
-/// pass (prim == kInvalidId marks a miss). Throws vf::Error on rays_per_hit < 1, max_distance <= 0 or
-/// a set that would not fit in memory.
+/// pass. Throws vf::Error on rays_per_hit < 1, max_distance <= 0 or a set that would not fit in memory.
 std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                                    int rays_per_hit, float max_distance, std::uint64_t seed);
 
@@ -35,22 +34,23 @@ std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> prim
 std::vector<Ray> shadow_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                                        std::uint64_t seed);
 
-/// AO rays of `camera`'s view, traced through `accel` (built over flatten(scene)); see ao_rays_from_hits.
-template <Accelerator A>
-std::vector<Ray> make_ao_rays(const A& accel, const Scene& scene, const Camera& camera, int rays_per_hit,
+/// AO rays of `camera`'s view, the primary hits found by `closest` (built over `scene`); see
+/// ao_rays_from_hits.
+template <ClosestHitQuery C>
+std::vector<Ray> make_ao_rays(const C& closest, const Scene& scene, const Camera& camera, int rays_per_hit,
                               float max_distance, std::uint64_t seed) {
   const std::vector<Ray> primary = make_primary_rays(scene, camera);
   std::vector<Hit> hits(primary.size());
-  intersect_batch(accel, std::span<const Ray>(primary), std::span<Hit>(hits));
+  intersect_batch(closest, std::span<const Ray>(primary), std::span<Hit>(hits));
   return ao_rays_from_hits(scene, primary, hits, rays_per_hit, max_distance, seed);
 }
 
-/// Shadow rays of `camera`'s view, traced through `accel`; see shadow_rays_from_hits.
-template <Accelerator A>
-std::vector<Ray> make_shadow_rays(const A& accel, const Scene& scene, const Camera& camera, std::uint64_t seed) {
+/// Shadow rays of `camera`'s view, the primary hits found by `closest`; see shadow_rays_from_hits.
+template <ClosestHitQuery C>
+std::vector<Ray> make_shadow_rays(const C& closest, const Scene& scene, const Camera& camera, std::uint64_t seed) {
   const std::vector<Ray> primary = make_primary_rays(scene, camera);
   std::vector<Hit> hits(primary.size());
-  intersect_batch(accel, std::span<const Ray>(primary), std::span<Hit>(hits));
+  intersect_batch(closest, std::span<const Ray>(primary), std::span<Hit>(hits));
   return shadow_rays_from_hits(scene, primary, hits, seed);
 }
 

@@ -40,8 +40,9 @@ float spawn_scale(const Scene& scene);
 /// skip a nearby one.
 float spawn_offset(const Ray& ray, float hit_t, float scene_scale);
 
-/// Surface point of `hit` (found by tracing `ray`) in `scene`; scene_scale from spawn_scale(scene).
-SurfacePoint surface_point(const Scene& scene, float scene_scale, const Ray& ray, const Hit& hit);
+/// Surface point of `hit` (found by tracing `ray`); scene_scale from spawn_scale(scene). The normal is
+/// the hit's (exact structures always give one); a hit without a normal faces the ray's origin.
+SurfacePoint surface_point(float scene_scale, const Ray& ray, const Hit& hit);
 
 /// The next ambient-occlusion ray from `point`: cosine-weighted about its normal (two numbers drawn from
 /// `rng`), unit direction, t in [0, max_distance].

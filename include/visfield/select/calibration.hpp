@@ -13,9 +13,16 @@
 #include <vector>
 
 #include "visfield/accel/grid_stats.hpp"
-#include "visfield/select/ray_kind.hpp"
+#include "visfield/render/ray_kind.hpp"
 
 namespace vf {
+
+/// The ray kinds a calibration measures (the paper's two workloads), in file and report order.
+inline constexpr std::array<RayKind, 2> kCalibratedKinds{RayKind::random, RayKind::path};
+
+/// Index of `kind` in kCalibratedKinds (0 for random, 1 for path); throws vf::Error for a kind the
+/// calibration does not measure.
+std::size_t calibrated_kind_index(RayKind kind);
 
 /// Per-ray times of one scene for one ray kind, in microseconds per ray on the calibration's threads:
 /// single-thread time divided by the thread count (see median_batch_query_us).
@@ -25,6 +32,9 @@ struct RayTimings {
   double tree_us = 0.0;                ///< t_R^H: kd-tree, the same rays.
   std::uint64_t sample_count = 0;      ///< S: the sample rays the decision algorithm traces.
   double grid_sample_us = 0.0;         ///< t_R^G estimated from the S sample rays only (sample_query_us: what the algorithm knows).
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const RayTimings&) const = default;
 };
 
 /// Everything measured on one scene. Build times in milliseconds.
@@ -37,10 +47,13 @@ struct SceneMeasurement {
   double grid_build_ms = 0.0;             ///< T_B^G.
   double tree_build_ms = 0.0;             ///< T_B^H.
   std::uint64_t tree_memory_bytes = 0;    ///< Bytes held by the kd-tree.
-  std::array<RayTimings, 2> rays{};       ///< Indexed by ray_kind_index().
+  std::array<RayTimings, 2> rays{};       ///< Indexed by calibrated_kind_index().
 
   /// Timings of `kind`.
-  const RayTimings& timings(RayKind kind) const { return rays[ray_kind_index(kind)]; }
+  const RayTimings& timings(RayKind kind) const { return rays[calibrated_kind_index(kind)]; }
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const SceneMeasurement&) const = default;
 };
 
 /// The per-machine constants of eqs. 7 and 8.
@@ -49,7 +62,10 @@ struct CalibrationConstants {
   std::array<double, 2> ray_us_per_log2_n{};         ///< C_R per ray kind: t_R^H ~ C_R * log2 N, microseconds.
 
   /// C_R of `kind`.
-  double ray_us(RayKind kind) const { return ray_us_per_log2_n[ray_kind_index(kind)]; }
+  double ray_us(RayKind kind) const { return ray_us_per_log2_n[calibrated_kind_index(kind)]; }
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const CalibrationConstants&) const = default;
 };
 
 /// Where a calibration was measured.
@@ -57,6 +73,9 @@ struct MachineInfo {
   std::string hostname;
   int threads = 0;        ///< TBB threads in force while measuring.
   std::string cpu_model;  ///< "model name" of /proc/cpuinfo ("unknown" where absent).
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const MachineInfo&) const = default;
 };
 
 /// How the measurements are taken; stored in the calibration file so a report can say what it reproduces.
@@ -66,6 +85,9 @@ struct CalibrationOptions {
   int build_repetitions = 3;         ///< Builds per structure; the median counts.
   int path_bounces = 2;              ///< Diffuse bounces of the path-tracing rays.
   std::uint64_t seed = 1;            ///< Seed of every ray set.
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const CalibrationOptions&) const = default;
 };
 
 /// A calibration: machine, settings, per-scene measurements and the constants derived from them.
@@ -74,6 +96,9 @@ struct Calibration {
   CalibrationOptions settings;
   CalibrationConstants constants;
   std::vector<SceneMeasurement> scenes;  ///< Empty for the built-in calibration (constants only).
+
+  /// Field-by-field equality (exact, doubles included).
+  bool operator==(const Calibration&) const = default;
 };
 
 /// log2 N as the cost model uses it: log2(max(N, 2)), so a one-triangle scene costs like two and no

@@ -42,7 +42,7 @@ struct Selection {
   double critical_rays = 0.0;            ///< R_C (+infinity when the grid is never slower per ray).
   double grid_total_ms = 0.0;            ///< Estimated time to trace R rays with the grid already built.
   double tree_total_ms = 0.0;            ///< Estimated time to build the kd-tree and trace R rays with it.
-  std::optional<UniformGrid> grid;       ///< The grid built for the decision, kept for a caller that keeps it.
+  std::optional<UniformGrid> grid;       ///< The grid built for the decision: a caller that keeps the grid uses this one.
 };
 
 /// Throws vf::Error naming the bad setting unless the options are in their documented ranges.
@@ -53,11 +53,5 @@ void validate_select_options(const SelectOptions& options);
 /// empty triangle set. Cost: one grid build plus tracing the S sample rays once.
 Selection select_structure(const Scene& scene, const TriangleSet& triangles, std::uint64_t rays,
                            const Calibration& calibration, RayKind kind, const SelectOptions& options = {});
-
-/// For `--accel auto --rays R`: "grid" or "kdtree" by select_structure with default options, using the
-/// calibration file at `calibration_path` or builtin_calibration() when none. Prints nothing. Throws
-/// vf::Error on a bad calibration file.
-std::string resolve_auto_accel(const Scene& scene, const TriangleSet& triangles, std::uint64_t rays,
-                               const std::optional<std::string>& calibration_path, RayKind kind = RayKind::path);
 
 }  // namespace vf

@@ -9,10 +9,11 @@
 #include <span>
 #include <vector>
 
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/scene.hpp"
-#include "visfield/select/ray_kind.hpp"
+#include "visfield/render/ray_kind.hpp"
+#include "visfield/select/query_set.hpp"
 
 namespace vf {
 
@@ -35,7 +36,7 @@ class PathChunk {
   PathChunk(const Scene& scene, const PathRayOptions& options, std::size_t first_path, std::size_t path_count);
   /// Closest-hit rays still to trace (empty once every path has ended).
   std::span<const Ray> pending() const { return pending_; }
-  /// Consumes the closest hits of pending() (same order, prim == kInvalidId for a miss).
+  /// Consumes the closest hits of pending() (same order).
   void advance(std::span<const Hit> hits);
   /// Appends the chunk's rays, path by path, to `out` until it holds `limit` queries.
   void append_to(QuerySet& out, std::size_t limit) const;
@@ -57,13 +58,13 @@ std::size_t path_chunk_size(std::size_t missing);
 
 }  // namespace detail
 
-/// Exactly `count` path-tracing queries of `scene`, traced through `accel` (built over flatten(scene)):
+/// Exactly `count` path-tracing queries of `scene`, traced through `closest` (built over `scene`):
 /// paths 0, 1, 2, ... taken whole, in order, the last one cut at `count`. Camera: the scene's (or the
 /// default framing), film points uniform over the image. A pure function of (scene, count, options):
 /// the same rays whatever the structure or thread count. Throws vf::Error on a bad camera or options.
-/// Cost: about `count` closest-hit queries through `accel`, parallel.
-template <Accelerator A>
-QuerySet make_path_rays(const A& accel, const Scene& scene, std::size_t count, const PathRayOptions& options = {}) {
+/// Cost: about `count` closest-hit queries through `closest`, parallel.
+template <ClosestHitQuery C>
+QuerySet make_path_rays(const C& closest, const Scene& scene, std::size_t count, const PathRayOptions& options = {}) {
   QuerySet out;
   std::size_t next_path = 0;
   std::vector<Hit> hits;
@@ -72,7 +73,7 @@ QuerySet make_path_rays(const A& accel, const Scene& scene, std::size_t count, c
     detail::PathChunk chunk(scene, options, next_path, paths);
     while (!chunk.pending().empty()) {
       hits.resize(chunk.pending().size());
-      intersect_batch(accel, chunk.pending(), std::span<Hit>(hits));
+      intersect_batch(closest, chunk.pending(), std::span<Hit>(hits));
       chunk.advance(hits);
     }
     chunk.append_to(out, count);

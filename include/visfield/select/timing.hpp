@@ -2,50 +2,42 @@
 /// \file Wall-clock timing of builds and query sets, as medians of repetitions or batches (the machines are noisy).
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <utility>
 #include <vector>
 
-#include "visfield/accel/accelerator.hpp"
-#include "visfield/select/ray_kind.hpp"
+#include "visfield/accel/query.hpp"
+#include "visfield/core/statistics.hpp"
+#include "visfield/core/stopwatch.hpp"
+#include "visfield/render/ray_kind.hpp"
+#include "visfield/select/query_set.hpp"
 
 namespace vf {
 
 /// Keeps `value` observable so the computation producing it is not removed.
 void do_not_optimize(std::uint64_t value);
 
-/// Median of `values` (mean of the two middle ones for an even count); 0 for none. O(n log n).
-double median(std::vector<double> values);
-
-/// Wall-clock milliseconds taken by one call of `fn`.
-template <class F>
-double time_ms(F&& fn) {
-  const auto start = std::chrono::steady_clock::now();
-  std::forward<F>(fn)();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-/// A structure built `repetitions` (>= 1) times by `build()`; keeps the last one and the median build
-/// time in milliseconds.
+/// A structure built `repetitions` (>= 1) times; keeps the last one and the median of the build times
+/// the builds reported (stats().build_ms), in milliseconds.
 template <class Structure>
 struct TimedBuild {
   Structure structure;
   double build_ms = 0.0;
 };
 
-/// Calls `build()` `repetitions` times (at least once), timing each call; returns the last structure
-/// and the median time.
+/// Calls `build()` `repetitions` times (at least once), each time freeing the previous structure
+/// first; returns the last structure and the median of their stats().build_ms.
 template <class Build>
 auto timed_build(Build&& build, int repetitions) -> TimedBuild<decltype(build())> {
   using Structure = decltype(build());
   std::vector<double> times;
   std::optional<Structure> last;
   for (int r = 0; r < std::max(repetitions, 1); ++r) {
-    last.reset();  // free the previous copy before building the next one
-    times.push_back(time_ms([&] { last.emplace(build()); }));
+    last.reset();
+    last.emplace(build());
+    times.push_back(last->stats().build_ms);
   }
   return {std::move(*last), median(std::move(times))};
 }
@@ -60,8 +52,8 @@ template <Accelerator A>
 std::uint64_t trace_queries(const A& accel, const QuerySet& queries) {
   std::uint64_t checksum = 0;
   for (const Ray& ray : queries.closest) {
-    const std::optional<Hit> hit = accel.intersect(ray);
-    checksum += hit ? hit->prim + 1 : 0;
+    const Hit hit = accel.intersect(ray);
+    checksum += hit ? hit.prim + 1 : 0;
   }
   for (const Ray& ray : queries.shadow) checksum += accel.occluded(ray) ? 1 : 0;
   return checksum;

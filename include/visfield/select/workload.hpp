@@ -9,7 +9,8 @@
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/render/ray_sets.hpp"
 #include "visfield/select/path_rays.hpp"
-#include "visfield/select/ray_kind.hpp"
+#include "visfield/render/ray_kind.hpp"
+#include "visfield/select/query_set.hpp"
 #include "visfield/select/timing.hpp"
 
 namespace vf {

@@ -1,0 +1,251 @@
+#include "visfield/registry/registry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+#include "visfield/core/error.hpp"
+#include "visfield/select/calibration.hpp"
+#include "visfield/select/decision.hpp"
+
+namespace vf {
+namespace {
+
+// ---- levels: flattened (one structure over world-space triangles) or two-level (instance layer) ----
+
+constexpr ParamSpec kLevelsParam{"levels", ParamType::choice, "auto",
+                                 "1 = one structure over the flattened objects, 2 = one per mesh under a top level "
+                                 "over the objects (updatable), auto = 2 for scenes of many repeated meshes",
+                                 0.0, 0.0, "auto|1|2"};
+
+// levels=auto picks two levels when the flattened scene would hold at least kInstancingRatio copies of
+// its meshes' triangles and at least kMinTwoLevelTriangles triangles. See README, "Instances".
+constexpr double kInstancingRatio = 4.0;
+constexpr double kMinTwoLevelTriangles = 1'000'000.0;
+
+bool two_levels(const ParamValues& p, const SceneGeometry& geometry) {
+  const std::string& levels = p.text("levels");
+  if (levels != "auto") return levels == "2";
+  const auto instanced = static_cast<double>(geometry.instanced_triangle_count());
+  const auto unique = static_cast<double>(geometry.unique_triangle_count());
+  return instanced >= kMinTwoLevelTriangles && instanced >= kInstancingRatio * unique;
+}
+
+// Zero-area triangles of the objects in their own space: what the two-level structure leaves out.
+std::size_t object_degenerate_count(const Scene& scene) {
+  std::vector<std::size_t> per_mesh(scene.meshes.size(), kInvalidId);
+  std::size_t total = 0;
+  for (const Instance& inst : scene.instances()) {
+    if (per_mesh[inst.mesh] == kInvalidId) per_mesh[inst.mesh] = scene.meshes[inst.mesh].count_degenerate();
+    total += per_mesh[inst.mesh];
+  }
+  return total;
+}
+
+std::string with_params(std::string_view name, const std::string& params) {
+  return params.empty() ? std::string(name) : std::string(name) + ":" + params;
+}
+
+// A triangle structure S built with `config`, flattened or under the instance layer as `levels` says.
+template <class S, class Config>
+BuiltStructure build_triangle_structure(const ParamValues& p, SceneGeometry& geometry, const Config& config) {
+  std::string resolved = p.canonical();
+  const std::string levels = two_levels(p, geometry) ? "2" : "1";
+  if (!p.given("levels")) resolved += std::string(resolved.empty() ? "" : ",") + "levels=" + levels;
+  if (levels == "1") {
+    const TriangleSet& set = geometry.flattened();
+    return {S::build(set, config), with_params(S::name(), resolved), set.degenerate_count};
+  }
+  InstanceLayer layer = InstanceLayer::build(
+      geometry.scene(), [config](const TriangleSet& object_triangles) { return MeshStructure(S::build(object_triangles, config)); });
+  return {std::move(layer), with_params(S::name(), resolved), object_degenerate_count(geometry.scene())};
+}
+
+// A parameter that sets a field of a structure's Config.
+template <class Config>
+struct ConfigField {
+  std::string_view key;
+  std::variant<int Config::*, float Config::*, bool Config::*> field;
+};
+
+// The Config with every bound parameter's value written into its field.
+template <class Config>
+Config config_from(const ParamValues& p, std::initializer_list<ConfigField<Config>> fields) {
+  Config c;
+  for (const ConfigField<Config>& f : fields) {
+    std::visit(
+        [&](auto member) {
+          using T = std::remove_reference_t<decltype(c.*member)>;
+          if constexpr (std::is_same_v<T, bool>) c.*member = p.boolean(f.key);
+          else if constexpr (std::is_same_v<T, int>) c.*member = static_cast<int>(p.whole(f.key));
+          else c.*member = static_cast<float>(p.number(f.key));
+        },
+        f.field);
+  }
+  return c;
+}
+
+// ---- the structures ----
+
+constexpr ParamSpec kBvhParams[] = {
+    {"bins", ParamType::whole, "32", "SAH bins per axis", 2, 64},
+    {"leaf", ParamType::whole, "8", "most triangles per leaf", 1, 128},
+    {"kt", ParamType::number, "1", "SAH cost of a node visit, per leaf block test", 0, 1e6},
+    {"ki", ParamType::number, "1", "SAH cost of a leaf block test (8 triangles)", 1e-6, 1e6},
+    kLevelsParam,
+};
+
+BuiltStructure build_bvh(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+  return build_triangle_structure<Bvh>(p, geometry,
+                                       config_from<BvhConfig>(p, {{"bins", &BvhConfig::bin_count},
+                                                                  {"leaf", &BvhConfig::max_leaf_size},
+                                                                  {"kt", &BvhConfig::traversal_cost},
+                                                                  {"ki", &BvhConfig::intersection_cost}}));
+}
+
+constexpr ParamSpec kGridParams[] = {
+    {"density", ParamType::number, "2", "cells per triangle", 1e-6, 64},
+    {"exact", ParamType::boolean, "1", "reference a triangle only from cells its surface meets"},
+    kLevelsParam,
+};
+
+BuiltStructure build_grid(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+  return build_triangle_structure<UniformGrid>(
+      p, geometry,
+      config_from<UniformGridConfig>(p, {{"density", &UniformGridConfig::density}, {"exact", &UniformGridConfig::exact_overlap}}));
+}
+
+constexpr ParamSpec kKdTreeParams[] = {
+    {"kt", ParamType::number, "16", "SAH cost K_T of a node visit", 0, 1e6},
+    {"ki", ParamType::number, "1", "SAH cost K_I of a leaf block test (16 triangles)", 1e-6, 1e6},
+    {"empty", ParamType::number, "0.8", "factor on the cost of a split with an empty side", 1e-6, 1},
+    {"depth", ParamType::whole, "0", "most splits above a leaf (0 = 8 + 1.3 log2 N)", 0, 64},
+    kLevelsParam,
+};
+
+BuiltStructure build_kdtree(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+  return build_triangle_structure<KdTree>(p, geometry,
+                                          config_from<KdTreeConfig>(p, {{"kt", &KdTreeConfig::traversal_cost},
+                                                                        {"ki", &KdTreeConfig::intersection_cost},
+                                                                        {"empty", &KdTreeConfig::empty_bonus},
+                                                                        {"depth", &KdTreeConfig::max_depth}}));
+}
+
+constexpr ParamSpec kMedianBspParams[] = {
+    {"depth", ParamType::whole, "0", "most splits above a leaf (0 = round(log2 N))", 0, 64},
+    {"leaf", ParamType::whole, "8", "nodes with more triangles are split", 1, 1e9},
+    kLevelsParam,
+};
+
+BuiltStructure build_median_bsp(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+  return build_triangle_structure<MedianBsp>(
+      p, geometry,
+      config_from<MedianBspConfig>(p, {{"depth", &MedianBspConfig::max_depth}, {"leaf", &MedianBspConfig::max_leaf_size}}));
+}
+
+constexpr ParamSpec kBruteParams[] = {kLevelsParam};
+
+// BruteForce takes no config; an empty one keeps build_triangle_structure uniform.
+struct NoConfig {};
+struct BruteBuild {
+  static BruteForce build(const TriangleSet& set, NoConfig) { return BruteForce::build(set); }
+  static std::string name() { return BruteForce::name(); }
+};
+
+BuiltStructure build_brute(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+  return build_triangle_structure<BruteBuild>(p, geometry, NoConfig{});
+}
+
+constexpr ParamSpec kAutoParams[] = {
+    {"rays", ParamType::whole, "", "R, the rays the workload traces (default: the command's own count)", 1, 1e15},
+    {"kind", ParamType::choice, "path", "kind of the workload's rays", 0, 0, "random|path"},
+    {"calibration", ParamType::text, "", "calibration file from `visfield calibrate` (default: built in)"},
+};
+
+BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const BuildContext& context) {
+  const TriangleSet& set = geometry.flattened();
+  if (set.size() == 0) throw Error("auto: the scene has no non-degenerate triangles");
+  const Calibration calibration = p.has("calibration") ? load_calibration(p.text("calibration")) : builtin_calibration();
+  const std::uint64_t rays = p.has("rays") ? p.whole("rays") : context.expected_rays;
+  const RayKind kind = *parse_ray_kind(p.text("kind"));
+  Selection selection = select_structure(geometry.scene(), set, rays, calibration, kind);
+  const std::string resolved = "auto:kind=" + p.text("kind") + ",rays=" + std::to_string(rays) +
+                               (p.has("calibration") ? ",calibration=" + p.text("calibration") : "") + " -> " +
+                               selection.structure;
+  // The grid the decision built is the structure when it wins: no second build.
+  if (selection.structure == UniformGrid::name()) return {std::move(*selection.grid), resolved, set.degenerate_count};
+  return {KdTree::build(set), resolved, set.degenerate_count};
+}
+
+constexpr std::string_view kTwoLevelUpdates = "with levels=2";
+
+const StructureInfo kTable[] = {
+    {"bvh", "SAH BVH, 8-wide nodes, SIMD box and triangle tests", Exactness::exact, kTwoLevelUpdates, kBvhParams,
+     build_bvh},
+    {"grid", "uniform grid, density x N cells, 3D-DDA traversal (Havran et al.)", Exactness::exact, kTwoLevelUpdates,
+     kGridParams, build_grid},
+    {"kdtree", "SAH kd-tree, O(N log N) event sorting, perfect splits (Wald & Havran)", Exactness::exact,
+     kTwoLevelUpdates, kKdTreeParams, build_kdtree},
+    {"median-bsp", "spatial-median BSP, the VLF-RT paper's CRT baseline", Exactness::exact, kTwoLevelUpdates,
+     kMedianBspParams, build_median_bsp},
+    {"brute", "every triangle for every ray: the test oracle, O(N) per ray", Exactness::exact, kTwoLevelUpdates,
+     kBruteParams, build_brute},
+    {"auto", "grid or kdtree, whichever the calibrated selection (Hapala et al.) expects to finish first",
+     Exactness::exact, "", kAutoParams, build_auto},
+};
+
+}  // namespace
+
+std::span<const StructureInfo> structure_table() { return kTable; }
+
+const StructureInfo& find_structure(std::string_view name, std::string_view what) {
+  for (const StructureInfo& info : kTable)
+    if (info.name == name) return info;
+  std::string valid;
+  for (const StructureInfo& info : kTable) valid += (valid.empty() ? "" : ", ") + std::string(info.name);
+  throw Error(std::string(what) + std::string(name) + ": unknown structure (valid: " + valid + ")");
+}
+
+namespace {
+
+std::pair<const StructureInfo*, ParamValues> read_spec(std::string_view text, std::string_view what) {
+  const Spec spec = parse_spec(text, what);
+  const StructureInfo& info = find_structure(spec.name, what);
+  return {&info, read_params(spec, info.params, std::string(what) + spec.name)};
+}
+
+}  // namespace
+
+void check_structure_spec(std::string_view spec, std::string_view what) { read_spec(spec, what); }
+
+BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, const BuildContext& context,
+                               std::string_view what) {
+  const auto [info, params] = read_spec(spec, what);
+  return info->build(params, geometry, context);
+}
+
+std::vector<std::string> structure_names() {
+  std::vector<std::string> names;
+  for (const StructureInfo& info : kTable) names.emplace_back(info.name);
+  return names;
+}
+
+std::string structures_help(std::string_view indent) {
+  std::string out;
+  for (const StructureInfo& info : kTable) {
+    out += std::string(indent) + std::string(info.name) + " (" + exactness_name(info.exactness) +
+           (info.updates.empty() ? "" : ", updatable " + std::string(info.updates)) + "): " + std::string(info.summary) +
+           "\n";
+    out += describe_params(info.params, std::string(indent) + "    ");
+  }
+  return out;
+}
+
+AccelStats structure_stats(const AnyStructure& structure) {
+  return std::visit([](const auto& s) -> AccelStats { return s.stats(); }, structure);
+}
+
+}  // namespace vf
