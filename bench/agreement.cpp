@@ -6,7 +6,7 @@
 namespace vf::bench {
 
 bool same_closest_hit(const Hit& a, const Hit& b) {
-  const bool a_hit = a.prim != kInvalidId, b_hit = b.prim != kInvalidId;
+  const bool a_hit = a.found, b_hit = b.found;
   if (a_hit != b_hit) return false;
   if (!a_hit) return true;
   const float tolerance = std::max(kRelativeTTolerance * std::max(std::fabs(a.t), std::fabs(b.t)), kAbsoluteTTolerance);

@@ -15,7 +15,7 @@ inline constexpr float kRelativeTTolerance = 1e-5f;
 /// Absolute tolerance on t, for hits so close to the origin that the relative one is meaningless.
 inline constexpr float kAbsoluteTTolerance = 1e-6f;
 
-/// True when two closest-hit answers for one ray agree: both miss (prim == kInvalidId), or both hit
+/// True when two closest-hit answers for one ray agree: both miss, or both hit
 /// with |ta - tb| <= max(kRelativeTTolerance * max(|ta|, |tb|), kAbsoluteTTolerance). The triangle
 /// may differ (exact ties, shared edges).
 bool same_closest_hit(const Hit& a, const Hit& b);

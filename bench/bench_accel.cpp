@@ -1,21 +1,58 @@
 #include "bench_accel.hpp"
 
 #include "bench_options.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/spec.hpp"
 
 namespace vf::bench {
+namespace {
+
+// Embree's one parameter: its own instancing (levels=2, one Embree scene per mesh under instances)
+// or one flattened triangle geometry (levels=1, the default, as most users build).
+constexpr ParamSpec kEmbreeParams[] = {
+    {"levels", ParamType::choice, "1", "1 = one flattened triangle geometry, 2 = Embree instancing", 0, 0, "1|2"},
+};
+
+ParamValues embree_params(const std::string& spec) {
+  return read_params(parse_spec(spec, "--accel "), kEmbreeParams, std::string("--accel ") + kEmbreeName);
+}
+
+bool names_embree(const std::string& spec) { return spec.substr(0, spec.find(':')) == kEmbreeName; }
+
+}  // namespace
 
 std::vector<std::string> bench_accel_names() {
-  std::vector<std::string> names = accel_names();
-  names.emplace_back(kAutoAccelName);
+  std::vector<std::string> names = structure_names();
   if (kHaveEmbree) names.emplace_back(kEmbreeName);
   return names;
 }
 
-BenchAccel build_bench_accel(const std::string& name, const TriangleSet& set, [[maybe_unused]] int threads) {
+void check_bench_accel(const std::string& spec) {
+  try {
+    if (!names_embree(spec)) {
+      check_structure_spec(spec);
+    } else if (!kHaveEmbree) {
+      throw UsageError("--accel embree: this visfield-bench was built without Embree (configure with -DVISFIELD_EMBREE=ON)");
+    } else {
+      embree_params(spec);
+    }
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geometry, const BuildContext& context,
+                                  [[maybe_unused]] int threads) {
 #if VISFIELD_HAVE_EMBREE
-  if (name == kEmbreeName) return EmbreeScene::build(set, threads);
+  if (names_embree(spec)) {
+    const bool instanced = embree_params(spec).text("levels") == "2";
+    return {instanced ? EmbreeScene::build_instanced(geometry.scene(), threads)
+                      : EmbreeScene::build(geometry.flattened(), threads),
+            std::string(kEmbreeName) + ":levels=" + (instanced ? "2" : "1")};
+  }
 #endif
-  return build_accel(name, set);
+  BuiltStructure built = build_structure(spec, geometry, context);
+  return {std::move(built.structure), std::move(built.resolved)};
 }
 
 AccelStats bench_accel_stats(const BenchAccel& accel) {

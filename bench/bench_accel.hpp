@@ -1,6 +1,6 @@
 #pragma once
-/// \file The structures visfield-bench can run: every exact structure of accel/ plus, when this
-/// build links Embree, Embree itself, all behind one variant.
+/// \file The structures visfield-bench can run: every structure of the registry plus, when this
+/// build links Embree, Embree itself (flattened or with its instancing), all behind one variant.
 
 #include <string>
 #include <type_traits>
@@ -8,8 +8,7 @@
 #include <variant>
 #include <vector>
 
-#include "visfield/accel/any_accel.hpp"
-#include "visfield/core/triangle_set.hpp"
+#include "visfield/registry/registry.hpp"
 
 #if VISFIELD_HAVE_EMBREE
 #include "embree_scene.hpp"
@@ -23,26 +22,37 @@ inline constexpr bool kHaveEmbree = VISFIELD_HAVE_EMBREE != 0;
 /// The --accel name of Embree.
 inline constexpr const char* kEmbreeName = "embree";
 
-/// One built structure: ours (AnyAccel) or Embree's.
+/// One built structure: ours (AnyStructure) or Embree's.
 #if VISFIELD_HAVE_EMBREE
-using BenchAccel = std::variant<AnyAccel, EmbreeScene>;
+using BenchAccel = std::variant<AnyStructure, EmbreeScene>;
 #else
-using BenchAccel = std::variant<AnyAccel>;
+using BenchAccel = std::variant<AnyStructure>;
 #endif
 
-/// Every name --accel accepts: accel_names(), then "embree" when this build links Embree.
+/// Every name --accel accepts: the registry's, then "embree" when this build links Embree.
 std::vector<std::string> bench_accel_names();
 
-/// Builds the structure `name` (one of bench_accel_names()) over `set`; `threads` is handed to
-/// Embree's device (ours follow TBB's limit). Throws vf::Error on an unknown name or a failed build.
-BenchAccel build_bench_accel(const std::string& name, const TriangleSet& set, int threads);
+/// Checks a --accel spec without building (UsageError on an unknown name, a bad parameter, or
+/// "embree" in a build without Embree).
+void check_bench_accel(const std::string& spec);
 
-/// Calls `f` with the concrete structure `accel` holds (a type satisfying Accelerator).
+/// One structure built for the benchmark, with the spec as resolved.
+struct BuiltBenchAccel {
+  BenchAccel accel;
+  std::string resolved;  ///< e.g. "bvh:levels=1", "embree:levels=2".
+};
+
+/// Builds the structure `spec` names over `geometry`; `threads` is handed to Embree's device (ours
+/// follow TBB's limit). Throws vf::Error on a failed build.
+BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geometry, const BuildContext& context,
+                                  int threads);
+
+/// Calls `f` with the concrete structure `accel` holds.
 template <class F>
 decltype(auto) visit_accel(const BenchAccel& accel, F&& f) {
   return std::visit(
       [&](const auto& held) -> decltype(auto) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(held)>, AnyAccel>) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(held)>, AnyStructure>) {
           return std::visit(f, held);
         } else {
           return f(held);

@@ -1,13 +1,13 @@
 #include "bench_options.hpp"
 
 #include <algorithm>
-#include <sstream>
 
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
+#include "visfield/core/spec.hpp"
 
 namespace vf::bench {
 
@@ -19,20 +19,14 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
-void check_accel_names(const std::vector<std::string>& requested) {
-  const std::vector<std::string> valid = bench_accel_names();
+void check_accel_specs(const std::vector<std::string>& requested) {
   for (std::size_t i = 0; i < requested.size(); ++i) {
-    const std::string& name = requested[i];
-    if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
-      if (name == kEmbreeName) {
-        throw UsageError(
-            "--accel embree: this visfield-bench was built without Embree (configure with -DVISFIELD_EMBREE=ON)");
-      }
-      throw UsageError("--accel: unknown structure '" + name + "' (valid: " + joined(valid) + ")");
-    }
-    if (std::find(requested.begin(), requested.begin() + static_cast<std::ptrdiff_t>(i), name) !=
+    const std::string& spec = requested[i];
+    if (spec.empty()) throw UsageError("--accel: empty structure name in the list");
+    check_bench_accel(spec);
+    if (std::find(requested.begin(), requested.begin() + static_cast<std::ptrdiff_t>(i), spec) !=
         requested.begin() + static_cast<std::ptrdiff_t>(i)) {
-      throw UsageError("--accel: '" + name + "' is listed twice");
+      throw UsageError("--accel: '" + spec + "' is listed twice");
     }
   }
 }
@@ -49,9 +43,11 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   app.add_option("--rays", kind_name, "Ray set: primary, ao, shadow or random")
       ->required()
       ->check(CLI::IsMember({"primary", "ao", "shadow", "random"}));
-  app.add_option("--accel", options.accels, "Comma-separated structures: " + joined(bench_accel_names()))
-      ->required()
-      ->delimiter(',');
+  std::string accel_list;
+  app.add_option("--accel", accel_list,
+                 "Comma-separated structures, each NAME[:key=value,...] (`visfield structures` lists the parameters): " +
+                     joined(bench_accel_names()))
+      ->required();
   app.add_option("--count", count, "Exact number of rays (default: one image's worth)")
       ->check(CLI::Range(std::int64_t{1}, kMaxRayCount));
   app.add_option("--threads", options.threads, "Worker threads for every structure, 0 = all hardware threads")
@@ -67,11 +63,6 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   app.add_option("--seed", options.seed, "Seed of the AO, shadow and random rays");
   app.add_option("--reps", options.reps, "Timed repetitions (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--warmup", options.warmup, "Untimed runs before the timed ones")->check(CLI::Range(0, 100));
-  std::uint64_t auto_rays = 0;
-  std::string calibration;
-  app.add_option("--auto-rays", auto_rays, "With --accel auto: the ray count to decide for (default: this bench's)")
-      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 50));
-  app.add_option("--calibration", calibration, "With --accel auto: calibration file from `visfield calibrate`");
 
   try {
     app.parse(argc, argv);
@@ -83,27 +74,19 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   }
 
   options.kind = *parse_ray_kind(kind_name);
-  if (app.count("--auto-rays") > 0) options.auto_rays = auto_rays;
-  if (app.count("--calibration") > 0) options.calibration = calibration;
+  options.accels = split_spec_list(accel_list);
   if (app.count("--count") > 0) options.count = static_cast<std::size_t>(count);
   if (!(options.max_distance > 0.0f))
     throw UsageError("--max-distance: must be positive, got " + app["--max-distance"]->as<std::string>());
-  if (options.accels.empty()) throw UsageError("--accel: no structure named");
-  check_accel_names(options.accels);
+  check_accel_specs(options.accels);
   return options;
 }
 
 void check_ray_memory(std::size_t ray_count, std::size_t structure_count) {
-  const std::size_t per_ray = sizeof(Ray) + structure_count * sizeof(Hit);
-  const std::size_t needed = ray_count * per_ray;
-  const std::size_t available = physical_memory_bytes();
-  if (available > 0 && needed > available) {
-    std::ostringstream message;
-    message << ray_count << " rays with results for " << structure_count
-            << (structure_count == 1 ? " structure" : " structures") << " need about " << needed / (1024 * 1024)
-            << " MiB, more than this machine's " << available / (1024 * 1024) << " MiB";
-    throw UsageError(message.str());
-  }
+  const double per_ray = static_cast<double>(sizeof(Ray) + structure_count * sizeof(Hit));
+  require_memory(static_cast<double>(ray_count) * per_ray,
+                 std::to_string(ray_count) + " rays with results for " + std::to_string(structure_count) +
+                     (structure_count == 1 ? " structure" : " structures"));
 }
 
 }  // namespace vf::bench

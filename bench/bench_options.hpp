@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ray_kind.hpp"
+#include "visfield/render/ray_kind.hpp"
 
 namespace vf::bench {
 
@@ -23,7 +23,7 @@ class UsageError : public std::runtime_error {
 struct BenchOptions {
   std::string scene;                 ///< Mesh file, scene JSON or builtin:NAME[:size=N,seed=S].
   RayKind kind = RayKind::primary;   ///< --rays.
-  std::vector<std::string> accels;   ///< --accel, in the order given, no duplicates.
+  std::vector<std::string> accels;   ///< --accel specs, in the order given, no duplicates.
   std::optional<std::size_t> count;  ///< --count: exact number of rays; absent = one image's worth.
   int threads = 0;                   ///< --threads: worker threads, 0 = all hardware threads.
   bool json = false;                 ///< --json: print a JSON document instead of the table.
@@ -34,12 +34,7 @@ struct BenchOptions {
   std::uint64_t seed = 1;                                       ///< --seed: seeds the AO, shadow and random rays.
   int reps = 5;                                                 ///< --reps: timed repetitions; the median is reported.
   int warmup = 1;                                               ///< --warmup: untimed runs before the timed ones.
-  std::optional<std::uint64_t> auto_rays;  ///< --auto-rays: rays "auto" decides for; absent = this bench's ray count.
-  std::optional<std::string> calibration;  ///< --calibration: file for "auto"; absent = the built-in calibration.
 };
-
-/// The --accel name that lets the calibrated selection pick grid or kd-tree (issue: grids vs hierarchies).
-inline constexpr const char* kAutoAccelName = "auto";
 
 /// Largest --count accepted (the rays alone would take 32 GB).
 inline constexpr std::int64_t kMaxRayCount = 1'000'000'000;
@@ -48,11 +43,11 @@ inline constexpr int kMaxThreads = 1024;
 
 /// Parses the command line. Returns nothing when --help was asked for (the help text then went to
 /// `help_out`). Throws UsageError on a missing, malformed or out-of-range value, an unknown --accel
-/// name (or "embree" in a build without Embree) or a name listed twice.
+/// name or parameter (or "embree" in a build without Embree) or a spec listed twice.
 std::optional<BenchOptions> parse_bench_options(int argc, const char* const* argv, std::ostream& help_out);
 
-/// Refuses (UsageError naming the estimate) a ray set whose rays and per-structure results would
-/// not fit in this machine's physical memory. Call before generating the rays.
+/// Refuses (vf::Error naming the estimate, see require_memory) a ray set whose rays and per-structure
+/// results would not fit in the allocation budget. Call before generating the rays.
 void check_ray_memory(std::size_t ray_count, std::size_t structure_count);
 
 }  // namespace vf::bench

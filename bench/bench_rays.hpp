@@ -6,12 +6,14 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
-#include "ray_kind.hpp"
-#include "visfield/accel/accelerator.hpp"
+#include "visfield/accel/query.hpp"
+#include "visfield/core/error.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/scene.hpp"
+#include "visfield/render/ray_kind.hpp"
 #include "visfield/render/ray_sets.hpp"
 
 namespace vf::bench {
@@ -40,9 +42,10 @@ std::vector<Ray> rays_for_count(const Camera& camera, std::optional<std::size_t>
 
 /// The benchmark's ray set. AO and shadow rays start at primary hits found with `hits_from` (any
 /// exact structure gives the same hits); random rays come from make_random_rays over the scene
-/// bounds, `count` of them (default: one per pixel of the camera's image).
-template <Accelerator A>
-std::vector<Ray> make_bench_rays(const A& hits_from, const Scene& scene, const RaySetRequest& request) {
+/// bounds, `count` of them (default: one per pixel of the camera's image). Path rays are not a
+/// benchmark set (throws vf::Error).
+template <ClosestHitQuery C>
+std::vector<Ray> make_bench_rays(const C& hits_from, const Scene& scene, const RaySetRequest& request) {
   switch (request.kind) {
     case RayKind::primary:
       return rays_for_count(request.camera, request.count,
@@ -60,8 +63,9 @@ std::vector<Ray> make_bench_rays(const A& hits_from, const Scene& scene, const R
           static_cast<std::size_t>(request.camera.width) * static_cast<std::size_t>(request.camera.height);
       return make_random_rays(scene.bounds(), request.count.value_or(pixels), request.seed);
     }
+    case RayKind::path: break;
   }
-  return {};
+  throw Error("visfield-bench: " + std::string(ray_kind_name(request.kind)) + " rays are not a benchmark ray set");
 }
 
 }  // namespace vf::bench

@@ -10,9 +10,7 @@
 #include "bench_rays.hpp"
 #include "query_runner.hpp"
 #include "visfield/core/parallel.hpp"
-#include "visfield/core/triangle_set.hpp"
 #include "visfield/io/scene_file.hpp"
-#include "visfield/select/decision.hpp"
 
 #if VISFIELD_HAVE_EMBREE
 #include "embree_scene.hpp"
@@ -22,10 +20,6 @@ namespace vf::bench {
 
 namespace {
 
-struct NamedAccel {
-  std::string name;
-  BenchAccel accel;
-};
 
 // The camera at the requested resolution; a side left at 0 keeps the scene camera's.
 Camera bench_camera(const Scene& scene, const BenchOptions& options) {
@@ -42,10 +36,12 @@ std::size_t estimated_ray_count(const BenchOptions& options, const Camera& camer
   return options.kind == RayKind::ao ? pixels * static_cast<std::size_t>(options.ao_rays) : pixels;
 }
 
+bool is_embree(const BuiltBenchAccel& a) { return a.resolved.starts_with(kEmbreeName); }
+
 // AO and shadow rays start from the hits of one of our exact structures when one is listed (they
 // are watertight and agree with brute force), otherwise from Embree's.
-const NamedAccel& ray_source(const std::vector<NamedAccel>& built) {
-  const auto ours = std::find_if(built.begin(), built.end(), [](const NamedAccel& a) { return a.name != kEmbreeName; });
+const BuiltBenchAccel& ray_source(const std::vector<BuiltBenchAccel>& built) {
+  const auto ours = std::find_if(built.begin(), built.end(), [](const BuiltBenchAccel& a) { return !is_embree(a); });
   return ours != built.end() ? *ours : built.front();
 }
 
@@ -54,22 +50,17 @@ const NamedAccel& ray_source(const std::vector<NamedAccel>& built) {
 BenchReport run_bench(const BenchOptions& options) {
   const ThreadLimit thread_limit(options.threads);
   const Scene scene = load_scene(options.scene);
-  const TriangleSet set = flatten(scene);
+  SceneGeometry geometry(scene);
   const Camera camera = bench_camera(scene, options);
   check_ray_memory(estimated_ray_count(options, camera), options.accels.size());
 
-  std::vector<NamedAccel> built;
+  // `auto` decides for this bench's ray count unless its rays= says otherwise; the decision's own cost
+  // (grid build + sample rays) is not part of the row's build time.
+  const BuildContext context{estimated_ray_count(options, camera)};
+  std::vector<BuiltBenchAccel> built;
   built.reserve(options.accels.size());
-  for (const std::string& name : options.accels) {
-    if (name == kAutoAccelName) {
-      // The decision's own cost (grid build + sample rays) is not part of the row's build time.
-      const std::uint64_t rays = options.auto_rays.value_or(estimated_ray_count(options, camera));
-      const std::string chosen = resolve_auto_accel(scene, set, rays, options.calibration);
-      built.push_back({name + ":" + chosen, build_bench_accel(chosen, set, thread_limit.threads())});
-    } else {
-      built.push_back({name, build_bench_accel(name, set, thread_limit.threads())});
-    }
-  }
+  for (const std::string& spec : options.accels)
+    built.push_back(build_bench_accel(spec, geometry, context, thread_limit.threads()));
 
   RaySetRequest request;
   request.kind = options.kind;
@@ -83,18 +74,17 @@ BenchReport run_bench(const BenchOptions& options) {
 
   const TimingPlan plan{options.warmup, options.reps};
   std::vector<const BenchAccel*> accels;
-  for (const NamedAccel& entry : built) accels.push_back(&entry.accel);
+  for (const BuiltBenchAccel& entry : built) accels.push_back(&entry.accel);
   const std::vector<QueryMeasurement> measurements = measure_queries(accels, rays, options.kind, plan);
 
-  const auto embree =
-      std::find_if(built.begin(), built.end(), [](const NamedAccel& a) { return a.name == kEmbreeName; });
+  const auto embree = std::find_if(built.begin(), built.end(), is_embree);
   const std::size_t reference = embree != built.end() ? static_cast<std::size_t>(embree - built.begin()) : 0;
   const double embree_mrays =
       embree != built.end() ? mrays_per_second(rays.size(), measurements[reference].timings.median_ms()) : 0.0;
 
   BenchReport report;
   report.scene = scene.name.empty() ? options.scene : scene.name;
-  report.triangles = set.size();
+  report.triangles = scene.instanced_triangle_count();
   report.kind = options.kind;
   report.rays = rays.size();
   report.threads = thread_limit.threads();
@@ -104,14 +94,14 @@ BenchReport run_bench(const BenchOptions& options) {
   report.warmup = options.warmup;
   report.ao_rays = options.ao_rays;
   report.max_distance = options.max_distance;
-  report.reference = built[reference].name;
+  report.reference = built[reference].resolved;
 #if VISFIELD_HAVE_EMBREE
   if (embree != built.end()) report.embree = embree_description();
 #endif
   for (std::size_t i = 0; i < built.size(); ++i) {
     const AccelStats stats = bench_accel_stats(built[i].accel);
     ResultRow row;
-    row.accel = built[i].name;
+    row.accel = built[i].resolved;
     row.build_ms = stats.build_ms;
     row.bytes = stats.memory_bytes;
     row.median_ms = measurements[i].timings.median_ms();

@@ -1,7 +1,6 @@
 #include "embree_scene.hpp"
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -13,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/stopwatch.hpp"
 
 namespace vf::bench {
 
@@ -54,19 +54,28 @@ bool count_bytes(void* user, ssize_t bytes, bool /*post*/) {
 
 }  // namespace
 
-struct EmbreeScene::Impl {
+/// The Embree objects and the tables that map Embree's ids back to ours.
+struct EmbreeLayout {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<std::uint32_t> prim, instance;  // Indexed by Embree's primID.
+  std::vector<RTCScene> mesh_scenes;          // Instancing: one per mesh in use (released with the layout).
+  // Flattened: indexed by primID. Instancing: prim[mesh] maps primID, instance_id[instID] the object.
+  std::vector<std::uint32_t> prim;
+  std::vector<ObjectId> instance;
+  std::vector<std::vector<std::uint32_t>> mesh_prim;
+  std::vector<std::uint32_t> instance_mesh;  // Instancing: mesh of each instance geometry.
+  bool instanced = false;
   std::atomic<std::int64_t> device_bytes{0};
   ErrorLog errors;
   AccelStats stats;
 
-  Impl() = default;
-  Impl(const Impl&) = delete;
-  Impl& operator=(const Impl&) = delete;
-  ~Impl() {
+  EmbreeLayout() = default;
+  EmbreeLayout(const EmbreeLayout&) = delete;
+  EmbreeLayout& operator=(const EmbreeLayout&) = delete;
+  ~EmbreeLayout() {
     if (scene != nullptr) rtcReleaseScene(scene);
+    for (RTCScene s : mesh_scenes)
+      if (s != nullptr) rtcReleaseScene(s);
     if (device != nullptr) rtcReleaseDevice(device);
   }
 
@@ -81,33 +90,36 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+EmbreeScene::EmbreeScene(std::unique_ptr<EmbreeLayout> layout) : layout_(std::move(layout)) {}
 EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
 EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 EmbreeScene::~EmbreeScene() = default;
 
-EmbreeScene EmbreeScene::build(const TriangleSet& set, int threads) {
-  auto impl = std::make_unique<Impl>();
-  const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
-  impl->device = rtcNewDevice(config.c_str());
-  if (impl->device == nullptr) {
-    throw Error(std::string("embree: rtcNewDevice failed: ") + error_code_name(rtcGetDeviceError(nullptr)));
-  }
-  rtcSetDeviceErrorFunction(impl->device, &ErrorLog::record, &impl->errors);
-  rtcSetDeviceMemoryMonitorFunction(impl->device, &count_bytes, &impl->device_bytes);
+namespace {
 
-  const auto start = std::chrono::steady_clock::now();
-  impl->scene = rtcNewScene(impl->device);
+std::unique_ptr<EmbreeLayout> new_device(int threads) {
+  auto layout = std::make_unique<EmbreeLayout>();
+  const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
+  layout->device = rtcNewDevice(config.c_str());
+  if (layout->device == nullptr)
+    throw Error(std::string("embree: rtcNewDevice failed: ") + error_code_name(rtcGetDeviceError(nullptr)));
+  rtcSetDeviceErrorFunction(layout->device, &ErrorLog::record, &layout->errors);
+  rtcSetDeviceMemoryMonitorFunction(layout->device, &count_bytes, &layout->device_bytes);
+  return layout;
+}
+
+// A committed Embree scene holding the triangles of `set` as one triangle geometry (primID = index).
+RTCScene triangle_scene(EmbreeLayout& layout, const TriangleSet& set) {
+  RTCScene scene = rtcNewScene(layout.device);
   const std::size_t count = set.size();
   if (count > 0) {
-    if (count > std::numeric_limits<std::uint32_t>::max() / 3)
-      throw Error("embree: too many triangles for one geometry");
-    RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (count > std::numeric_limits<std::uint32_t>::max() / 3) throw Error("embree: too many triangles for one geometry");
+    RTCGeometry geometry = rtcNewGeometry(layout.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(
         rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * count));
     auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
         geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), count));
-    impl->check("allocating the triangle buffers");
+    layout.check("allocating the triangle buffers");
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         for (std::size_t corner = 0; corner < 3; ++corner) {
@@ -121,21 +133,76 @@ EmbreeScene EmbreeScene::build(const TriangleSet& set, int threads) {
       }
     });
     rtcCommitGeometry(geometry);
-    rtcAttachGeometry(impl->scene, geometry);
+    rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
   }
-  rtcCommitScene(impl->scene);
-  impl->check("building the scene");
-  impl->prim = set.prim;
-  impl->instance = set.instance;
-  impl->stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  const std::int64_t device_bytes = impl->device_bytes.load();
-  impl->stats.memory_bytes = static_cast<std::size_t>(device_bytes > 0 ? device_bytes : 0) +
-                             (impl->prim.size() + impl->instance.size()) * sizeof(std::uint32_t);
-  return EmbreeScene(std::move(impl));
+  rtcCommitScene(scene);
+  return scene;
 }
 
-std::optional<Hit> EmbreeScene::intersect(const Ray& ray) const {
+void finish_stats(EmbreeLayout& layout, const Stopwatch& watch, std::size_t table_entries) {
+  layout.stats.build_ms = watch.elapsed_ms();
+  const std::int64_t device_bytes = layout.device_bytes.load();
+  layout.stats.memory_bytes =
+      static_cast<std::size_t>(device_bytes > 0 ? device_bytes : 0) + table_entries * sizeof(std::uint32_t);
+}
+
+}  // namespace
+
+EmbreeScene EmbreeScene::build(const TriangleSet& set, int threads) {
+  auto layout = new_device(threads);
+  const Stopwatch watch;
+  layout->scene = triangle_scene(*layout, set);
+  layout->check("building the scene");
+  layout->prim = set.prim;
+  layout->instance = set.instance;
+  finish_stats(*layout, watch, layout->prim.size() + layout->instance.size());
+  return EmbreeScene(std::move(layout));
+}
+
+EmbreeScene EmbreeScene::build_instanced(const Scene& scene, int threads) {
+  auto layout = new_device(threads);
+  layout->instanced = true;
+  const Stopwatch watch;
+  std::vector<std::int64_t> mesh_scene_index(scene.meshes.size(), -1);
+  layout->scene = rtcNewScene(layout->device);
+  std::size_t table_entries = 0;
+  for (const Instance& inst : scene.instances()) {
+    if (mesh_scene_index[inst.mesh] < 0) {
+      const TriangleSet set = mesh_triangles(scene.meshes[inst.mesh]);
+      mesh_scene_index[inst.mesh] = static_cast<std::int64_t>(layout->mesh_scenes.size());
+      layout->mesh_scenes.push_back(triangle_scene(*layout, set));
+      layout->mesh_prim.push_back(set.prim);
+      table_entries += set.prim.size();
+    }
+    RTCGeometry geometry = rtcNewGeometry(layout->device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geometry, layout->mesh_scenes[static_cast<std::size_t>(mesh_scene_index[inst.mesh])]);
+    // Column-major 3x4: the columns of scale * R, then the translation.
+    const Transform& t = inst.transform;
+    float xfm[12];
+    for (int column = 0; column < 3; ++column)
+      for (int row = 0; row < 3; ++row) xfm[3 * column + row] = t.rotation.rows[row][column] * t.scale;
+    xfm[9] = t.translation.x;
+    xfm[10] = t.translation.y;
+    xfm[11] = t.translation.z;
+    rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(geometry);
+    const std::uint32_t id = rtcAttachGeometry(layout->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    if (id >= layout->instance.size()) {
+      layout->instance.resize(id + 1, kInvalidId);
+      layout->instance_mesh.resize(id + 1, 0);
+    }
+    layout->instance[id] = inst.id;
+    layout->instance_mesh[id] = static_cast<std::uint32_t>(mesh_scene_index[inst.mesh]);
+  }
+  rtcCommitScene(layout->scene);
+  layout->check("building the instanced scene");
+  finish_stats(*layout, watch, table_entries + 2 * layout->instance.size());
+  return EmbreeScene(std::move(layout));
+}
+
+Hit EmbreeScene::intersect(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit query;
@@ -153,10 +220,17 @@ std::optional<Hit> EmbreeScene::intersect(const Ray& ray) const {
   query.ray.flags = 0;
   query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &query);
-  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  const std::uint32_t index = query.hit.primID;
-  return Hit{query.ray.tfar, query.hit.u, query.hit.v, impl_->prim[index], impl_->instance[index]};
+  rtcIntersect1(layout_->scene, &context, &query);
+  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit{};
+  const Vec3f normal{query.hit.Ng_x, query.hit.Ng_y, query.hit.Ng_z};
+  if (!layout_->instanced) {
+    const std::uint32_t index = query.hit.primID;
+    return Hit::triangle(query.ray.tfar, query.hit.u, query.hit.v, layout_->prim[index], layout_->instance[index], normal);
+  }
+  const std::uint32_t instance = query.hit.instID[0];
+  return Hit::triangle(query.ray.tfar, query.hit.u, query.hit.v,
+                       layout_->mesh_prim[layout_->instance_mesh[instance]][query.hit.primID], layout_->instance[instance],
+                       normal);
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {
@@ -175,12 +249,12 @@ bool EmbreeScene::occluded(const Ray& ray) const {
   query.mask = 0xffffffffu;
   query.id = 0;
   query.flags = 0;
-  rtcOccluded1(impl_->scene, &context, &query);
+  rtcOccluded1(layout_->scene, &context, &query);
   // Embree marks an occluded ray by setting tfar to -infinity.
   return query.tfar == -std::numeric_limits<float>::infinity();
 }
 
-const AccelStats& EmbreeScene::stats() const { return impl_->stats; }
+const AccelStats& EmbreeScene::stats() const { return layout_->stats; }
 
 namespace {
 

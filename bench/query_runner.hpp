@@ -6,14 +6,14 @@
 #include <vector>
 
 #include "bench_accel.hpp"
-#include "ray_kind.hpp"
 #include "timing.hpp"
 #include "visfield/core/ray.hpp"
+#include "visfield/render/ray_kind.hpp"
 
 namespace vf::bench {
 
-/// Answers of one structure for the whole ray set: `hits` for closest-hit kinds (prim ==
-/// kInvalidId on a miss), `occluded` (1/0) for occlusion kinds; the other vector stays empty.
+/// Answers of one structure for the whole ray set: `hits` for closest-hit kinds, `occluded` (1/0)
+/// for occlusion kinds; the other vector stays empty.
 struct QueryResults {
   std::vector<Hit> hits;
   std::vector<std::uint8_t> occluded;

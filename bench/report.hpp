@@ -10,13 +10,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ray_kind.hpp"
+#include "visfield/render/ray_kind.hpp"
 
 namespace vf::bench {
 
 /// One structure's figures.
 struct ResultRow {
-  std::string accel;                      ///< --accel name.
+  std::string accel;                      ///< --accel spec as resolved (automatic choices made).
   double build_ms = 0.0;                  ///< Build wall time.
   std::size_t bytes = 0;                  ///< Memory held by the built structure.
   double median_ms = 0.0;                 ///< Median time to trace the whole ray set.
@@ -28,7 +28,7 @@ struct ResultRow {
 /// Everything one run reports.
 struct BenchReport {
   std::string scene;          ///< Scene name.
-  std::size_t triangles = 0;  ///< Triangles the structures were built over.
+  std::size_t triangles = 0;  ///< Triangles of the scene's objects (each object's mesh counted).
   RayKind kind = RayKind::primary;
   std::size_t rays = 0;       ///< Rays traced per repetition.
   int threads = 1;            ///< Worker threads in force.

@@ -1,16 +1,9 @@
 #include "timing.hpp"
 
-#include <algorithm>
-#include <chrono>
+#include "visfield/core/statistics.hpp"
+#include "visfield/core/stopwatch.hpp"
 
 namespace vf::bench {
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t mid = values.size() / 2;
-  return values.size() % 2 == 1 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
-}
 
 double Timings::median_ms() const { return median(run_ms); }
 
@@ -26,10 +19,7 @@ std::vector<Timings> time_interleaved(const TimingPlan& plan, std::span<const st
   for (Timings& t : timings) t.run_ms.reserve(static_cast<std::size_t>(plan.reps));
   for (int round = 0; round < plan.reps; ++round) {
     for (std::size_t j = 0; j < jobs.size(); ++j) {
-      const auto start = std::chrono::steady_clock::now();
-      jobs[j]();
-      timings[j].run_ms.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+      timings[j].run_ms.push_back(time_ms(jobs[j]));
     }
   }
   return timings;

@@ -20,9 +20,6 @@ struct Timings {
   double median_ms() const;
 };
 
-/// Median of `values` (mean of the middle two for an even count); 0 when empty. O(n log n).
-double median(std::vector<double> values);
-
 /// Runs `job` plan.warmup times untimed, then plan.reps times timed (steady clock).
 Timings time_runs(const TimingPlan& plan, const std::function<void()>& job);
 

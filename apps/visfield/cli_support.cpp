@@ -1,42 +1,15 @@
 #include "cli_support.hpp"
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
+#include "visfield/core/stopwatch.hpp"
 #include "visfield/io/scene_file.hpp"
 
 namespace vf::cli {
-
-namespace {
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-}  // namespace
-
-LoadedScene load_and_flatten(const std::string& spec) {
-  LoadedScene out;
-  auto start = std::chrono::steady_clock::now();
-  out.scene = load_scene(spec);
-  out.load_ms = ms_since(start);
-  start = std::chrono::steady_clock::now();
-  out.triangles = flatten(out.scene);
-  out.flatten_ms = ms_since(start);
-  if (out.triangles.degenerate_count > 0)
-    std::cerr << "visfield: warning: " << spec << ": " << out.triangles.degenerate_count
-              << " zero-area triangles left out of the acceleration structure\n";
-  if (out.triangles.size() == 0) throw Error(spec + ": the scene has no non-degenerate triangles");
-  return out;
-}
-
-void check_image_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".png" && ext != ".exr") throw Error(path + ": output must end in .png or .exr");
-}
 
 void add_scene_argument(CLI::App& cmd, std::string& scene) {
   cmd.add_option("scene", scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
@@ -46,14 +19,60 @@ void add_threads_option(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
 }
 
-std::string format_bytes(std::size_t bytes) {
-  char buffer[64];
-  const double b = static_cast<double>(bytes);
-  if (b >= 1024.0 * 1024.0 * 1024.0) std::snprintf(buffer, sizeof buffer, "%.2f GiB", b / (1024.0 * 1024.0 * 1024.0));
-  else if (b >= 1024.0 * 1024.0) std::snprintf(buffer, sizeof buffer, "%.2f MiB", b / (1024.0 * 1024.0));
-  else if (b >= 1024.0) std::snprintf(buffer, sizeof buffer, "%.1f KiB", b / 1024.0);
-  else std::snprintf(buffer, sizeof buffer, "%zu B", bytes);
-  return buffer;
+CLI::Option* add_structure_option(CLI::App& cmd, const std::string& name, std::string& spec, const std::string& help,
+                                  const std::string& only) {
+  const CLI::Validator registered(
+      [name, only](std::string& value) {
+        try {
+          check_structure_spec(value, name + " ");
+        } catch (const Error& e) {
+          return std::string(e.what());
+        }
+        if (!only.empty() && parse_spec(value, name + " ").name != only) return name + " " + value + ": must be " + only;
+        return std::string();
+      },
+      "SPEC");
+  return cmd.add_option(name, spec, help)->check(registered);
+}
+
+Scene load_scene_argument(const std::string& spec, double* load_ms) {
+  const Stopwatch watch;
+  Scene scene = load_scene(spec);
+  if (load_ms) *load_ms = watch.elapsed_ms();
+  return scene;
+}
+
+BuiltStructure build_structure_for(const std::string& structure_spec, SceneGeometry& geometry, const BuildContext& context,
+                                   const std::string& option, const std::string& scene_spec) {
+  if (geometry.scene().instances().empty() || geometry.instanced_triangle_count() == 0)
+    throw Error(scene_spec + ": the scene has no triangles");
+  BuiltStructure built = build_structure(structure_spec, geometry, context, option + " ");
+  if (built.degenerate_triangles > 0)
+    std::cerr << "visfield: warning: " << scene_spec << ": " << built.degenerate_triangles
+              << " zero-area triangles left out of the acceleration structure\n";
+  if (built.degenerate_triangles >= geometry.instanced_triangle_count())
+    throw Error(scene_spec + ": the scene has no non-degenerate triangles");
+  return built;
+}
+
+void print_structure(std::ostream& out, const std::string& option, const BuiltStructure& built, int threads) {
+  const AccelStats s = structure_stats(built.structure);
+  std::string label = option + ":";
+  label.resize(std::max<std::size_t>(label.size() + 1, 20), ' ');
+  out << label << built.resolved << " (" << threads << " threads)\n"
+      << "  build:            " << s.build_ms << " ms\n"
+      << "  memory:           " << format_bytes(static_cast<double>(s.memory_bytes)) << " (" << s.memory_bytes
+      << " bytes)\n"
+      << "  nodes:            " << s.node_count << "\n"
+      << "  leaves:           " << s.leaf_count << "\n"
+      << "  references:       " << s.reference_count << "\n"
+      << "  max depth:        " << s.max_depth << "\n";
+}
+
+void check_image_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".png" && ext != ".exr") throw Error(path + ": output must end in .png or .exr");
 }
 
 }  // namespace vf::cli

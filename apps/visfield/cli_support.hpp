@@ -1,27 +1,24 @@
 #pragma once
-/// \file Shared pieces of the visfield subcommands: loading with warnings, validators, messages.
+/// \file Pieces every visfield subcommand shares: the scene argument, --threads, structure options,
+/// loading with timing and warnings, and the printing of a built structure.
 
+#include <cstdint>
+#include <iosfwd>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "visfield/core/scene.hpp"
-#include "visfield/core/triangle_set.hpp"
+#include "visfield/registry/registry.hpp"
 
 namespace vf::cli {
 
-/// Loads the scene a user named (file, .json or builtin:...) and flattens it, printing a warning
-/// on stderr when zero-area triangles were left out. Throws vf::Error on bad input.
-struct LoadedScene {
-  Scene scene;
-  TriangleSet triangles;
-  double load_ms = 0.0;
-  double flatten_ms = 0.0;
+/// The options of a command that builds one structure over a scene (info, stats).
+struct StructureCommandOptions {
+  std::string scene;      ///< The scene argument.
+  std::string structure;  ///< The structure spec.
+  int threads = 0;        ///< --threads.
 };
-LoadedScene load_and_flatten(const std::string& spec);
-
-/// Throws vf::Error unless `path` ends in .png or .exr (checked before any work is done).
-void check_image_extension(const std::string& path);
 
 /// Registers the required positional "scene" (mesh file, scene .json or builtin:NAME[:size=N,seed=S]).
 void add_scene_argument(CLI::App& cmd, std::string& scene);
@@ -29,7 +26,25 @@ void add_scene_argument(CLI::App& cmd, std::string& scene);
 /// Registers --threads (0 = all cores, at most 4096).
 void add_threads_option(CLI::App& cmd, int& threads);
 
-/// "1.23 MiB"-style size.
-std::string format_bytes(std::size_t bytes);
+/// Registers a structure option (--accel, --occluder) whose value is checked against the registry
+/// while the command line is parsed, so a bad spec fails before any loading; with `only` set, the
+/// spec must name that structure.
+CLI::Option* add_structure_option(CLI::App& cmd, const std::string& name, std::string& spec, const std::string& help,
+                                  const std::string& only = "");
+
+/// Loads the scene a user named; `load_ms` gets the time taken. Throws vf::Error on bad input.
+Scene load_scene_argument(const std::string& spec, double* load_ms = nullptr);
+
+/// Builds `structure_spec` over `geometry` (option names the CLI option, for messages), warning on
+/// stderr when zero-area triangles were left out. Throws vf::Error on a bad spec, a failed build, or a
+/// scene with no triangle left.
+BuiltStructure build_structure_for(const std::string& structure_spec, SceneGeometry& geometry, const BuildContext& context,
+                                   const std::string& option, const std::string& scene_spec);
+
+/// Prints the resolved spec and the build statistics of `built`, one "  key: value" line each.
+void print_structure(std::ostream& out, const std::string& option, const BuiltStructure& built, int threads);
+
+/// Throws vf::Error unless `path` ends in .png or .exr (checked before any work is done).
+void check_image_extension(const std::string& path);
 
 }  // namespace vf::cli

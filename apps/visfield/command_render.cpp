@@ -1,17 +1,16 @@
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
-#include "visfield/accel/any_accel.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/render/ao.hpp"
-#include "visfield/select/decision.hpp"
 
 namespace vf::cli {
 
@@ -19,8 +18,8 @@ namespace {
 
 struct RenderOptions {
   std::string scene;
-  std::string integrator = "ao";
   std::string accel = "bvh";
+  std::string occluder;  // empty: the --accel structure answers the occlusion rays too
   std::string out = "visfield-ao.png";
   int spp = 1;
   int ao_rays = 64;
@@ -30,8 +29,6 @@ struct RenderOptions {
   int threads = 0;
   std::uint64_t seed = 1;
   bool no_progress = false;
-  std::uint64_t expected_rays = 0;  // for --accel auto; 0 = the rays this render will trace
-  std::string calibration;          // for --accel auto; empty = the built-in calibration
 };
 
 // Upper bound of the rays a render traces: every camera sample, and its AO rays when it hits.
@@ -40,21 +37,23 @@ std::uint64_t rays_of_render(const Camera& camera, const RenderOptions& o) {
          static_cast<std::uint64_t>(o.spp) * (1u + static_cast<std::uint64_t>(o.ao_rays));
 }
 
+std::string structure_summary(const BuiltStructure& built) {
+  const AccelStats s = structure_stats(built.structure);
+  return built.resolved + " (build " + std::to_string(s.build_ms) + " ms, " +
+         format_bytes(static_cast<double>(s.memory_bytes)) + ")";
+}
+
 int run_render(const RenderOptions& o) {
   check_image_extension(o.out);
   ThreadLimit limit(o.threads);
-  LoadedScene loaded = load_and_flatten(o.scene);
-  const Camera camera = loaded.scene.camera_or_default(o.width, o.height);
-  std::string accel_name = o.accel;
-  if (accel_name == "auto") {
-    const std::uint64_t rays = o.expected_rays > 0 ? o.expected_rays : rays_of_render(camera, o);
-    const std::optional<std::string> calibration =
-        o.calibration.empty() ? std::nullopt : std::optional<std::string>(o.calibration);
-    accel_name = resolve_auto_accel(loaded.scene, loaded.triangles, rays, calibration);
-    std::cout << "auto: " << accel_name << " chosen for " << rays << " rays\n";
-  }
-  const AnyAccel accel = build_accel(accel_name, loaded.triangles);
-  const AccelStats accel_stats_ = accel_stats(accel);
+  const Scene scene = load_scene_argument(o.scene);
+  SceneGeometry geometry(scene);
+  const Camera camera = scene.camera_or_default(o.width, o.height);
+  const BuildContext context{rays_of_render(camera, o)};
+  const BuiltStructure closest = build_structure_for(o.accel, geometry, context, "--accel", o.scene);
+  std::optional<BuiltStructure> occluder;
+  if (!o.occluder.empty() && o.occluder != o.accel)
+    occluder = build_structure_for(o.occluder, geometry, context, "--occluder", o.scene);
 
   AoOptions ao;
   ao.spp = o.spp;
@@ -63,14 +62,18 @@ int run_render(const RenderOptions& o) {
   ao.seed = o.seed;
   ao.progress = !o.no_progress;
   RenderStats stats;
-  const Image image = std::visit([&](const auto& a) { return render_ao(a, loaded.scene, camera, ao, &stats); }, accel);
+  const Image image = std::visit(
+      [&](const auto& camera_rays, const auto& occlusion_rays) {
+        return render_ao(camera_rays, occlusion_rays, scene, camera, ao, &stats);
+      },
+      closest.structure, occluder ? occluder->structure : closest.structure);
   write_image(o.out, image);
 
   std::cout << "wrote " << std::filesystem::absolute(o.out).string() << "\n";
-  std::cout << "render: " << loaded.triangles.size() << " triangles, accel " << accel_name << " (build "
-            << accel_stats_.build_ms << " ms, " << format_bytes(accel_stats_.memory_bytes) << "), "
-            << limit.threads() << " threads, spp " << o.spp << ", " << o.ao_rays << " AO rays: " << stats.summary()
-            << "\n";
+  std::cout << "render: " << scene.instanced_triangle_count() - closest.degenerate_triangles << " triangles, accel "
+            << structure_summary(closest) << (occluder ? ", occluder " + structure_summary(*occluder) : std::string())
+            << ", " << limit.threads() << " threads, spp " << o.spp << ", " << o.ao_rays
+            << " AO rays: " << stats.summary() << "\n";
   return 0;
 }
 
@@ -78,17 +81,14 @@ int run_render(const RenderOptions& o) {
 
 void register_render_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand("render", "Render an image (ambient occlusion) of a mesh, scene file or builtin:NAME");
+  CLI::App* cmd = app.add_subcommand("render", "Render ambient occlusion of a mesh, scene file or builtin:NAME");
   add_scene_argument(*cmd, options->scene);
-  cmd->add_option("--integrator", options->integrator, "Integrator")->check(CLI::IsMember({"ao"}))->capture_default_str();
-  std::vector<std::string> accels = accel_names();
-  accels.push_back("auto");
-  cmd->add_option("--accel", options->accel, "Acceleration structure (auto: grid or kd-tree, chosen for --rays)")
-      ->check(CLI::IsMember(accels))
+  add_structure_option(*cmd, "--accel", options->accel,
+                       "Structure for camera rays (and occlusion rays unless --occluder), NAME[:key=value,...]; "
+                       "`visfield structures` lists them")
       ->capture_default_str();
-  cmd->add_option("--rays", options->expected_rays, "With --accel auto: expected ray count (default: this render's)")
-      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 50));
-  cmd->add_option("--calibration", options->calibration, "With --accel auto: calibration file from `visfield calibrate`");
+  add_structure_option(*cmd, "--occluder", options->occluder,
+                       "Structure for the occlusion (AO) rays, NAME[:key=value,...] (default: the --accel one)");
   cmd->add_option("--spp", options->spp, "Camera samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--ao-rays", options->ao_rays, "AO rays per camera sample")->check(CLI::Range(1, 65536))->capture_default_str();
   cmd->add_option("--max-distance", options->max_distance, "AO ray length (world units; default unlimited)")

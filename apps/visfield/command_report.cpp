@@ -58,18 +58,23 @@ std::vector<std::string> scene_specs(const ReportCommandOptions& o) {
   return specs;
 }
 
-// The command as a user would retype it, quoted in the report.
+// The command that reproduces the report: every option that shapes it, defaults included, with the
+// thread count that was in force (so `--threads 0` is quoted as the count it meant).
 std::string command_line(const ReportCommandOptions& o, int threads) {
   std::ostringstream s;
   s << "visfield report";
-  if (!o.from.empty()) s << " --from " << o.from;
-  if (!o.models.empty()) s << " --models " << o.models;
-  for (const std::string& scene : o.scenes) s << " --scene " << scene;
-  if (o.no_builtin) s << " --no-builtin";
-  if (o.from.empty())
+  if (!o.from.empty()) {
+    s << " --from " << o.from;
+  } else {
+    if (!o.models.empty()) s << " --models " << o.models;
+    for (const std::string& scene : o.scenes) s << " --scene " << scene;
+    if (o.no_builtin) s << " --no-builtin";
     s << " --rays " << static_cast<std::uint64_t>(o.measure.rays) << " --sample-rays "
-      << static_cast<std::uint64_t>(o.measure.sample_rays) << " --threads " << threads;
-  s << " --splits " << o.splits << " --out " << o.out;
+      << static_cast<std::uint64_t>(o.measure.sample_rays) << " --build-repetitions " << o.measure.build_repetitions
+      << " --bounces " << o.measure.bounces << " --seed " << o.measure.seed << " --threads " << threads;
+    if (!o.save_measurements.empty()) s << " --save-measurements " << o.save_measurements;
+  }
+  s << " --splits " << o.splits << " --split-seed " << o.split_seed << " --out " << o.out;
   return s.str();
 }
 

@@ -6,6 +6,7 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "select_cli_support.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/select/decision.hpp"
 
@@ -38,7 +39,7 @@ int run_select(const SelectCommandOptions& o) {
   validate_select_options(options);
   const Calibration calibration = o.calibration.empty() ? builtin_calibration() : load_calibration(o.calibration);
   ThreadLimit limit(o.threads);
-  const LoadedScene loaded = load_and_flatten(o.scene);
+  const NamedScene loaded = load_named(o.scene);
   const RayKind kind = *parse_ray_kind(o.kind);
   const Selection s = select_structure(loaded.scene, loaded.triangles, rays, calibration, kind, options);
   const GridStatistics& g = s.grid_statistics;
@@ -47,7 +48,7 @@ int run_select(const SelectCommandOptions& o) {
             << calibration.machine.cpu_model << ", " << calibration.machine.threads << " threads)\n"
             << "triangles N:        " << s.triangles << "\n"
             << "grid:               " << s.grid_resolution[0] << " x " << s.grid_resolution[1] << " x " << s.grid_resolution[2]
-            << " cells, " << format_bytes(s.grid_memory_bytes) << "\n"
+            << " cells, " << format_bytes(static_cast<double>(s.grid_memory_bytes)) << "\n"
             << "grid statistics:    sparseness " << g.sparseness << ", maxRefs " << g.max_refs << ", mean " << g.mean
             << ", variance " << g.variance << ", std dev " << g.std_dev << ", skewness " << g.skewness << ", kurtosis "
             << g.kurtosis << "\n"

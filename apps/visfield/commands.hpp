@@ -10,7 +10,7 @@ namespace vf::cli {
 /// What main() runs after parsing: returns the process exit code; may throw vf::Error.
 using Action = std::function<int()>;
 
-/// `visfield render <scene> ...`: an image with the chosen integrator and structure.
+/// `visfield render <scene> ...`: an ambient-occlusion image with the chosen structures.
 void register_render_command(CLI::App& app, Action& action);
 /// `visfield info <scene> ...`: counts, bounds, degenerate triangles and the built structure's memory.
 void register_info_command(CLI::App& app, Action& action);
@@ -18,9 +18,11 @@ void register_info_command(CLI::App& app, Action& action);
 void register_calibrate_command(CLI::App& app, Action& action);
 /// `visfield select <scene> --rays R`: grid or kd-tree for a workload of R rays, with every quantity.
 void register_select_command(CLI::App& app, Action& action);
-/// `visfield stats <scene> --accel grid`: the grid's statistics, resolution and memory.
+/// `visfield stats <scene> [--grid grid:...]`: the grid's statistics, resolution and memory.
 void register_stats_command(CLI::App& app, Action& action);
 /// `visfield report`: the grids-vs-hierarchies evaluation as markdown.
 void register_report_command(CLI::App& app, Action& action);
+/// `visfield structures`: the registry's structures, their metadata and parameters.
+void register_structures_command(CLI::App& app, Action& action);
 
 }  // namespace vf::cli

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 
 #include "cli_support.hpp"
 #include "visfield/core/error.hpp"
@@ -11,8 +12,11 @@
 namespace vf::cli {
 
 NamedScene load_named(const std::string& spec) {
-  LoadedScene loaded = load_and_flatten(spec);
-  return NamedScene{spec, std::move(loaded.scene), std::move(loaded.triangles)};
+  NamedScene named = load_named_scene(spec);
+  if (named.triangles.degenerate_count > 0)
+    std::cerr << "visfield: warning: " << spec << ": " << named.triangles.degenerate_count
+              << " zero-area triangles left out of the acceleration structure\n";
+  return named;
 }
 
 void check_output_target(const std::string& path) {

@@ -12,7 +12,7 @@
 
 namespace vf::cli {
 
-/// Loads and flattens `spec` as load_and_flatten does (warning on stderr about zero-area triangles).
+/// Loads and flattens `spec` (load_named_scene), warning on stderr about zero-area triangles left out.
 NamedScene load_named(const std::string& spec);
 
 /// Throws vf::Error naming `path` unless its folder exists and `path` is not a folder: checked before
