@@ -64,6 +64,26 @@ TEST_F(Cli, ImageDoesNotDependOnThreadCount) {
   for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << "pixel " << i;
 }
 
+TEST_F(Cli, OcclusionRaysCanGoToAnotherStructure) {
+  // Exact structures over the same triangles agree on every ray, so the images are identical; the
+  // summary names both structures.
+  const std::string common = "render builtin:cornell:size=200 --width 40 --height 30 --ao-rays 6 --no-progress --out ";
+  ASSERT_EQ(visfield(common + "bvh.exr").exit_code, 0);
+  const auto r = visfield(common + "split.exr --accel bvh --occluder kdtree:kt=10");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("accel bvh:levels=1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("occluder kdtree:kt=10,levels=1"), std::string::npos) << r.out;
+  EXPECT_EQ(read_image(dir_ / "bvh.exr").pixels, read_image(dir_ / "split.exr").pixels);
+}
+
+TEST_F(Cli, StructuresListsTheRegistry) {
+  const auto r = visfield("structures");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* needle : {"bvh (exact", "grid (exact", "kdtree (exact", "median-bsp (exact", "brute (exact", "auto (exact",
+                             "levels=auto", "leaf=8", "density=2"})
+    EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
+}
+
 TEST_F(Cli, InfoPrintsCountsAndStructureMemory) {
   const auto r = visfield("info builtin:soup:size=500,seed=3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -84,6 +104,9 @@ TEST_F(Cli, BadCommandLinesFailWithOneLine) {
   expect_clean_failure("render builtin:cornell --spp -3", "--spp");
   expect_clean_failure("render builtin:cornell --width abc", "--width");
   expect_clean_failure("render builtin:cornell --accel octree", "--accel");
+  expect_clean_failure("render builtin:cornell --accel bvh:leaf=0", "leaf=0");
+  expect_clean_failure("render builtin:cornell --occluder grid:density", "--occluder");
+  expect_clean_failure("render builtin:cornell --integrator ao", "--integrator");
   expect_clean_failure("render builtin:cornell --max-distance -1", "--max-distance");
   expect_clean_failure("render builtin:cornell --out picture.bmp", "picture.bmp");
   expect_clean_failure("render", "scene");

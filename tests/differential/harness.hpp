@@ -1,12 +1,14 @@
 #pragma once
-/// \file Differential testing of exact structures against the BruteForce oracle. A structure plugs in
-/// by being listed in exact_structures.hpp; the harness compares its closest hits and occlusion
-/// answers ray by ray and prints the first mismatches with the ray in hexadecimal floats.
+/// \file Differential testing of exact structures against an oracle. The oracle is BruteForce over
+/// the flattened triangles for single-level structures, and InstancedOracle (BruteForce per mesh,
+/// every object tried in id order) for the instance layer. The harness compares closest hits
+/// (t, triangle, object, normal) and occlusion answers ray by ray and prints the first mismatches
+/// with the ray in hexadecimal floats.
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <optional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,9 +16,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "visfield/accel/accelerator.hpp"
 #include "visfield/accel/brute_force.hpp"
-#include "visfield/core/triangle_set.hpp"
+#include "visfield/accel/query.hpp"
+#include "visfield/registry/registry.hpp"
 
 namespace vf::test {
 
@@ -32,21 +34,59 @@ struct DiffReport {
   std::size_t rays = 0;
   std::size_t oracle_hits = 0;          ///< Rays the oracle reports a closest hit for.
   std::size_t oracle_occluded = 0;      ///< Rays the oracle reports occluded.
-  std::size_t closest_mismatches = 0;   ///< Hit vs miss, t off, different triangle at a different t, or t out of range.
+  std::size_t closest_mismatches = 0;   ///< Hit vs miss, t off, a different triangle at a different t, t out of range, or another normal.
   std::size_t occluded_mismatches = 0;  ///< occluded() differs from the oracle.
 };
 
 /// The oracle's answers for one ray set, computed once and compared against any number of structures.
 struct OracleAnswers {
-  std::vector<std::optional<Hit>> closest;
+  std::vector<Hit> closest;
   std::vector<std::uint8_t> occluded;
 };
 
-/// Runs the oracle over `rays` (parallel). Occlusion is by definition "a closest hit exists in
+/// The exact answer for a scene of objects: every object tried in increasing id order with the ray
+/// mapped into its space (Transform::inverse), its mesh's triangles tested by BruteForce; the nearest
+/// t wins, an equal t going to the lower object id. The definition the instance layer must reproduce.
+class InstancedOracle {
+ public:
+  explicit InstancedOracle(const Scene& scene) : objects_(scene.instances()) {
+    meshes_.resize(scene.meshes.size());
+    for (const Instance& o : objects_)
+      if (!meshes_[o.mesh]) meshes_[o.mesh] = std::make_shared<BruteForce>(BruteForce::build(mesh_triangles(scene.meshes[o.mesh])));
+  }
+  Hit intersect(const Ray& ray) const {
+    Hit best;
+    for (const Instance& o : objects_) {
+      Ray local = o.transform.inverse().apply(ray);
+      if (best) local.tmax = best.t;
+      const Hit hit = meshes_[o.mesh]->intersect(local);
+      if (!hit || (best && !(hit.t < best.t))) continue;
+      best = hit;
+      best.instance = o.id;
+      if (!o.transform.is_identity()) best.normal = o.transform.apply_normal(hit.normal);
+    }
+    return best;
+  }
+  bool occluded(const Ray& ray) const {
+    for (const Instance& o : objects_)
+      if (meshes_[o.mesh]->occluded(o.transform.inverse().apply(ray))) return true;
+    return false;
+  }
+  AccelStats stats() const { return {}; }
+  static std::string name() { return "instanced-oracle"; }
+  static constexpr Exactness exactness = Exactness::exact;
+
+ private:
+  std::vector<Instance> objects_;
+  std::vector<std::shared_ptr<BruteForce>> meshes_;
+};
+
+/// Runs `oracle` over `rays` (parallel). Occlusion is by definition "a closest hit exists in
 /// [tmin, tmax]"; with `query_occluded` the oracle's own occluded() is called as well and must agree
-/// (its disagreements are counted as oracle_inconsistencies). Cost O(rays * triangles).
-inline OracleAnswers oracle_answers(const BruteForce& oracle, std::span<const Ray> rays, bool query_occluded,
-                                    std::size_t* oracle_inconsistencies = nullptr) {
+/// (its disagreements are counted in `oracle_inconsistencies`). Cost O(rays * triangles).
+template <Accelerator O>
+OracleAnswers oracle_answers(const O& oracle, std::span<const Ray> rays, bool query_occluded,
+                             std::size_t* oracle_inconsistencies = nullptr) {
   OracleAnswers answers;
   answers.closest.resize(rays.size());
   answers.occluded.resize(rays.size());
@@ -54,8 +94,8 @@ inline OracleAnswers oracle_answers(const BruteForce& oracle, std::span<const Ra
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 16), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       answers.closest[i] = oracle.intersect(rays[i]);
-      answers.occluded[i] = answers.closest[i].has_value() ? 1 : 0;
-      if (query_occluded && oracle.occluded(rays[i]) != answers.closest[i].has_value()) inconsistent[i] = 1;
+      answers.occluded[i] = answers.closest[i] ? 1 : 0;
+      if (query_occluded && oracle.occluded(rays[i]) != answers.closest[i].found) inconsistent[i] = 1;
     }
   });
   if (oracle_inconsistencies) {
@@ -67,11 +107,11 @@ inline OracleAnswers oracle_answers(const BruteForce& oracle, std::span<const Ra
 
 namespace detail {
 
-inline std::string describe(const std::optional<Hit>& h) {
+inline std::string describe(const Hit& h) {
   if (!h) return "miss";
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "t=%a (%.9g) u=%.6g v=%.6g prim=%u instance=%u", h->t, h->t, h->u, h->v, h->prim,
-                h->instance);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "t=%a (%.9g) u=%.6g v=%.6g prim=%u instance=%u normal=(%.6g, %.6g, %.6g)", h.t, h.t,
+                h.u, h.v, h.prim, h.instance, h.normal.x, h.normal.y, h.normal.z);
   return buf;
 }
 
@@ -83,66 +123,63 @@ inline std::string describe(const Ray& r) {
 }
 
 /// Why `got` disagrees with `expected` for `ray`, or nullptr when it does not.
-inline const char* closest_mismatch(const Ray& ray, const std::optional<Hit>& expected, const std::optional<Hit>& got,
-                                    double tolerance) {
-  if (expected.has_value() != got.has_value()) return expected ? "missed a hit" : "reported a hit the oracle misses";
+inline const char* closest_mismatch(const Ray& ray, const Hit& expected, const Hit& got, double tolerance) {
+  if (expected.found != got.found) return expected ? "missed a hit" : "reported a hit the oracle misses";
   if (!got) return nullptr;
-  if (!(got->t >= ray.tmin && got->t <= ray.tmax)) return "t outside [tmin, tmax]";
-  if (std::fabs(static_cast<double>(got->t) - expected->t) > tolerance * std::fabs(static_cast<double>(expected->t)))
+  if (!(got.t >= ray.tmin && got.t <= ray.tmax)) return "t outside [tmin, tmax]";
+  if (std::fabs(static_cast<double>(got.t) - expected.t) > tolerance * std::fabs(static_cast<double>(expected.t)))
     return "t differs";
+  const bool same_triangle = got.prim == expected.prim && got.instance == expected.instance;
   // Equal t on different triangles is a tie, which any triangle may win.
-  if ((got->prim != expected->prim || got->instance != expected->instance) && got->t != expected->t)
-    return "different triangle at a different t";
+  if (!same_triangle && got.t != expected.t) return "different triangle at a different t";
+  if (!got.has_normal) return "no normal";
+  if (same_triangle && !(got.normal == expected.normal)) return "normal differs";
   return nullptr;
 }
 
 }  // namespace detail
 
-/// Compares `accel` with precomputed oracle answers for the same rays; prints the first mismatches.
+/// Compares `structure` (named `name` in reports) with precomputed oracle answers for the same rays;
+/// prints the first mismatches.
 template <Accelerator A>
-DiffReport compare_answers(const A& accel, std::span<const Ray> rays, const OracleAnswers& oracle,
-                           const DiffOptions& options = {}) {
+DiffReport compare_answers(const A& structure, const std::string& name, std::span<const Ray> rays,
+                           const OracleAnswers& oracle, const DiffOptions& options = {}) {
   std::vector<const char*> closest_why(rays.size(), nullptr);
-  std::vector<std::optional<Hit>> got(rays.size());
+  std::vector<Hit> got(rays.size());
   std::vector<std::uint8_t> occluded_wrong(rays.size(), 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      got[i] = accel.intersect(rays[i]);
+      got[i] = structure.intersect(rays[i]);
       closest_why[i] = detail::closest_mismatch(rays[i], oracle.closest[i], got[i], options.relative_t_tolerance);
-      occluded_wrong[i] = (accel.occluded(rays[i]) ? 1 : 0) != oracle.occluded[i] ? 1 : 0;
+      occluded_wrong[i] = (structure.occluded(rays[i]) ? 1 : 0) != oracle.occluded[i] ? 1 : 0;
     }
   });
   DiffReport report;
   report.rays = rays.size();
   int printed = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
-    report.oracle_hits += oracle.closest[i].has_value() ? 1 : 0;
+    report.oracle_hits += oracle.closest[i] ? 1 : 0;
     report.oracle_occluded += oracle.occluded[i];
     if (!closest_why[i] && !occluded_wrong[i]) continue;
     report.closest_mismatches += closest_why[i] ? 1 : 0;
     report.occluded_mismatches += occluded_wrong[i];
     if (printed++ >= options.max_reports) continue;
-    std::printf("[%s] %s mismatch on ray %zu: %s\n  ray    %s\n  oracle %s (occluded %d)\n  %-6s %s\n",
-                options.label.c_str(), A::name().c_str(), i, closest_why[i] ? closest_why[i] : "occluded() differs",
+    std::printf("[%s] %s mismatch on ray %zu: %s\n  ray    %s\n  oracle %s (occluded %d)\n  got    %s\n",
+                options.label.c_str(), name.c_str(), i, closest_why[i] ? closest_why[i] : "occluded() differs",
                 detail::describe(rays[i]).c_str(), detail::describe(oracle.closest[i]).c_str(), oracle.occluded[i],
-                A::name().c_str(), detail::describe(got[i]).c_str());
+                detail::describe(got[i]).c_str());
   }
   return report;
 }
 
-/// Builds the structure with its defaults; specialise for structures that need more than a set.
-template <class A>
-A build_for_test(const TriangleSet& set) {
-  return A::build(set);
+/// compare_answers for whichever structure `built` holds.
+inline DiffReport compare_built(const BuiltStructure& built, std::span<const Ray> rays, const OracleAnswers& oracle,
+                                const DiffOptions& options = {}) {
+  return std::visit([&](const auto& s) { return compare_answers(s, built.resolved, rays, oracle, options); },
+                    built.structure);
 }
 
-/// Builds `A` and the oracle over `set` and compares them on `rays`.
-template <Accelerator A>
-DiffReport compare_with_oracle(const TriangleSet& set, std::span<const Ray> rays, const DiffOptions& options = {}) {
-  const BruteForce oracle = BruteForce::build(set);
-  const OracleAnswers answers = oracle_answers(oracle, rays, false);
-  const A accel = build_for_test<A>(set);
-  return compare_answers(accel, rays, answers, options);
-}
+/// True when the spec builds the instance layer, whose oracle is InstancedOracle.
+inline bool is_two_level(const BuiltStructure& built) { return std::holds_alternative<InstanceLayer>(built.structure); }
 
 }  // namespace vf::test

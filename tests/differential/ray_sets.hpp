@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -33,99 +32,99 @@ inline Vec3f point_on(const std::array<Vec3f, 3>& t, float u, float v) {
   return t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
 }
 
+/// A triangle of the set, uniformly at random.
+inline const std::array<Vec3f, 3>& random_triangle(Rng& rng, const TriangleSet& set) {
+  return set.triangles[rng.next_u32() % set.size()];
+}
+
+/// A uniform random point of triangle t.
+inline Vec3f random_point_on(Rng& rng, const std::array<Vec3f, 3>& t) {
+  const float u = rng.uniform(), v = rng.uniform() * (1.0f - u);
+  return point_on(t, u, v);
+}
+
+/// `n` rays, the i-th made by `make(rng)` from one generator seeded by (seed, stream).
+template <class Make>
+std::vector<Ray> generate_rays(std::uint64_t seed, std::uint64_t stream, std::size_t n, Make&& make) {
+  Rng rng(seed, stream);
+  std::vector<Ray> rays(n);
+  for (Ray& r : rays) r = make(rng);
+  return rays;
+}
+
 /// Random origins around the set, random directions, unbounded.
 inline std::vector<Ray> random_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
-  Rng rng(seed, 0x1u);
-  std::vector<Ray> rays(n);
-  for (Ray& r : rays) r = Ray{point_around(rng, set.bounds, 0.5f), random_direction(rng)};
-  return rays;
+  return generate_rays(seed, 0x1u, n, [&](Rng& rng) { return Ray{point_around(rng, set.bounds, 0.5f), random_direction(rng)}; });
 }
 
 /// Directions along +-x, +-y, +-z.
 inline std::vector<Ray> axis_parallel_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
-  Rng rng(seed, 0x2u);
-  std::vector<Ray> rays(n);
-  for (Ray& r : rays) {
+  return generate_rays(seed, 0x2u, n, [&](Rng& rng) {
     Vec3f dir{0.0f};
     dir[static_cast<int>(rng.next_u32() % 3)] = rng.uniform() < 0.5f ? -1.0f : 1.0f;
-    r = Ray{point_around(rng, set.bounds, 0.2f), dir};
-  }
-  return rays;
+    return Ray{point_around(rng, set.bounds, 0.2f), dir};
+  });
 }
 
 /// One direction component exactly zero (+0 or -0), with the origin's coordinate on that axis often
 /// equal to a triangle corner's, so that the ray runs exactly in a plane of some box.
 inline std::vector<Ray> zero_component_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
-  Rng rng(seed, 0x3u);
-  std::vector<Ray> rays(n);
-  for (Ray& r : rays) {
+  return generate_rays(seed, 0x3u, n, [&](Rng& rng) {
     Vec3f dir = random_direction(rng);
     const int axis = static_cast<int>(rng.next_u32() % 3);
     dir[axis] = rng.uniform() < 0.5f ? -0.0f : 0.0f;
     if (dir[(axis + 1) % 3] == 0.0f && dir[(axis + 2) % 3] == 0.0f) dir[(axis + 1) % 3] = 1.0f;
     Vec3f org = point_around(rng, set.bounds, 0.2f);
     if (set.size() > 0 && rng.uniform() < 0.7f) {
-      const auto& t = set.triangles[rng.next_u32() % set.size()];
+      const auto& t = random_triangle(rng, set);
       org[axis] = t[rng.next_u32() % 3][axis];
     }
-    r = Ray{org, dir};
-  }
-  return rays;
+    return Ray{org, dir};
+  });
 }
 
 /// Origins exactly on a triangle's corner, on an edge, or inside it; random directions, tmin = 0.
 inline std::vector<Ray> surface_origin_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
-  Rng rng(seed, 0x4u);
-  std::vector<Ray> rays(n);
-  for (Ray& r : rays) {
-    const auto& t = set.triangles[rng.next_u32() % set.size()];
+  return generate_rays(seed, 0x4u, n, [&](Rng& rng) {
+    const auto& t = random_triangle(rng, set);
     Vec3f org;
     switch (rng.next_u32() % 3) {
       case 0: org = t[rng.next_u32() % 3]; break;
       case 1: {
         const int k = static_cast<int>(rng.next_u32() % 3);
-        const float s = rng.uniform();
-        org = t[k] + (t[(k + 1) % 3] - t[k]) * s;
+        org = t[k] + (t[(k + 1) % 3] - t[k]) * rng.uniform();
         break;
       }
-      default: {
-        const float u = rng.uniform(), v = rng.uniform() * (1.0f - u);
-        org = point_on(t, u, v);
-      }
+      default: org = random_point_on(rng, t);
     }
-    r = Ray{org, random_direction(rng)};
-  }
-  return rays;
+    return Ray{org, random_direction(rng)};
+  });
 }
 
 /// Rays in (to rounding) a triangle's plane: along an edge line, and through an inner point from
 /// outside the triangle.
 inline std::vector<Ray> grazing_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
-  Rng rng(seed, 0x5u);
-  std::vector<Ray> rays(n);
-  for (Ray& r : rays) {
-    const auto& t = set.triangles[rng.next_u32() % set.size()];
+  return generate_rays(seed, 0x5u, n, [&](Rng& rng) {
+    const auto& t = random_triangle(rng, set);
     if (rng.uniform() < 0.5f) {
       const int k = static_cast<int>(rng.next_u32() % 3);
       const Vec3f edge = t[(k + 1) % 3] - t[k];
-      r = Ray{t[k] - edge * (0.5f + rng.uniform()), edge};
+      return Ray{t[k] - edge * (0.5f + rng.uniform()), edge};
     } else {
-      const float u = rng.uniform(), v = rng.uniform() * (1.0f - u);
-      const Vec3f inner = point_on(t, u, v);
+      const Vec3f inner = random_point_on(rng, t);
       const Vec3f in_plane = (t[1] - t[0]) * (rng.uniform() - 0.5f) + (t[2] - t[0]) * (rng.uniform() - 0.5f);
-      r = Ray{inner - in_plane * (1.0f + rng.uniform()), in_plane};
+      return Ray{inner - in_plane * (1.0f + rng.uniform()), in_plane};
     }
-  }
-  return rays;
+  });
 }
 
 /// For every ray the oracle hits at t: copies with tmax = t, tmin = t, tmax just below t and tmin
 /// just above t (in that order, four per hit).
-inline std::vector<Ray> boundary_t_rays(std::span<const Ray> rays, const std::vector<std::optional<Hit>>& hits) {
+inline std::vector<Ray> boundary_t_rays(std::span<const Ray> rays, const std::vector<Hit>& hits) {
   std::vector<Ray> out;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (!hits[i]) continue;
-    const float t = hits[i]->t;
+    const float t = hits[i].t;
     Ray r = rays[i];
     out.push_back(Ray{r.org, r.dir, r.tmin, t});
     out.push_back(Ray{r.org, r.dir, t, r.tmax});
@@ -149,8 +148,8 @@ inline std::vector<Ray> model_rays(const TriangleSet& set, std::uint64_t seed, s
       rays[i] = Ray{a, b - a, 0.0f, 1.0f};
       continue;
     }
-    const auto& t = set.triangles[rng.next_u32() % set.size()];
-    const float u = rng.uniform(), v = rng.uniform() * (1.0f - u);
+    const auto& t = random_triangle(rng, set);
+    const Vec3f on_surface = random_point_on(rng, t);
     Vec3f normal = normalize(cross(t[1] - t[0], t[2] - t[0]));
     if (!is_finite(normal)) normal = random_direction(rng);  // cross product underflowed
     if (rng.uniform() < 0.5f) normal = -normal;
@@ -159,7 +158,7 @@ inline std::vector<Ray> model_rays(const TriangleSet& set, std::uint64_t seed, s
     const Vec3f local = cosine_hemisphere(rng.uniform(), rng.uniform());
     const Vec3f dir = tangent * local.x + bitangent * local.y + normal * local.z;
     const float tmax = rng.uniform() < 0.5f ? std::numeric_limits<float>::infinity() : radius * rng.uniform();
-    rays[i] = Ray{point_on(t, u, v), dir, 0.0f, tmax};
+    rays[i] = Ray{on_surface, dir, 0.0f, tmax};
   }
   return rays;
 }

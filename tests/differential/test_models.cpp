@@ -1,12 +1,15 @@
-// Every exact structure against the oracle on the shared real meshes: 100k rays per model.
+// Every exact structure of the registry against the oracle on the shared real meshes: 100k rays per
+// model, and the instance layer on rotated, scaled copies of a real mesh.
 
 #include <filesystem>
+#include <memory>
 
 #include <gtest/gtest.h>
 
-#include "differential/exact_structures.hpp"
 #include "differential/harness.hpp"
 #include "differential/ray_sets.hpp"
+#include "differential/structure_specs.hpp"
+#include "differential/test_scenes.hpp"
 #include "visfield/io/scene_file.hpp"
 
 namespace vf::test {
@@ -14,35 +17,77 @@ namespace {
 
 constexpr std::size_t kRaysPerModel = 100'000;
 
+std::filesystem::path model_path(const char* file) { return std::filesystem::path(VISFIELD_MODELS_DIR) / file; }
+
 class ModelVsOracle : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ModelVsOracle, EveryExactStructureAgreesOn100kRays) {
-  const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / GetParam();
+  const std::filesystem::path path = model_path(GetParam());
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not present";
-  const TriangleSet set = flatten(load_scene(path.string()));
+  const Scene scene = load_scene(path.string());
+  SceneGeometry geometry(scene);
+  const TriangleSet& set = geometry.flattened();
   ASSERT_GT(set.size(), 0u);
   const std::vector<Ray> rays = model_rays(set, 2024, kRaysPerModel);
-  const BruteForce oracle = BruteForce::build(set);
-  const OracleAnswers answers = oracle_answers(oracle, rays, false);
-  ExactStructures::for_each([&]<class Structure>() {
-    const Structure accel = build_for_test<Structure>(set);
-    const DiffReport r = compare_answers(accel, rays, answers, {.label = GetParam()});
+  const OracleAnswers answers = oracle_answers(BruteForce::build(set), rays, false);
+  // One identity object: the instance layer's answers are the flattened oracle's, bit for bit.
+  for (const std::string& spec : exact_structure_specs()) {
+    if (spec.starts_with("brute")) continue;  // the oracle itself
+    const BuiltStructure built = build_structure(spec, geometry);
+    const DiffReport r = compare_built(built, rays, answers, {.label = GetParam()});
     EXPECT_GT(r.oracle_hits, r.rays / 10) << GetParam();
-    EXPECT_EQ(r.closest_mismatches, 0u) << Structure::name() << " on " << GetParam();
-    EXPECT_EQ(r.occluded_mismatches, 0u) << Structure::name() << " on " << GetParam();
-  });
+    EXPECT_EQ(r.closest_mismatches, 0u) << spec << " on " << GetParam();
+    EXPECT_EQ(r.occluded_mismatches, 0u) << spec << " on " << GetParam();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedModels, ModelVsOracle,
                          ::testing::Values("bun_zipper.ply", "cow.obj", "igea-triangles.ply", "Armadillo.ply",
                                            "dragon_vrip_res2.ply", "teapot.obj", "lucy.ply",
                                            "CornellBox-Original.obj", "sponza.obj", "conference.obj"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+                         [](const auto& info) { return spec_test_name(info.param); });
+
+/// 16 rotated, scaled, overlapping copies each of the cow and the teapot, with both oracles' answers
+/// on 20k rays, computed once for every structure.
+struct CopiesOfRealMeshes {
+  Scene scene;
+  std::vector<Ray> rays;
+  OracleAnswers flattened, instanced;
+
+  static const CopiesOfRealMeshes* get() {
+    static const std::unique_ptr<CopiesOfRealMeshes> data = [] {
+      const std::filesystem::path cow = model_path("cow.obj"), teapot = model_path("teapot.obj");
+      if (!std::filesystem::exists(cow) || !std::filesystem::exists(teapot)) return std::unique_ptr<CopiesOfRealMeshes>();
+      auto d = std::make_unique<CopiesOfRealMeshes>();
+      d->scene = scattered_copies({load_scene(cow.string()).meshes[0], load_scene(teapot.string()).meshes[0]}, 16, 2.0f, 5);
+      const TriangleSet set = flatten(d->scene);
+      d->rays = model_rays(set, 77, 20'000);
+      d->flattened = oracle_answers(BruteForce::build(set), d->rays, true);
+      d->instanced = oracle_answers(InstancedOracle(d->scene), d->rays, true);
+      return d;
+    }();
+    return data.get();
+  }
+};
+
+class InstancedModelVsOracle : public ::testing::TestWithParam<std::string> {};
+
+// The instance layer against the instanced oracle (exact), the flattened structures against
+// BruteForce over the world-space triangles.
+TEST_P(InstancedModelVsOracle, CopiesOfRealMeshes) {
+  const CopiesOfRealMeshes* data = CopiesOfRealMeshes::get();
+  if (!data) GTEST_SKIP() << "shared models not present";
+  SceneGeometry geometry(data->scene);
+  const BuiltStructure built = build_structure(GetParam(), geometry);
+  const OracleAnswers& answers = is_two_level(built) ? data->instanced : data->flattened;
+  const DiffReport r = compare_built(built, data->rays, answers, {.label = "cows and teapots"});
+  EXPECT_GT(r.oracle_hits, r.rays / 10);
+  EXPECT_EQ(r.closest_mismatches, 0u) << GetParam();
+  EXPECT_EQ(r.occluded_mismatches, 0u) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, InstancedModelVsOracle, ::testing::ValuesIn(exact_structure_specs()),
+                         [](const auto& info) { return spec_test_name(info.param); });
 
 }  // namespace
 }  // namespace vf::test

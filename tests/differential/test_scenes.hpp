@@ -16,8 +16,8 @@ namespace vf::test {
 
 using Triangle = std::array<Vec3f, 3>;
 
-/// A TriangleSet of one mesh (identity instance) with unshared vertices, in the given order.
-inline TriangleSet set_from_triangles(const std::vector<Triangle>& triangles) {
+/// A mesh of the given triangles with unshared vertices, in the given order.
+inline TriangleMesh mesh_from_triangles(const std::vector<Triangle>& triangles) {
   TriangleMesh mesh;
   mesh.name = "test";
   for (const Triangle& t : triangles) {
@@ -25,7 +25,42 @@ inline TriangleSet set_from_triangles(const std::vector<Triangle>& triangles) {
     mesh.positions.insert(mesh.positions.end(), t.begin(), t.end());
     mesh.triangles.push_back({base, base + 1, base + 2});
   }
-  return flatten(scene_from_mesh(std::move(mesh)));
+  return mesh;
+}
+
+/// A scene of one object (identity transform) holding the triangles.
+inline Scene scene_from_triangles(const std::vector<Triangle>& triangles) {
+  return scene_from_mesh(mesh_from_triangles(triangles));
+}
+
+/// The flattened triangles of scene_from_triangles(triangles).
+inline TriangleSet set_from_triangles(const std::vector<Triangle>& triangles) {
+  return flatten(scene_from_triangles(triangles));
+}
+
+/// A scene of `copies` objects of each of the given meshes, each copy rotated about a random axis by
+/// a random angle, scaled by a random factor in [0.5, 2] and moved to a random place in a box of
+/// `spread` times the meshes' size, so that copies overlap and interpenetrate. Ids follow the order
+/// mesh 0 copies, mesh 1 copies, ...
+inline Scene scattered_copies(std::vector<TriangleMesh> meshes, int copies, float spread, std::uint64_t seed) {
+  Rng rng(seed, 0x1c5u);
+  Scene scene;
+  scene.name = "scattered copies";
+  Bounds3f all;
+  for (const TriangleMesh& m : meshes) all.extend(m.bounds());
+  const float size = max_component(all.extent());
+  scene.meshes = std::move(meshes);
+  for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) {
+    for (int c = 0; c < copies; ++c) {
+      Transform t;
+      const Vec3f axis{rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f};
+      t.rotation = Mat3::rotation(length(axis) > 1e-3f ? axis : Vec3f{0, 1, 0}, 360.0f * rng.uniform());
+      t.scale = std::exp2(2.0f * rng.uniform() - 1.0f);
+      t.translation = Vec3f{rng.uniform(), rng.uniform(), rng.uniform()} * (spread * size);
+      scene.add_instance(m, t);
+    }
+  }
+  return scene;
 }
 
 /// Random point in [0, 1)^3.

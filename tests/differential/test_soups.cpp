@@ -1,4 +1,5 @@
-// Every exact structure against the oracle on procedural scenes and adversarial rays.
+// Every exact structure of the registry, flattened and as an instance layer, against the oracle on
+// procedural scenes and adversarial rays.
 
 #include <cstdio>
 #include <map>
@@ -6,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "differential/exact_structures.hpp"
 #include "differential/harness.hpp"
 #include "differential/ray_sets.hpp"
+#include "differential/structure_specs.hpp"
 #include "differential/test_scenes.hpp"
 #include "visfield/scenes/builtin.hpp"
 
@@ -30,21 +31,32 @@ std::vector<RaySet> adversarial_rays(const TriangleSet& set, std::uint64_t seed)
           {"grazing", grazing_rays(set, seed, 2000)}};
 }
 
-template <class Structure>
-class ExactVsOracle : public ::testing::Test {
+class ExactVsOracle : public ::testing::TestWithParam<std::string> {
  protected:
-  /// Checks the structure against the oracle on `set` with the adversarial rays and the
+  /// Builds GetParam() over `scene` and checks it against its oracle (BruteForce over the flattened
+  /// triangles, or InstancedOracle for the instance layer) with the adversarial rays and the
   /// boundary-t copies of every hit ray; asserts zero mismatches.
-  void check(const std::string& scene, const TriangleSet& set, std::uint64_t seed = 1) {
+  void check(const std::string& name, const Scene& scene, std::uint64_t seed = 1) {
+    SceneGeometry geometry(scene);
+    const TriangleSet& set = geometry.flattened();
     ASSERT_GT(set.size(), 0u);
-    const BruteForce oracle = BruteForce::build(set);
-    const Structure accel = build_for_test<Structure>(set);
+    const BuiltStructure built = build_structure(GetParam(), geometry);
+    if (is_two_level(built)) {
+      check_against(InstancedOracle(scene), built, name, set, seed);
+    } else {
+      check_against(BruteForce::build(set), built, name, set, seed);
+    }
+  }
+
+  template <class Oracle>
+  void check_against(const Oracle& oracle, const BuiltStructure& built, const std::string& scene,
+                     const TriangleSet& set, std::uint64_t seed) {
     for (const RaySet& ray_set : adversarial_rays(set, seed)) {
       const std::string label = scene + ", " + ray_set.name + " rays";
       std::size_t oracle_inconsistent = 0;
       const OracleAnswers answers = oracle_answers(oracle, ray_set.rays, true, &oracle_inconsistent);
-      EXPECT_EQ(oracle_inconsistent, 0u) << label << ": BruteForce::occluded disagrees with its intersect";
-      const DiffReport main = compare_answers(accel, ray_set.rays, answers, {.label = label});
+      EXPECT_EQ(oracle_inconsistent, 0u) << label << ": the oracle's occluded() disagrees with its intersect()";
+      const DiffReport main = compare_built(built, ray_set.rays, answers, {.label = label});
       EXPECT_EQ(main.closest_mismatches, 0u) << label;
       EXPECT_EQ(main.occluded_mismatches, 0u) << label;
       // Every ray set reaches the geometry (rays in a triangle's plane may all miss it).
@@ -58,10 +70,10 @@ class ExactVsOracle : public ::testing::Test {
       const OracleAnswers boundary_answers = oracle_answers(oracle, boundary, true, &oracle_inconsistent);
       EXPECT_EQ(oracle_inconsistent, 0u) << label;
       for (std::size_t i = 0; i < boundary.size(); i += 4) {
-        ASSERT_TRUE(boundary_answers.closest[i].has_value()) << label << ": tmax = t must hit";
-        ASSERT_TRUE(boundary_answers.closest[i + 1].has_value()) << label << ": tmin = t must hit";
+        ASSERT_TRUE(boundary_answers.closest[i]) << label << ": tmax = t must hit";
+        ASSERT_TRUE(boundary_answers.closest[i + 1]) << label << ": tmin = t must hit";
       }
-      const DiffReport edge = compare_answers(accel, boundary, boundary_answers, {.label = label + ", boundary t"});
+      const DiffReport edge = compare_built(built, boundary, boundary_answers, {.label = label + ", boundary t"});
       EXPECT_EQ(edge.closest_mismatches, 0u) << label;
       EXPECT_EQ(edge.occluded_mismatches, 0u) << label;
       hits_by_set_[ray_set.name] += main.oracle_hits;
@@ -82,47 +94,59 @@ class ExactVsOracle : public ::testing::Test {
   std::map<std::string, std::size_t> hits_by_set_, rays_by_set_;
 };
 
-TYPED_TEST_SUITE(ExactVsOracle, ExactStructures::GTestTypes);
-
-TYPED_TEST(ExactVsOracle, RandomSoupsOfSeveralSizesAndSeeds) {
+TEST_P(ExactVsOracle, RandomSoupsOfSeveralSizesAndSeeds) {
   for (std::uint64_t seed : {1u, 2u, 3u})
     for (std::size_t n : {2u, 17u, 300u, 5000u})
-      this->check("soup n=" + std::to_string(n) + " seed=" + std::to_string(seed),
-                  set_from_triangles(random_soup(seed, n, 0.01f, 0.1f)), seed);
+      check("soup n=" + std::to_string(n) + " seed=" + std::to_string(seed),
+            scene_from_triangles(random_soup(seed, n, 0.01f, 0.1f)), seed);
 }
 
-TYPED_TEST(ExactVsOracle, TinyAndHugeTrianglesMixed) {
-  this->check("tiny+huge", set_from_triangles(random_soup(7, 20000, 1e-5f, 3.0f)), 7);
+TEST_P(ExactVsOracle, TinyAndHugeTrianglesMixed) {
+  check("tiny+huge", scene_from_triangles(random_soup(7, 20000, 1e-5f, 3.0f)), 7);
 }
 
-TYPED_TEST(ExactVsOracle, SingleTriangle) {
-  this->check("one triangle", set_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}));
-  this->check("one tilted triangle", set_from_triangles({{Vec3f{0.1f, -2, 3}, Vec3f{1, 0.3f, 0}, Vec3f{0, 1, 0.7f}}}));
+TEST_P(ExactVsOracle, SingleTriangle) {
+  check("one triangle", scene_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}));
+  check("one tilted triangle", scene_from_triangles({{Vec3f{0.1f, -2, 3}, Vec3f{1, 0.3f, 0}, Vec3f{0, 1, 0.7f}}}));
 }
 
-TYPED_TEST(ExactVsOracle, CoplanarTriangles) {
-  this->check("coplanar z=0.5", set_from_triangles(coplanar_soup(3, 2000, {0, 0, 0.5f}, {1, 0, 0}, {0, 1, 0})));
-  this->check("coplanar tilted",
-              set_from_triangles(
-                  coplanar_soup(4, 2000, {0.1f, 0.2f, 0.3f}, {0.8f, 0.6f, 0.0f}, {-0.36f, 0.48f, 0.8f})));
+TEST_P(ExactVsOracle, CoplanarTriangles) {
+  check("coplanar z=0.5", scene_from_triangles(coplanar_soup(3, 2000, {0, 0, 0.5f}, {1, 0, 0}, {0, 1, 0})));
+  check("coplanar tilted",
+        scene_from_triangles(coplanar_soup(4, 2000, {0.1f, 0.2f, 0.3f}, {0.8f, 0.6f, 0.0f}, {-0.36f, 0.48f, 0.8f})));
 }
 
-TYPED_TEST(ExactVsOracle, DuplicateTrianglesTie) {
+TEST_P(ExactVsOracle, DuplicateTrianglesTie) {
   std::vector<Triangle> triangles = random_soup(5, 200, 0.05f, 0.2f);
   const Triangle repeated{Vec3f{0.2f, 0.2f, 0.5f}, Vec3f{0.8f, 0.3f, 0.5f}, Vec3f{0.4f, 0.9f, 0.6f}};
   for (int i = 0; i < 60; ++i) triangles.insert(triangles.begin() + 3 * i, repeated);
-  this->check("duplicates", set_from_triangles(triangles));
-  this->check("only duplicates", set_from_triangles(std::vector<Triangle>(500, repeated)));
+  check("duplicates", scene_from_triangles(triangles));
+  check("only duplicates", scene_from_triangles(std::vector<Triangle>(500, repeated)));
 }
 
-TYPED_TEST(ExactVsOracle, SharedEdgeHeightField) {
-  this->check("height field", set_from_triangles(height_field(9, 64)));
-}
+TEST_P(ExactVsOracle, SharedEdgeHeightField) { check("height field", scene_from_triangles(height_field(9, 64))); }
 
-TYPED_TEST(ExactVsOracle, BuiltinScenes) {
+TEST_P(ExactVsOracle, BuiltinScenes) {
   for (const char* name : {"sphere", "boxes", "stadium", "cornell"})
-    this->check(std::string("builtin ") + name, flatten(make_builtin_scene(name, {.seed = 3, .size = 0})));
+    check(std::string("builtin ") + name, make_builtin_scene(name, {.seed = 3, .size = 0}));
 }
+
+TEST_P(ExactVsOracle, RotatedScaledOverlappingCopies) {
+  check("scattered copies",
+        scattered_copies({mesh_from_triangles(height_field(4, 12)), mesh_from_triangles(random_soup(6, 300, 0.02f, 0.1f))},
+                         25, 1.5f, 11),
+        11);
+}
+
+TEST_P(ExactVsOracle, CopiesAtTheSamePlaceTie) {
+  // Identical objects: every hit is a tie between them, won by the lowest id.
+  Scene scene = scene_from_triangles(random_soup(8, 400, 0.02f, 0.1f));
+  for (int i = 0; i < 5; ++i) scene.add_instance(0, Transform{});
+  check("coincident copies", scene, 8);
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, ExactVsOracle, ::testing::ValuesIn(exact_structure_specs()),
+                         [](const auto& info) { return spec_test_name(info.param); });
 
 }  // namespace
 }  // namespace vf::test

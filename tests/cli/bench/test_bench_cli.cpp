@@ -23,15 +23,20 @@ constexpr bool kHaveEmbree = VISFIELD_BENCH_HAVE_EMBREE != 0;
 const std::string kScene = "--scene builtin:boxes:size=40 ";
 const std::string kSmallRun = "--width 32 --height 24 --reps 2 --warmup 1 --threads 2 ";
 
-std::vector<std::string> structures() {
-  std::vector<std::string> names{"bvh", "brute"};
-  if (kHaveEmbree) names.emplace_back("embree");
-  return names;
+// The specs given to --accel and the names the rows carry (the spec as resolved).
+std::vector<std::pair<std::string, std::string>> structures() {
+  std::vector<std::pair<std::string, std::string>> specs{
+      {"bvh", "bvh:levels=1"}, {"bvh:leaf=4,levels=2", "bvh:leaf=4,levels=2"}, {"brute", "brute:levels=1"}};
+  if (kHaveEmbree) {
+    specs.emplace_back("embree", "embree:levels=1");
+    specs.emplace_back("embree:levels=2", "embree:levels=2");
+  }
+  return specs;
 }
 
 std::string accel_option() {
   std::string list;
-  for (const std::string& name : structures()) list += (list.empty() ? "" : ",") + name;
+  for (const auto& [spec, name] : structures()) list += (list.empty() ? "" : ",") + spec;
   return "--accel " + list + " ";
 }
 
@@ -84,27 +89,27 @@ TEST_P(BenchCliKinds, JsonHasOneAgreeingRecordPerStructure) {
   EXPECT_GT(doc.at("rays").get<long>(), 0);
   EXPECT_EQ(doc.at("threads"), 2);
   const json& results = doc.at("results");
-  const std::vector<std::string> names = structures();
-  ASSERT_EQ(results.size(), names.size());
-  for (std::size_t i = 0; i < names.size(); ++i) {
+  const auto specs = structures();
+  ASSERT_EQ(results.size(), specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) {
     const json& row = results[i];
-    SCOPED_TRACE(names[i]);
-    EXPECT_EQ(row.at("accel"), names[i]);
-    EXPECT_TRUE(row.at("build_ms").is_number());
-    EXPECT_GE(row.at("build_ms").get<double>(), 0.0);
+    const std::string& name = specs[i].second;
+    SCOPED_TRACE(name);
+    EXPECT_EQ(row.at("accel"), name);
+    EXPECT_GT(row.at("build_ms").get<double>(), 0.0);
     EXPECT_GT(row.at("bytes").get<long>(), 0);
     EXPECT_GT(row.at("mrays_per_s").get<double>(), 0.0);
     EXPECT_EQ(row.at("mismatches"), 0);
     if (kHaveEmbree) {
       EXPECT_GT(row.at("ratio_to_embree").get<double>(), 0.0);
-      if (names[i] == "embree") {
+      if (name == "embree:levels=1") {
         EXPECT_DOUBLE_EQ(row.at("ratio_to_embree").get<double>(), 1.0);
       }
     } else {
       EXPECT_TRUE(row.at("ratio_to_embree").is_null());
     }
   }
-  EXPECT_EQ(doc.at("reference"), kHaveEmbree ? "embree" : "bvh");
+  EXPECT_EQ(doc.at("reference"), kHaveEmbree ? "embree:levels=1" : "bvh:levels=1");
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryRayKind, BenchCliKinds, ::testing::Values("primary", "ao", "shadow", "random"));
@@ -123,8 +128,8 @@ TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
   const auto r = bench(kScene + kSmallRun + accel_option() + "--rays ao");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  const std::vector<std::string> names = structures();
-  ASSERT_EQ(lines.size(), 2 + names.size()) << r.out;
+  const auto specs = structures();
+  ASSERT_EQ(lines.size(), 2 + specs.size()) << r.out;
   EXPECT_NE(lines[0].find("triangles"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("ao rays"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("threads 2"), std::string::npos) << lines[0];
@@ -132,7 +137,8 @@ TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
   for (const char* column : {"accel", "build ms", "bytes", "Mrays/s", "ratio to Embree", "mismatches"}) {
     EXPECT_NE(lines[1].find(column), std::string::npos) << column;
   }
-  for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(lines[2 + i].rfind(names[i] + " ", 0), 0u) << lines[2 + i];
+  for (std::size_t i = 0; i < specs.size(); ++i)
+    EXPECT_EQ(lines[2 + i].rfind(specs[i].second + " ", 0), 0u) << lines[2 + i];
 }
 
 TEST_F(BenchCli, BadCommandLineValuesExitWithStatus2AndOneLine) {
@@ -147,6 +153,9 @@ TEST_F(BenchCli, BadCommandLineValuesExitWithStatus2AndOneLine) {
   expect_refused(base + "--accel bvh --width 0", 2, "--width");
   expect_refused(base + "--accel bvh --ao-rays 0", 2, "--ao-rays");
   expect_refused(base + "--accel bvh,octree", 2, "octree");
+  expect_refused(base + "--accel bvh:leaf=0", 2, "leaf=0");
+  expect_refused(base + "--accel bvh:leef=4", 2, "unknown key 'leef'");
+  expect_refused(base + "--accel bvh,,grid", 2, "empty structure name");
   expect_refused(base + "--accel bvh,bvh", 2, "twice");
   expect_refused(base + "--accel bvh --unknown-flag", 2, "--unknown-flag");
   expect_refused(kScene + "--rays sideways --accel bvh", 2, "--rays");

@@ -1,10 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
 
+#include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/core/sampling.hpp"
+#include "visfield/core/statistics.hpp"
+#include "visfield/core/stopwatch.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf {
@@ -25,14 +29,63 @@ TEST(Transform, RotationScaleTranslationRoundTrip) {
   EXPECT_NEAR(z.y, 1.0f, 1e-6f);
 }
 
+TEST(Transform, InverseMapsRaysWithTheSameParameter) {
+  Transform t;
+  t.rotation = Mat3::euler_xyz({10.0f, 70.0f, -20.0f});
+  t.translation = {-3, 0.5f, 8};
+  t.scale = 0.25f;
+  const Ray world{{1, 2, 3}, {0.3f, -0.4f, 0.5f}, 0.5f, 7.0f};
+  const Ray local = t.inverse().apply(world);
+  EXPECT_EQ(local.tmin, world.tmin);
+  EXPECT_EQ(local.tmax, world.tmax);
+  for (const float s : {0.0f, 1.0f, 4.5f}) {
+    const Vec3f a = t.apply_point(local.org + local.dir * s), b = world.org + world.dir * s;
+    EXPECT_NEAR(length(a - b), 0.0f, 1e-5f * length(b)) << "t = " << s;
+  }
+  // The identity passes rays through bit for bit.
+  const Ray same = Transform{}.inverse().apply(world);
+  EXPECT_EQ(same.org, world.org);
+  EXPECT_EQ(same.dir, world.dir);
+  EXPECT_TRUE(Transform{}.inverse().identity);
+  EXPECT_FALSE(t.inverse().identity);
+}
+
+TEST(Transform, NormalsMoveAsTheCrossProductOfMovedEdges) {
+  Transform t;
+  t.rotation = Mat3::rotation({1, 2, 3}, 40.0f);
+  t.scale = 3.0f;
+  t.translation = {5, 5, 5};
+  const Vec3f p0{0.1f, 0.2f, 0.3f}, p1{1.0f, 0.0f, 0.2f}, p2{0.0f, 1.5f, -0.4f};
+  const Vec3f object_normal = cross(p1 - p0, p2 - p0);
+  const Vec3f world_normal = cross(t.apply_point(p1) - t.apply_point(p0), t.apply_point(p2) - t.apply_point(p0));
+  const Vec3f moved = t.apply_normal(object_normal);
+  EXPECT_NEAR(length(moved - world_normal), 0.0f, 1e-4f * length(world_normal));
+}
+
+TEST(Transform, ValidityAndIdentity) {
+  EXPECT_TRUE(Transform{}.is_identity());
+  EXPECT_TRUE(Transform{}.is_valid());
+  Transform t;
+  t.scale = -1.0f;
+  EXPECT_FALSE(t.is_valid());
+  t.scale = std::numeric_limits<float>::infinity();
+  EXPECT_FALSE(t.is_valid());
+  t = Transform{};
+  t.rotation.rows[1].z = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(t.is_valid());
+  t = Transform{};
+  t.translation.y = 1e-30f;
+  EXPECT_FALSE(t.is_identity());
+}
+
 TEST(TriangleSet, FlattenAppliesInstancesAndDropsDegenerates) {
   TriangleMesh mesh;
   mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}};
   mesh.triangles = {{0, 1, 2}, {0, 1, 3}, {1, 1, 2}};  // the last two have zero area
   Scene scene = scene_from_mesh(mesh);
-  Instance moved;
-  moved.transform.translation = {0, 0, 5};
-  scene.instances.push_back(moved);
+  Transform moved;
+  moved.translation = {0, 0, 5};
+  scene.add_instance(0, moved);
   const TriangleSet set = flatten(scene);
   ASSERT_EQ(set.size(), 2u);
   EXPECT_EQ(set.degenerate_count, 4u);
@@ -68,10 +121,38 @@ TEST(Sampling, CosineHemisphereHasMeanCosineTwoThirds) {
   EXPECT_NEAR(sum / n, 2.0 / 3.0, 0.005);
 }
 
-TEST(Memory, BudgetIsHalfOfPhysicalMemory) {
-  const std::size_t physical = physical_memory_bytes();
-  ASSERT_GT(physical, std::size_t{1} << 26);  // any machine that builds visfield has more than 64 MiB
-  EXPECT_DOUBLE_EQ(allocation_budget_bytes(), 0.5 * static_cast<double>(physical));
+TEST(Memory, RequestsBeyondTheMachineAreRefusedWithTheEstimate) {
+  const double physical = static_cast<double>(physical_memory_bytes());
+  ASSERT_GT(physical, 0.0);
+  EXPECT_NO_THROW(require_memory(1 << 20, "a small request"));
+  try {
+    require_memory(physical, "a grid of 10^12 cells");
+    FAIL() << "all of physical memory was granted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find("a grid of 10^12 cells would need " + format_bytes(physical)), 0u) << what;
+    EXPECT_NE(what.find("more than half of this machine's"), std::string::npos) << what;
+  }
+}
+
+TEST(Memory, SizesAreWrittenForPeople) {
+  EXPECT_EQ(format_bytes(950), "950 B");
+  EXPECT_EQ(format_bytes(12.5 * 1024), "12.5 KiB");
+  EXPECT_EQ(format_bytes(4.4 * 1024 * 1024), "4.40 MiB");
+  EXPECT_EQ(format_bytes(2.5 * 1024 * 1024 * 1024), "2.50 GiB");
+}
+
+TEST(Statistics, MedianOfOddAndEvenCounts) {
+  EXPECT_EQ(median({}), 0.0);
+  EXPECT_EQ(median({3.0}), 3.0);
+  EXPECT_EQ(median({5.0, 1.0, 4.0}), 4.0);
+  EXPECT_EQ(median({5.0, 1.0, 4.0, 2.0}), 3.0);
+}
+
+TEST(Stopwatch, MeasuresTheTimeThatPassed) {
+  const double ms = time_ms([] { std::this_thread::sleep_for(std::chrono::milliseconds(20)); });
+  EXPECT_GE(ms, 20.0);
+  EXPECT_LT(ms, 20000.0);
 }
 
 }  // namespace

@@ -1,9 +1,8 @@
 #pragma once
 /// \file Shared by the grid tests: comparison of a grid's answers with the BruteForce oracle, and
-/// small scenes with a known cell layout.
+/// small scenes with a known cell geometry.
 
 #include <cstdio>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -11,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "differential/test_scenes.hpp"
-#include "unit/accel/scalar_reference.hpp"
+#include "support/same_hit.hpp"
 #include "visfield/accel/brute_force.hpp"
 #include "visfield/accel/uniform_grid.hpp"
 
@@ -33,14 +32,14 @@ inline std::size_t expect_same_as_oracle(const UniformGrid& grid, const Triangle
   const BruteForce oracle = BruteForce::build(set);
   std::size_t hits = 0, failures = 0;
   for (std::size_t i = 0; i < rays.size() && failures < 5; ++i) {
-    const std::optional<Hit> expected = oracle.intersect(rays[i]);
-    const std::optional<Hit> got = grid.intersect(rays[i]);
-    hits += expected.has_value() ? 1 : 0;
+    const Hit expected = oracle.intersect(rays[i]);
+    const Hit got = grid.intersect(rays[i]);
+    hits += expected.found ? 1 : 0;
     if (!same_bits(got, expected)) {
       ++failures;
       ADD_FAILURE() << label << ": closest hit differs on ray " << i << " " << ray_text(rays[i]) << "\n  oracle "
-                    << (expected ? std::to_string(expected->t) + " prim " + std::to_string(expected->prim) : "miss")
-                    << "\n  grid   " << (got ? std::to_string(got->t) + " prim " + std::to_string(got->prim) : "miss");
+                    << (expected ? std::to_string(expected.t) + " prim " + std::to_string(expected.prim) : "miss")
+                    << "\n  grid   " << (got ? std::to_string(got.t) + " prim " + std::to_string(got.prim) : "miss");
     }
     if (grid.occluded(rays[i]) != oracle.occluded(rays[i])) {
       ++failures;

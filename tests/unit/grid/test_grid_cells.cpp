@@ -54,7 +54,7 @@ bool triangle_meets_box(const Triangle& tri, const D3& lo, const D3& hi) {
 }
 
 /// Box of cell `cell` grown by `grow` on every side.
-void cell_box(const GridLayout& g, std::size_t cell, double grow, D3& lo, D3& hi) {
+void cell_box(const GridGeometry& g, std::size_t cell, double grow, D3& lo, D3& hi) {
   std::size_t rest = cell;
   for (int a = 0; a < 3; ++a) {
     const int i = static_cast<int>(rest % static_cast<std::size_t>(g.resolution[a]));
@@ -65,7 +65,7 @@ void cell_box(const GridLayout& g, std::size_t cell, double grow, D3& lo, D3& hi
 }
 
 /// Cell holding point p (clamped to the grid).
-std::size_t cell_of(const GridLayout& g, const Vec3f& p) {
+std::size_t cell_of(const GridGeometry& g, const Vec3f& p) {
   int i[3];
   for (int a = 0; a < 3; ++a)
     i[a] = std::clamp(static_cast<int>(std::floor((p[a] - g.origin[a]) / g.cell_size[a])), 0, g.resolution[a] - 1);
@@ -83,7 +83,7 @@ TriangleSet mixed_soup(std::uint64_t seed, std::size_t n) { return set_from_tria
 TEST(GridCells, ReferencesAreSortedAndUnique) {
   const TriangleSet set = mixed_soup(1, 4000);
   const UniformGrid g = UniformGrid::build(set);
-  for (std::size_t c = 0; c < g.layout().cell_count(); ++c) {
+  for (std::size_t c = 0; c < g.geometry().cell_count(); ++c) {
     const auto refs = g.cell_references(c);
     ASSERT_TRUE(std::adjacent_find(refs.begin(), refs.end(), std::greater_equal<>()) == refs.end()) << "cell " << c;
     for (std::uint32_t t : refs) ASSERT_LT(t, set.size());
@@ -97,11 +97,11 @@ TEST(GridCells, EveryPointOfATriangleIsInACellThatReferencesIt) {
     Rng rng(5, 1);
     for (std::uint32_t i = 0; i < set.size(); ++i) {
       const Triangle& t = set.triangles[i];
-      for (int k = 0; k < 3; ++k) ASSERT_TRUE(references(g, cell_of(g.layout(), t[k]), i)) << "corner of " << i;
+      for (int k = 0; k < 3; ++k) ASSERT_TRUE(references(g, cell_of(g.geometry(), t[k]), i)) << "corner of " << i;
       for (int s = 0; s < 20; ++s) {
         const float u = rng.uniform(), v = rng.uniform() * (1.0f - u);
         const Vec3f p = t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
-        ASSERT_TRUE(references(g, cell_of(g.layout(), p), i)) << "triangle " << i << " exact " << exact;
+        ASSERT_TRUE(references(g, cell_of(g.geometry(), p), i)) << "triangle " << i << " exact " << exact;
       }
     }
   }
@@ -114,16 +114,16 @@ TEST(GridCells, ExactOverlapReferencesOnlyCellsTheTriangleMeets) {
   ASSERT_EQ(exact.resolution(), boxes.resolution());
   const double tolerance = 1e-5 * (2.0 + length(set.bounds.extent()));  // above the build's margin
   std::size_t checked = 0;
-  for (std::size_t c = 0; c < exact.layout().cell_count(); ++c) {
+  for (std::size_t c = 0; c < exact.geometry().cell_count(); ++c) {
     D3 lo, hi;
-    cell_box(exact.layout(), c, tolerance, lo, hi);
+    cell_box(exact.geometry(), c, tolerance, lo, hi);
     for (std::uint32_t t : exact.cell_references(c)) {
       ASSERT_TRUE(triangle_meets_box(set.triangles[t], lo, hi)) << "cell " << c << " triangle " << t;
       ASSERT_TRUE(references(boxes, c, t)) << "exact references must be a subset of the bounding-box ones";
       ++checked;
     }
     // And the other way: every cell the SAT sees a triangle meet (with a shrunk box) is referenced.
-    cell_box(exact.layout(), c, -tolerance, lo, hi);
+    cell_box(exact.geometry(), c, -tolerance, lo, hi);
     for (std::uint32_t t : boxes.cell_references(c)) {
       if (triangle_meets_box(set.triangles[t], lo, hi)) {
         ASSERT_TRUE(references(exact, c, t)) << "cell " << c << " triangle " << t;
@@ -144,7 +144,7 @@ TEST(GridCells, TrianglesInCellsAndOnCellBoundariesOfAForcedGrid) {
   };
   const TriangleSet set = set_from_triangles(triangles);
   const UniformGrid g = UniformGrid::build(set, test::unit_cells(4));
-  const GridLayout& L = g.layout();
+  const GridGeometry& L = g.geometry();
   const auto cells_of = [&](std::uint32_t t) {
     std::set<std::array<int, 3>> out;
     for (int z = 0; z < 4; ++z)
@@ -180,7 +180,7 @@ TEST(GridCells, BuildDoesNotDependOnThreadCount) {
   for (const UniformGrid* other : {&two, &three}) {
     ASSERT_EQ(one.resolution(), other->resolution());
     ASSERT_TRUE(std::ranges::equal(one.cell_starts(), other->cell_starts()));
-    for (std::size_t c = 0; c < one.layout().cell_count(); ++c)
+    for (std::size_t c = 0; c < one.geometry().cell_count(); ++c)
       ASSERT_TRUE(std::ranges::equal(one.cell_references(c), other->cell_references(c))) << "cell " << c;
     EXPECT_EQ(one.stats().leaf_count, other->stats().leaf_count);
     EXPECT_EQ(one.stats().memory_bytes, other->stats().memory_bytes);

@@ -33,7 +33,7 @@ std::vector<Ray> adversarial_rays(const TriangleSet& set, std::uint64_t seed, st
   append(test::grazing_rays(set, seed, per_kind));
   append(test::model_rays(set, seed, per_kind));
   const BruteForce oracle = BruteForce::build(set);
-  std::vector<std::optional<Hit>> hits;
+  std::vector<Hit> hits;
   for (const Ray& r : rays) hits.push_back(oracle.intersect(r));
   append(test::boundary_t_rays(rays, hits));
   return rays;
@@ -104,12 +104,12 @@ std::vector<Triangle> boundary_scene() {
 TEST(GridQueries, HitsOnCellBoundaryPlanesAreNeverMissed) {
   const TriangleSet set = set_from_triangles(boundary_scene());
   const UniformGrid grid = UniformGrid::build(set, test::unit_cells(4));
-  ASSERT_EQ(grid.layout().plane(0, 1), 1.0);
+  ASSERT_EQ(grid.geometry().plane(0, 1), 1.0);
 
   // Perpendicular rays onto each plane, at cell-interior and cell-edge positions.
   const auto hit_t = [&](Ray r) {
-    const std::optional<Hit> h = grid.intersect(r);
-    return h ? h->t : -1.0f;
+    const Hit h = grid.intersect(r);
+    return h ? h.t : -1.0f;
   };
   EXPECT_EQ(hit_t(Ray{{-1, 1.5f, 1.5f}, {1, 0, 0}}), 2.0f);   // plane x = 1
   EXPECT_EQ(hit_t(Ray{{-1, 1.0f, 1.0f}, {1, 0, 0}}), 2.0f);   // ... along the cell edge y = z = 1
@@ -152,14 +152,14 @@ TEST(GridQueries, TRangeEndingExactlyAtAHit) {
   const BruteForce oracle = BruteForce::build(set);
   std::size_t checked = 0;
   for (const Ray& r : test::model_rays(set, 12, 2000)) {
-    const std::optional<Hit> h = oracle.intersect(r);
+    const Hit h = oracle.intersect(r);
     if (!h) continue;
     ++checked;
-    const Ray to_hit{r.org, r.dir, r.tmin, h->t}, from_hit{r.org, r.dir, h->t, r.tmax};
+    const Ray to_hit{r.org, r.dir, r.tmin, h.t}, from_hit{r.org, r.dir, h.t, r.tmax};
     ASSERT_TRUE(grid.occluded(to_hit));
     ASSERT_TRUE(test::same_bits(grid.intersect(to_hit), h));
     ASSERT_TRUE(test::same_bits(grid.intersect(from_hit), h));
-    const Ray short_of_hit{r.org, r.dir, r.tmin, std::nextafter(h->t, -kInf)};
+    const Ray short_of_hit{r.org, r.dir, r.tmin, std::nextafter(h.t, -kInf)};
     ASSERT_TRUE(test::same_bits(grid.intersect(short_of_hit), oracle.intersect(short_of_hit)));
     ASSERT_EQ(grid.occluded(short_of_hit), oracle.occluded(short_of_hit));
   }
@@ -188,17 +188,17 @@ TEST(GridQueries, FlatSceneInThePlaneZEqualsZero) {
 TEST(GridQueries, SingleTriangle) {
   const TriangleSet set = set_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}});
   const UniformGrid grid = UniformGrid::build(set);
-  const std::optional<Hit> h = grid.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}});
-  ASSERT_TRUE(h.has_value());
-  EXPECT_EQ(h->t, 2.0f);
-  EXPECT_EQ(h->u, 0.25f);
-  EXPECT_EQ(h->v, 0.25f);
-  EXPECT_EQ(h->prim, 0u);
-  EXPECT_EQ(h->instance, 0u);
+  const Hit h = grid.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}});
+  ASSERT_TRUE(h.found);
+  EXPECT_EQ(h.t, 2.0f);
+  EXPECT_EQ(h.u, 0.25f);
+  EXPECT_EQ(h.v, 0.25f);
+  EXPECT_EQ(h.prim, 0u);
+  EXPECT_EQ(h.instance, 0u);
   EXPECT_FALSE(grid.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 0.0f, 1.99f}));
   EXPECT_TRUE(grid.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 0.0f, 2.0f}));
-  EXPECT_FALSE(grid.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, 1}}).has_value());
-  EXPECT_FALSE(grid.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, 0}}).has_value());  // no direction
+  EXPECT_FALSE(grid.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, 1}}).found);
+  EXPECT_FALSE(grid.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, 0}}).found);  // no direction
   check_scene(set, "single triangle");
 }
 

@@ -17,6 +17,19 @@ using test::set_from_triangles;
 using test::small_triangle;
 using test::Triangle;
 
+// Expects `s` to equal `expected`: counts exactly, moments to the last few bits.
+void expect_statistics(const GridStatistics& s, const GridStatistics& expected) {
+  EXPECT_EQ(s.cell_count, expected.cell_count);
+  EXPECT_EQ(s.empty_cells, expected.empty_cells);
+  EXPECT_EQ(s.max_refs, expected.max_refs);
+  EXPECT_DOUBLE_EQ(s.sparseness, expected.sparseness);
+  EXPECT_DOUBLE_EQ(s.mean, expected.mean);
+  EXPECT_DOUBLE_EQ(s.variance, expected.variance);
+  EXPECT_DOUBLE_EQ(s.std_dev, expected.std_dev);
+  EXPECT_DOUBLE_EQ(s.skewness, expected.skewness);
+  EXPECT_DOUBLE_EQ(s.kurtosis, expected.kurtosis);
+}
+
 TEST(GridStats, HandBuiltSceneWithKnownCellCounts) {
   // 4 x 4 x 4 unit cells on [0, 4]^3, so t = 64. By construction:
   //   cell (0, 0, 0): 3 triangles; cell (1, 2, 3): 2; cell (3, 3, 3): 1;
@@ -27,7 +40,7 @@ TEST(GridStats, HandBuiltSceneWithKnownCellCounts) {
       {Vec3f{1.6f, 1.4f, 1.5f}, Vec3f{2.4f, 1.4f, 1.5f}, Vec3f{2.0f, 1.6f, 1.5f}},
   };
   const UniformGrid grid = UniformGrid::build(set_from_triangles(triangles), test::unit_cells(4));
-  const GridLayout& L = grid.layout();
+  const GridGeometry& L = grid.geometry();
   ASSERT_EQ(grid.cell_references(L.cell_index(0, 0, 0)).size(), 3u);
   ASSERT_EQ(grid.cell_references(L.cell_index(1, 2, 3)).size(), 2u);
   ASSERT_EQ(grid.cell_references(L.cell_index(3, 3, 3)).size(), 1u);
@@ -43,15 +56,15 @@ TEST(GridStats, HandBuiltSceneWithKnownCellCounts) {
   const double variance = 15.0 / 63.0;  // the paper divides by t - 1
   const double sigma = std::sqrt(variance);
   const GridStatistics s = compute_grid_statistics(grid);
-  EXPECT_EQ(s.cell_count, 64u);
-  EXPECT_EQ(s.empty_cells, 59u);
-  EXPECT_DOUBLE_EQ(s.sparseness, 59.0 / 64.0);
-  EXPECT_EQ(s.max_refs, 3u);
-  EXPECT_DOUBLE_EQ(s.mean, 0.125);
-  EXPECT_DOUBLE_EQ(s.variance, variance);
-  EXPECT_DOUBLE_EQ(s.std_dev, sigma);
-  EXPECT_DOUBLE_EQ(s.skewness, 32.25 / 64.0 / (sigma * sigma * sigma));
-  EXPECT_DOUBLE_EQ(s.kurtosis, 82.453125 / 64.0 / (variance * variance) - 3.0);
+  expect_statistics(s, {.cell_count = 64,
+                        .empty_cells = 59,
+                        .sparseness = 59.0 / 64.0,
+                        .max_refs = 3,
+                        .mean = 0.125,
+                        .variance = variance,
+                        .std_dev = sigma,
+                        .skewness = 32.25 / 64.0 / (sigma * sigma * sigma),
+                        .kurtosis = 82.453125 / 64.0 / (variance * variance) - 3.0});
   EXPECT_NEAR(s.skewness, 4.3373421289, 1e-9);
   EXPECT_NEAR(s.kurtosis, 19.7261425781, 1e-9);
 }
@@ -63,16 +76,8 @@ TEST(GridStats, EqualCountsHaveNoSpread) {
   config.box = Bounds3f{Vec3f{0, 0, 0}, Vec3f{2, 1, 1}};
   const UniformGrid grid =
       UniformGrid::build(set_from_triangles({small_triangle({0.5f, 0.5f, 0.5f}), small_triangle({1.5f, 0.5f, 0.5f})}), config);
-  const GridStatistics s = compute_grid_statistics(grid);
-  EXPECT_EQ(s.cell_count, 2u);
-  EXPECT_EQ(s.empty_cells, 0u);
-  EXPECT_EQ(s.sparseness, 0.0);
-  EXPECT_EQ(s.max_refs, 1u);
-  EXPECT_EQ(s.mean, 1.0);
-  EXPECT_EQ(s.variance, 0.0);
-  EXPECT_EQ(s.std_dev, 0.0);
-  EXPECT_EQ(s.skewness, 0.0);  // undefined for sigma = 0; reported as 0
-  EXPECT_EQ(s.kurtosis, 0.0);
+  // Skewness and kurtosis are undefined for sigma = 0; reported as 0.
+  EXPECT_EQ(compute_grid_statistics(grid), (GridStatistics{.cell_count = 2, .max_refs = 1, .mean = 1.0}));
 }
 
 TEST(GridStats, CountsGivenAsOffsets) {
@@ -80,16 +85,16 @@ TEST(GridStats, CountsGivenAsOffsets) {
   // Deviations 3, -1, 0, -1, -1, 1, -1, -1, 1: squares sum 16, cubes 27 - 5 + 2 = 24, fourths 81 + 5 + 2 = 88.
   const std::vector<std::uint32_t> starts{0, 4, 4, 5, 5, 5, 7, 7, 7, 9};
   const GridStatistics s = compute_grid_statistics(starts);
-  const double variance = 16.0 / 8.0, sigma = std::sqrt(2.0);
-  EXPECT_EQ(s.cell_count, 9u);
-  EXPECT_EQ(s.empty_cells, 5u);
-  EXPECT_DOUBLE_EQ(s.sparseness, 5.0 / 9.0);
-  EXPECT_EQ(s.max_refs, 4u);
-  EXPECT_DOUBLE_EQ(s.mean, 1.0);
-  EXPECT_DOUBLE_EQ(s.variance, variance);
-  EXPECT_DOUBLE_EQ(s.std_dev, sigma);
-  EXPECT_DOUBLE_EQ(s.skewness, 24.0 / 9.0 / (2.0 * sigma));
-  EXPECT_DOUBLE_EQ(s.kurtosis, 88.0 / 9.0 / 4.0 - 3.0);
+  const double sigma = std::sqrt(2.0);
+  expect_statistics(s, {.cell_count = 9,
+                        .empty_cells = 5,
+                        .sparseness = 5.0 / 9.0,
+                        .max_refs = 4,
+                        .mean = 1.0,
+                        .variance = 16.0 / 8.0,
+                        .std_dev = sigma,
+                        .skewness = 24.0 / 9.0 / (2.0 * sigma),
+                        .kurtosis = 88.0 / 9.0 / 4.0 - 3.0});
 }
 
 TEST(GridStats, SingleCellAndEmptyGrids) {

@@ -23,10 +23,9 @@ void expect_vertex(const TriangleMesh& mesh, std::size_t triangle, int corner, c
 
 TEST(MeshFormats, ObjNegativeIndicesPentagonCrlfAndTabs) {
   TempDir dir;
-  const auto path = write_file(dir / "pentagon.obj",
-                               "# pentagon\r\nv 0 0 0\r\nv\t1 0 0\r\nv 1.5\t1 0\r\nv 0.5 2 0\r\nv -0.5 1 0\r\n"
-                               "f -5 -4 -3 -2 -1\r\n");
-  const LoadedMesh loaded = load_mesh(path);
+  const LoadedMesh loaded = load_mesh(write_file(dir / "pentagon.obj",
+                                                 "# pentagon\r\nv 0 0 0\r\nv\t1 0 0\r\nv 1.5\t1 0\r\nv 0.5 2 0\r\nv -0.5 1 0\r\n"
+                                                 "f -5 -4 -3 -2 -1\r\n"));
   ASSERT_EQ(loaded.mesh.triangles.size(), 3u);  // fan: (0,1,2) (0,2,3) (0,3,4)
   expect_vertex(loaded.mesh, 0, 0, {0, 0, 0});
   expect_vertex(loaded.mesh, 0, 1, {1, 0, 0});
@@ -39,9 +38,8 @@ TEST(MeshFormats, ObjNegativeIndicesPentagonCrlfAndTabs) {
 
 TEST(MeshFormats, ObjKeepsZeroAreaTrianglesAndSkipsLines) {
   TempDir dir;
-  const auto path = write_file(dir / "degenerate.obj",
-                               "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 2\nl 1 3\n");
-  const LoadedMesh loaded = load_mesh(path);
+  const LoadedMesh loaded = load_mesh(write_file(dir / "degenerate.obj",
+                                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 2\nl 1 3\n"));
   ASSERT_EQ(loaded.mesh.triangles.size(), 3u);
   EXPECT_EQ(loaded.mesh.count_degenerate(), 2u);
 }
@@ -51,10 +49,9 @@ TEST(MeshFormats, ObjMaterialsFromMtlWithMissingTextures) {
   write_file(dir / "two.mtl",
              "newmtl red\nKd 0.9 0.1 0.1\nKs 0.5 0.5 0.5\nNs 98\nmap_Kd missing_texture.png\n"
              "newmtl lamp\nKd 0 0 0\nKe 5 4 3\nmap_bump nothing.jpg\n");
-  const auto path = write_file(dir / "two.obj",
-                               "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-                               "usemtl red\nf 1 2 3\nf 1 3 4\nusemtl lamp\nf 1 4 2\n");
-  const LoadedMesh loaded = load_mesh(path);
+  const LoadedMesh loaded = load_mesh(write_file(dir / "two.obj",
+                                                 "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                 "usemtl red\nf 1 2 3\nf 1 3 4\nusemtl lamp\nf 1 4 2\n"));
   ASSERT_EQ(loaded.mesh.triangles.size(), 3u);
   ASSERT_EQ(loaded.materials.size(), 2u);
   ASSERT_EQ(loaded.mesh.material_ids.size(), 3u);
@@ -77,12 +74,11 @@ TEST(MeshFormats, ObjWithMissingMtlFileLoads) {
 
 TEST(MeshFormats, AsciiPlyWithQuad) {
   TempDir dir;
-  const auto path = write_file(dir / "quad.ply",
-                               "ply\nformat ascii 1.0\ncomment a unit quad and a triangle\nelement vertex 5\n"
-                               "property float x\nproperty float y\nproperty float z\nelement face 2\n"
-                               "property list uchar int vertex_indices\nend_header\n"
-                               "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.25 0.5 3\n4 0 1 2 3\n3 0 1 4\n");
-  const LoadedMesh loaded = load_mesh(path);
+  const LoadedMesh loaded = load_mesh(write_file(dir / "quad.ply",
+                                                 "ply\nformat ascii 1.0\ncomment a unit quad and a triangle\nelement vertex 5\n"
+                                                 "property float x\nproperty float y\nproperty float z\nelement face 2\n"
+                                                 "property list uchar int vertex_indices\nend_header\n"
+                                                 "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.25 0.5 3\n4 0 1 2 3\n3 0 1 4\n"));
   ASSERT_EQ(loaded.mesh.triangles.size(), 3u);
   expect_vertex(loaded.mesh, 1, 2, {0, 1, 0});
   expect_vertex(loaded.mesh, 2, 2, {0.25f, 0.5f, 3});
@@ -114,29 +110,23 @@ std::string binary_ply(const std::vector<Vec3f>& positions, std::uint32_t triang
 
 const std::vector<Vec3f> kFan = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5f}, {0, 1, -0.25f}};
 
-TEST(MeshFormats, BinaryLittleEndianPly) {
+TEST(MeshFormats, BinaryPlyOfBothByteOrders) {
   TempDir dir;
-  const LoadedMesh loaded = load_mesh(write_file(dir / "le.ply", binary_ply(kFan, 2, false)));
-  ASSERT_EQ(loaded.mesh.triangles.size(), 2u);
-  expect_vertex(loaded.mesh, 0, 2, {1, 1, 0.5f});
-  expect_vertex(loaded.mesh, 1, 2, {0, 1, -0.25f});
-}
-
-TEST(MeshFormats, BinaryBigEndianPly) {
-  TempDir dir;
-  const LoadedMesh loaded = load_mesh(write_file(dir / "be.ply", binary_ply(kFan, 2, true)));
-  ASSERT_EQ(loaded.mesh.triangles.size(), 2u);
-  expect_vertex(loaded.mesh, 0, 2, {1, 1, 0.5f});
-  expect_vertex(loaded.mesh, 1, 2, {0, 1, -0.25f});
+  for (const bool big_endian : {false, true}) {
+    SCOPED_TRACE(big_endian ? "big endian" : "little endian");
+    const LoadedMesh loaded = load_mesh(write_file(dir / (big_endian ? "be.ply" : "le.ply"), binary_ply(kFan, 2, big_endian)));
+    ASSERT_EQ(loaded.mesh.triangles.size(), 2u);
+    expect_vertex(loaded.mesh, 0, 2, {1, 1, 0.5f});
+    expect_vertex(loaded.mesh, 1, 2, {0, 1, -0.25f});
+  }
 }
 
 TEST(MeshFormats, AsciiStl) {
   TempDir dir;
-  const auto path = write_file(dir / "two.stl",
-                               "solid two\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
-                               "   vertex 0 1 0\n  endloop\n endfacet\n facet normal 0 0 1\n  outer loop\n"
-                               "   vertex 1 0 0\n   vertex 1 1 0\n   vertex 0 1 2.5\n  endloop\n endfacet\nendsolid two\n");
-  const LoadedMesh loaded = load_mesh(path);
+  const LoadedMesh loaded = load_mesh(write_file(dir / "two.stl",
+                                                 "solid two\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
+                                                 "   vertex 0 1 0\n  endloop\n endfacet\n facet normal 0 0 1\n  outer loop\n"
+                                                 "   vertex 1 0 0\n   vertex 1 1 0\n   vertex 0 1 2.5\n  endloop\n endfacet\nendsolid two\n"));
   ASSERT_EQ(loaded.mesh.triangles.size(), 2u);
   expect_vertex(loaded.mesh, 1, 2, {0, 1, 2.5f});
   EXPECT_EQ(loaded.mesh.positions.size(), 5u);  // STL repeats shared corners; the loader shares them
@@ -215,7 +205,8 @@ TEST(MeshFormats, AddMeshReindexesMaterials) {
   EXPECT_EQ(first, 0u);
   EXPECT_EQ(second, 1u);
   ASSERT_EQ(scene.materials.size(), 6u);  // default, extra, then b and a (order of first use) twice
-  scene.instances = {Instance{0, {}, {}}, Instance{1, {}, {}}};
+  scene.add_instance(0);
+  scene.add_instance(1);
   EXPECT_FLOAT_EQ(scene.material_of(0, 0).diffuse.x, 0.4f);
   EXPECT_FLOAT_EQ(scene.material_of(0, 1).diffuse.x, 0.1f);
   EXPECT_FLOAT_EQ(scene.material_of(1, 0).diffuse.x, 0.4f);

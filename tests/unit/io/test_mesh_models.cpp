@@ -35,6 +35,14 @@ std::vector<ManifestEntry> read_manifest() {
   return entries;
 }
 
+// Expects every coordinate of `b` within `tolerance` of the given corners.
+void expect_bounds(const Bounds3f& b, const Vec3f& lo, const Vec3f& hi, float tolerance) {
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_NEAR(b.lo[axis], lo[axis], tolerance) << "axis " << axis;
+    EXPECT_NEAR(b.hi[axis], hi[axis], tolerance) << "axis " << axis;
+  }
+}
+
 TEST(MeshModels, EveryModelLoadsWithTheManifestTriangleCount) {
   REQUIRE_MODELS();
   const std::vector<ManifestEntry> entries = read_manifest();
@@ -60,17 +68,12 @@ TEST(MeshModels, CornellBoxNegativeIndicesCrlfTabsAndMaterials) {
   REQUIRE_MODELS();
   const LoadedMesh box = load_mesh(kModels / "CornellBox-Original.obj");
   ASSERT_EQ(box.mesh.triangles.size(), 36u);
-  const Bounds3f b = box.mesh.bounds();
-  EXPECT_NEAR(b.lo.x, -1.02f, 1e-6f);
-  EXPECT_NEAR(b.hi.y, 1.99f, 1e-6f);
-  EXPECT_NEAR(b.lo.z, -1.04f, 1e-6f);
+  expect_bounds(box.mesh.bounds(), {-1.02f, 0.0f, -1.04f}, {1.0f, 1.99f, 0.99f}, 1e-6f);
   ASSERT_EQ(box.materials.size(), 8u);
   ASSERT_EQ(box.mesh.material_ids.size(), 36u);
   const auto light = std::find_if(box.materials.begin(), box.materials.end(), [](const Material& m) { return m.name == "light"; });
   ASSERT_NE(light, box.materials.end());
-  EXPECT_FLOAT_EQ(light->emission.x, 17.0f);
-  EXPECT_FLOAT_EQ(light->emission.y, 12.0f);
-  EXPECT_FLOAT_EQ(light->emission.z, 4.0f);
+  EXPECT_EQ(light->emission, (Vec3f{17.0f, 12.0f, 4.0f}));
   EXPECT_FLOAT_EQ(light->diffuse.x, 0.78f);
   const auto light_index = static_cast<std::uint32_t>(light - box.materials.begin());
   EXPECT_EQ(std::count(box.mesh.material_ids.begin(), box.mesh.material_ids.end(), light_index), 2);
@@ -84,13 +87,7 @@ TEST(MeshModels, BigEndianArmadilloHasTheDocumentedBounds) {
   REQUIRE_MODELS();
   const LoadedMesh armadillo = load_mesh(kModels / "Armadillo.ply");
   EXPECT_EQ(armadillo.mesh.positions.size(), 172974u);
-  const Bounds3f b = armadillo.mesh.bounds();
-  EXPECT_NEAR(b.lo.x, -63.5001f, 1e-3f);
-  EXPECT_NEAR(b.lo.y, -54.2415f, 1e-3f);
-  EXPECT_NEAR(b.lo.z, -57.7145f, 1e-3f);
-  EXPECT_NEAR(b.hi.x, 63.5001f, 1e-3f);
-  EXPECT_NEAR(b.hi.y, 97.0804f, 1e-3f);
-  EXPECT_NEAR(b.hi.z, 57.714f, 1e-3f);
+  expect_bounds(armadillo.mesh.bounds(), {-63.5001f, -54.2415f, -57.7145f}, {63.5001f, 97.0804f, 57.714f}, 1e-3f);
   EXPECT_TRUE(armadillo.materials.empty());  // PLY defines no materials
   EXPECT_TRUE(armadillo.mesh.material_ids.empty());
 }

@@ -40,7 +40,7 @@ TEST(SceneFile, ExampleFromTheRepositoryLoads) {
   ASSERT_EQ(scene.meshes.size(), 2u);
   EXPECT_EQ(scene.meshes[0].triangles.size(), 4u);
   EXPECT_EQ(scene.meshes[1].triangles.size(), 2u);
-  EXPECT_EQ(scene.instances.size(), 4u);
+  EXPECT_EQ(scene.instances().size(), 4u);
   EXPECT_EQ(scene.materials.size(), 4u);  // the default plus three
   ASSERT_TRUE(scene.camera.has_value());
   EXPECT_EQ(scene.camera->width, 640);
@@ -73,16 +73,16 @@ TEST(SceneFile, EveryFieldIsRead) {
   EXPECT_FLOAT_EQ(shiny.roughness, 0.25f);
   EXPECT_FLOAT_EQ(shiny.emission.y, 8.0f);
 
-  ASSERT_EQ(scene.instances.size(), 3u);
-  EXPECT_FALSE(scene.instances[0].material.has_value());
-  const Transform& moved = scene.instances[1].transform;
-  EXPECT_EQ(scene.instances[1].material, 1u);
+  ASSERT_EQ(scene.instances().size(), 3u);
+  EXPECT_FALSE(scene.instances()[0].material.has_value());
+  const Transform& moved = scene.instances()[1].transform;
+  EXPECT_EQ(scene.instances()[1].material, 1u);
   EXPECT_FLOAT_EQ(moved.scale, 2.0f);
   const Vec3f p = moved.apply_point({1, 0, 0});  // rotated 90 degrees about +y: x -> -z, then *2, +t
   EXPECT_NEAR(p.x, 1.0f, 1e-5f);
   EXPECT_NEAR(p.y, 2.0f, 1e-5f);
   EXPECT_NEAR(p.z, 1.0f, 1e-5f);
-  const Vec3f q = scene.instances[2].transform.apply_point({1, 0, 0});  // 90 degrees about +z: x -> y
+  const Vec3f q = scene.instances()[2].transform.apply_point({1, 0, 0});  // 90 degrees about +z: x -> y
   EXPECT_NEAR(q.x, 0.0f, 1e-6f);
   EXPECT_NEAR(q.y, 1.0f, 1e-6f);
 
@@ -102,10 +102,10 @@ TEST(SceneFile, WithoutInstancesEveryMeshGetsAnIdentityInstance) {
   SceneDir d;
   write_file(d.dir / "meshes/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   const Scene scene = load_scene_file(d.scene(R"({"meshes": [{"path": "meshes/tetra.obj"}, {"path": "meshes/tri.obj"}]})"));
-  ASSERT_EQ(scene.instances.size(), 2u);
-  EXPECT_EQ(scene.instances[0].mesh, 0u);
-  EXPECT_EQ(scene.instances[1].mesh, 1u);
-  EXPECT_FLOAT_EQ(scene.instances[1].transform.scale, 1.0f);
+  ASSERT_EQ(scene.instances().size(), 2u);
+  EXPECT_EQ(scene.instances()[0].mesh, 0u);
+  EXPECT_EQ(scene.instances()[1].mesh, 1u);
+  EXPECT_FLOAT_EQ(scene.instances()[1].transform.scale, 1.0f);
   EXPECT_EQ(scene.meshes[1].name, "tri");  // the file stem names an unnamed mesh
   EXPECT_EQ(scene.name, "scene");
   EXPECT_FALSE(scene.camera.has_value());
@@ -208,16 +208,16 @@ TEST(LoadScene, DispatchesOnTheArgument) {
   SceneDir d;
   const Scene from_mesh = load_scene((d.dir / "meshes/tetra.obj").string());
   ASSERT_EQ(from_mesh.meshes.size(), 1u);
-  ASSERT_EQ(from_mesh.instances.size(), 1u);
+  ASSERT_EQ(from_mesh.instances().size(), 1u);
   EXPECT_EQ(from_mesh.meshes[0].triangles.size(), 4u);
   EXPECT_EQ(from_mesh.name, "tetra");
 
   const Scene from_json = load_scene(d.scene(R"({"meshes": [{"path": "meshes/tetra.obj"}]})").string());
-  EXPECT_EQ(from_json.instances.size(), 1u);
+  EXPECT_EQ(from_json.instances().size(), 1u);
 
   const Scene builtin = load_scene("builtin:boxes");
   EXPECT_FALSE(builtin.meshes.empty());
-  EXPECT_FALSE(builtin.instances.empty());
+  EXPECT_FALSE(builtin.instances().empty());
 
   expect_one_line_error([] { load_scene(""); }, "empty scene argument");
   EXPECT_THROW(load_scene("builtin:no-such-scene"), Error);

@@ -1,4 +1,4 @@
-// KdTree and MedianBsp against the scalar brute-force definition on adversarial scenes and rays:
+// KdTree and MedianBsp against the BruteForce oracle on adversarial scenes and rays:
 // closest hits must be bit-identical (t, u, v, triangle; ties to the lowest index), occluded() equal.
 
 #include <cmath>
@@ -33,8 +33,9 @@ std::vector<Ray> inside_rays(const TriangleSet& set, std::uint64_t seed, std::si
 /// around) the hits of the random ones.
 std::vector<Ray> adversarial_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
   std::vector<Ray> rays = test::random_rays(set, seed, n);
-  std::vector<std::optional<Hit>> hits;
-  for (const Ray& r : rays) hits.push_back(test::scalar_closest(set, r));
+  const BruteForce oracle = BruteForce::build(set);
+  std::vector<Hit> hits;
+  for (const Ray& r : rays) hits.push_back(oracle.intersect(r));
   std::vector<Ray> boundary = test::boundary_t_rays(rays, hits);
   if (boundary.size() > n) boundary.resize(n);
   for (auto more : {test::axis_parallel_rays(set, seed, n), test::zero_component_rays(set, seed, n),
@@ -174,7 +175,7 @@ TYPED_TEST(KdStructureQueries, FlatScenes) {
 
 TYPED_TEST(KdStructureQueries, SingleTriangleAndEmptySet) {
   const TypeParam empty = TypeParam::build(TriangleSet{});
-  EXPECT_FALSE(empty.intersect(Ray{{0, 0, 0}, {0, 0, 1}}).has_value());
+  EXPECT_FALSE(empty.intersect(Ray{{0, 0, 0}, {0, 0, 1}}));
   EXPECT_FALSE(empty.occluded(Ray{{0, 0, 0}, {0, 0, 1}}));
   EXPECT_EQ(empty.stats().leaf_count, 0u);
   EXPECT_EQ(empty.stats().max_depth, 0);
@@ -182,10 +183,10 @@ TYPED_TEST(KdStructureQueries, SingleTriangleAndEmptySet) {
   const TriangleSet set = test::set_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}});
   const test::OracleRays oracle(set, adversarial_rays(set, 13, 300));
   for (const TypeParam& one : builds<TypeParam>(set)) {
-    const std::optional<Hit> h = one.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}});
-    ASSERT_TRUE(h.has_value());
-    EXPECT_EQ(h->t, 2.0f);
-    EXPECT_EQ(h->prim, 0u);
+    const Hit h = one.intersect(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}});
+    ASSERT_TRUE(h);
+    EXPECT_EQ(h.t, 2.0f);
+    EXPECT_EQ(h.prim, 0u);
     EXPECT_FALSE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 0.0f, 1.99f}));
     EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 0.0f, 2.0f}));
     EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 2.0f, 2.0f}));
@@ -205,10 +206,10 @@ TYPED_TEST(KdStructureQueries, ManyDuplicatesTieToTheLowestIndex) {
   const TriangleSet set = test::set_from_triangles(triangles);
   const test::OracleRays oracle(set, adversarial_rays(set, 15, 400));
   for (const TypeParam& accel : builds<TypeParam>(set)) {
-    const std::optional<Hit> h = accel.intersect(Ray{{0.3f, 0.3f, 3.0f}, {0, 0, -1}});
-    ASSERT_TRUE(h.has_value());
-    EXPECT_EQ(h->t, 1.5f);
-    EXPECT_EQ(h->prim, 1u);  // the first copy of `a`
+    const Hit h = accel.intersect(Ray{{0.3f, 0.3f, 3.0f}, {0, 0, -1}});
+    ASSERT_TRUE(h);
+    EXPECT_EQ(h.t, 1.5f);
+    EXPECT_EQ(h.prim, 1u);  // the first copy of `a`
     test::expect_matches_oracle(accel, oracle, "duplicates");
   }
 }
@@ -236,13 +237,13 @@ TYPED_TEST(KdStructureQueries, AgreesWithBruteForceWithinTolerance) {
   const std::vector<Ray> rays = adversarial_rays(set, 20, 300);
   for (const TypeParam& accel : builds<TypeParam>(set)) {
     for (const Ray& ray : rays) {
-      const std::optional<Hit> expected = oracle.intersect(ray), got = accel.intersect(ray);
-      ASSERT_EQ(got.has_value(), expected.has_value());
+      const Hit expected = oracle.intersect(ray), got = accel.intersect(ray);
+      ASSERT_EQ(got.found, expected.found);
       ASSERT_EQ(accel.occluded(ray), oracle.occluded(ray));
       if (!got) continue;
-      EXPECT_NEAR(got->t, expected->t, 1e-5 * std::fabs(expected->t));
-      if (got->t != expected->t) {
-        EXPECT_EQ(got->prim, expected->prim);
+      EXPECT_NEAR(got.t, expected.t, 1e-5 * std::fabs(expected.t));
+      if (got.t != expected.t) {
+        EXPECT_EQ(got.prim, expected.prim);
       }
     }
   }

@@ -4,7 +4,6 @@
 #include <limits>
 #include <numbers>
 
-#include "brute_accel.hpp"
 #include "test_scenes.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
@@ -14,8 +13,6 @@
 
 namespace vf {
 namespace {
-
-using test::BruteAccel;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
@@ -28,10 +25,10 @@ AoOptions quiet_options(int ao_rays) {
 
 TEST(RenderAo, UnoccludedPlaneIsWhite) {
   const Scene scene = test::plane_scene(1000.0f);
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 32, 24, 60.0f);
   RenderStats stats;
-  const Image image = render_ao(accel, scene, camera, quiet_options(16), &stats);
+  const Image image = render_ao(accel, accel, scene, camera, quiet_options(16), &stats);
   ASSERT_EQ(image.width, 32);
   ASSERT_EQ(image.height, 24);
   for (const Vec3f& p : image.pixels) EXPECT_EQ(p, Vec3f{1.0f});
@@ -40,20 +37,20 @@ TEST(RenderAo, UnoccludedPlaneIsWhite) {
 
 TEST(RenderAo, InsideAClosedBoxEverythingIsOccluded) {
   const Scene scene = test::closed_box_scene();
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 24, 24, 60.0f);
-  const Image image = render_ao(accel, scene, camera, quiet_options(32));
+  const Image image = render_ao(accel, accel, scene, camera, quiet_options(32));
   for (const Vec3f& p : image.pixels) EXPECT_EQ(p, Vec3f{0.0f});
 }
 
 TEST(RenderAo, MaxDistanceIgnoresFartherOccluders) {
   // Inside the box the visible floor is at least 0.42 from any wall: with max_distance 0.4 nothing counts.
   const Scene scene = test::closed_box_scene();
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 16, 16, 60.0f);
   AoOptions opt = quiet_options(32);
   opt.max_distance = 0.4f;
-  for (const Vec3f& p : render_ao(accel, scene, camera, opt).pixels) EXPECT_EQ(p, Vec3f{1.0f});
+  for (const Vec3f& p : render_ao(accel, accel, scene, camera, opt).pixels) EXPECT_EQ(p, Vec3f{1.0f});
 }
 
 // Cosine-weighted visible fraction at distance d from an infinite wall on an infinite floor, counting
@@ -69,7 +66,7 @@ double crease_ao(double d, double r) {
 
 TEST(RenderAo, CreaseMatchesTheAnalyticVisibleFraction) {
   const Scene scene = test::crease_scene(1000.0f);
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const int ao_rays = 40000;  // binomial sigma <= 0.0025
   struct Case {
     float d, r;
@@ -81,7 +78,7 @@ TEST(RenderAo, CreaseMatchesTheAnalyticVisibleFraction) {
     const Camera camera = test::camera_looking_at({c.d, 5, 0}, {c.d, 0, 0}, 1, 1, 0.01f);
     AoOptions opt = quiet_options(ao_rays);
     opt.max_distance = c.r;
-    const float value = render_ao(accel, scene, camera, opt).pixels[0].x;
+    const float value = render_ao(accel, accel, scene, camera, opt).pixels[0].x;
     const double expected = crease_ao(c.d, c.r);
     if (expected == 1.0) {
       EXPECT_EQ(value, 1.0f);  // no direction reaches the wall within max_distance
@@ -95,7 +92,7 @@ TEST(RenderAo, CreaseMatchesTheAnalyticVisibleFraction) {
 
 TEST(RenderAo, ImageDoesNotDependOnThreadsOrTiles) {
   const Scene scene = make_builtin_scene("cornell", {.size = 200});
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = scene.camera_or_default(40, 30);
   AoOptions opt = quiet_options(8);
   opt.spp = 2;
@@ -104,19 +101,19 @@ TEST(RenderAo, ImageDoesNotDependOnThreadsOrTiles) {
   {
     const ThreadLimit limit(1);
     opt.tile_size = 16;
-    one_thread = render_ao(accel, scene, camera, opt);
+    one_thread = render_ao(accel, accel, scene, camera, opt);
   }
   {
     const ThreadLimit limit(2);
     opt.tile_size = 5;
-    two_threads = render_ao(accel, scene, camera, opt);
+    two_threads = render_ao(accel, accel, scene, camera, opt);
   }
   EXPECT_EQ(one_thread.pixels, two_threads.pixels);
   std::size_t grey = 0;
   for (const Vec3f& p : one_thread.pixels) grey += p.x > 0.0f && p.x < 1.0f;
   EXPECT_GT(grey, one_thread.pixels.size() / 2);  // the room is mostly partly occluded: the test has teeth
   opt.seed = 12;
-  EXPECT_NE(render_ao(accel, scene, camera, opt).pixels, one_thread.pixels);
+  EXPECT_NE(render_ao(accel, accel, scene, camera, opt).pixels, one_thread.pixels);
 }
 
 TEST(RenderAo, JitterChangesNothingInUniformScenes) {
@@ -124,10 +121,14 @@ TEST(RenderAo, JitterChangesNothingInUniformScenes) {
   for (int spp : {1, 4}) {
     opt.spp = spp;
     const Scene plane = test::plane_scene(1000.0f);
-    for (const Vec3f& p : render_ao(BruteAccel(plane), plane, test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 12, 9, 60.0f), opt).pixels)
+    const BruteForce plane_oracle = test::scene_oracle(plane);
+    for (const Vec3f& p :
+         render_ao(plane_oracle, plane_oracle, plane, test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 12, 9, 60.0f), opt).pixels)
       EXPECT_EQ(p, Vec3f{1.0f});
     const Scene box = test::closed_box_scene();
-    for (const Vec3f& p : render_ao(BruteAccel(box), box, test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 12, 9, 60.0f), opt).pixels)
+    const BruteForce box_oracle = test::scene_oracle(box);
+    for (const Vec3f& p :
+         render_ao(box_oracle, box_oracle, box, test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 12, 9, 60.0f), opt).pixels)
       EXPECT_EQ(p, Vec3f{0.0f});
   }
 }
@@ -135,36 +136,67 @@ TEST(RenderAo, JitterChangesNothingInUniformScenes) {
 TEST(RenderAo, StatsCountEveryRayTraced) {
   // A small plane seen from far: some pixels miss (1 ray), the others hit (1 + ao_rays rays).
   const Scene scene = test::plane_scene(2.0f);
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 30, 20, 60.0f);
   std::size_t hits = 0;
-  for (const Ray& ray : make_primary_rays(scene, camera)) hits += accel.intersect(ray).has_value();
+  for (const Ray& ray : make_primary_rays(scene, camera)) hits += accel.intersect(ray).found;
   ASSERT_GT(hits, 0u);
   ASSERT_LT(hits, 600u);
   RenderStats stats;
-  const Image image = render_ao(accel, scene, camera, quiet_options(5), &stats);
+  const Image image = render_ao(accel, accel, scene, camera, quiet_options(5), &stats);
   EXPECT_EQ(stats.rays, 600u + 5u * hits);
   EXPECT_EQ(stats.width, 30);
   EXPECT_EQ(stats.height, 20);
-  EXPECT_GE(stats.seconds, 0.0);
   for (const Vec3f& p : image.pixels) EXPECT_EQ(p, Vec3f{kAoBackground});  // misses are sky, the plane is open
 
   // With jitter, on a plane that fills the view: width * height * spp * (1 + ao_rays).
   const Scene big = test::plane_scene(1000.0f);
   AoOptions opt = quiet_options(5);
   opt.spp = 3;
-  render_ao(BruteAccel(big), big, camera, opt, &stats);
+  const BruteForce big_oracle = test::scene_oracle(big);
+  render_ao(big_oracle, big_oracle, big, camera, opt, &stats);
   EXPECT_EQ(stats.rays, 600u * 3u * (1u + 5u));
+}
+
+// An occluder that reports every ray clear, whatever the scene: what an approximate occluder that
+// misses everything would answer.
+struct NothingOccludes {
+  bool occluded(const Ray&) const { return false; }
+  AccelStats stats() const { return {}; }
+  static std::string name() { return "nothing"; }
+  static constexpr Exactness exactness = Exactness::approximate;
+  ErrorBounds error_bounds() const { return {.occlusion_disagreement = 1.0, .image_rms = 1.0}; }
+};
+static_assert(OcclusionQuery<NothingOccludes> && !ClosestHitQuery<NothingOccludes>);
+
+TEST(RenderAo, CameraRaysAndOcclusionRaysGoToTheirOwnStructures) {
+  const Scene scene = make_builtin_scene("cornell", {.size = 200});
+  const Camera camera = scene.camera_or_default(24, 18);
+  const BruteForce oracle = test::scene_oracle(scene);
+  const AoOptions opt = quiet_options(8);
+  // The room occludes, but this occluder does not: every pixel whose camera ray hits is white, and
+  // so are the misses.
+  for (const Vec3f& p : render_ao(oracle, NothingOccludes{}, scene, camera, opt).pixels) EXPECT_EQ(p, Vec3f{1.0f});
+  // An occluder that records its queries gets exactly the AO rays, from the camera hits found by the
+  // closest-hit structure.
+  const test::RecordingOccluder recorder(oracle);
+  RenderStats stats;
+  const Image recorded = render_ao(oracle, recorder, scene, camera, opt, &stats);
+  std::size_t camera_hits = 0;
+  for (const Ray& ray : make_primary_rays(scene, camera)) camera_hits += oracle.intersect(ray).found;
+  EXPECT_EQ(recorder.queries().size(), camera_hits * 8);
+  EXPECT_EQ(stats.rays, 24u * 18u + camera_hits * 8);
+  EXPECT_EQ(recorded.pixels, render_ao(oracle, oracle, scene, camera, opt).pixels);
 }
 
 TEST(RenderAo, BadOptionsAreRefused) {
   const Scene scene = test::plane_scene(1.0f);
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 4, 4, 60.0f);
   auto refused = [&](auto change) {
     AoOptions opt = quiet_options(4);
     change(opt);
-    EXPECT_THROW(render_ao(accel, scene, camera, opt), Error);
+    EXPECT_THROW(render_ao(accel, accel, scene, camera, opt), Error);
   };
   refused([](AoOptions& o) { o.spp = 0; });
   refused([](AoOptions& o) { o.ao_rays = 0; });
@@ -173,7 +205,7 @@ TEST(RenderAo, BadOptionsAreRefused) {
   refused([](AoOptions& o) { o.tile_size = 0; });
   Camera bad = camera;
   bad.width = 0;
-  EXPECT_THROW(render_ao(accel, scene, bad, quiet_options(4)), Error);
+  EXPECT_THROW(render_ao(accel, accel, scene, bad, quiet_options(4)), Error);
 }
 
 }  // namespace

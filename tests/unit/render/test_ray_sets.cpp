@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "brute_accel.hpp"
 #include "test_scenes.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
@@ -13,15 +12,13 @@
 namespace vf {
 namespace {
 
-using test::BruteAccel;
-
 bool same_ray(const Ray& a, const Ray& b) {
   return a.org == b.org && a.dir == b.dir && a.tmin == b.tmin && a.tmax == b.tmax;
 }
 
-std::size_t count_hits(const BruteAccel& accel, const std::vector<Ray>& rays) {
+std::size_t count_hits(const BruteForce& accel, const std::vector<Ray>& rays) {
   std::size_t hits = 0;
-  for (const Ray& ray : rays) hits += accel.intersect(ray).has_value();
+  for (const Ray& ray : rays) hits += accel.intersect(ray).found;
   return hits;
 }
 
@@ -44,22 +41,23 @@ TEST(RaySets, AoRaysAreExactlyTheRaysRenderAoTraces) {
   opt.seed = 9;
   opt.tile_size = 64;  // one tile: on one thread, render_ao queries in pixel order
   opt.progress = false;
-  const test::RecordingAccel recorder(scene);
+  const BruteForce oracle = test::scene_oracle(scene);
+  const test::RecordingOccluder recorder(oracle);
   {
     const ThreadLimit limit(1);
-    render_ao(recorder, scene, camera, opt);
+    render_ao(oracle, recorder, scene, camera, opt);
   }
-  const std::vector<Ray> rays = make_ao_rays(BruteAccel(scene), scene, camera, opt.ao_rays, opt.max_distance, opt.seed);
-  ASSERT_EQ(rays.size(), recorder.occlusion_queries().size());
+  const std::vector<Ray> rays = make_ao_rays(oracle, scene, camera, opt.ao_rays, opt.max_distance, opt.seed);
+  ASSERT_EQ(rays.size(), recorder.queries().size());
   ASSERT_GT(rays.size(), 0u);
   std::size_t mismatches = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) mismatches += !same_ray(rays[i], recorder.occlusion_queries()[i]);
+  for (std::size_t i = 0; i < rays.size(); ++i) mismatches += !same_ray(rays[i], recorder.queries()[i]);
   EXPECT_EQ(mismatches, 0u);
 }
 
 TEST(RaySets, AoRaysLeaveTheSurfaceIntoItsHemisphere) {
   const Scene scene = test::plane_scene(2.0f);
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 30, 20, 60.0f);
   const std::size_t hits = count_hits(accel, make_primary_rays(scene, camera));
   const std::vector<Ray> rays = make_ao_rays(accel, scene, camera, 7, 3.0f, 5);
@@ -84,7 +82,7 @@ Vec3f end_point(const Ray& ray) { return ray.org + ray.dir * ray.tmax; }
 
 TEST(RaySets, ShadowRaysStopJustShortOfAPointLight) {
   const Scene scene = make_builtin_scene("cornell", {.size = 200});
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = scene.camera_or_default(20, 15);
   const std::vector<Ray> rays = make_shadow_rays(accel, scene, camera, 3);
   ASSERT_EQ(rays.size(), count_hits(accel, make_primary_rays(scene, camera)));
@@ -104,7 +102,7 @@ TEST(RaySets, ShadowRaysStopJustShortOfAPointLight) {
 TEST(RaySets, ShadowRaysAimAtTheFacingSideOfSphereLights) {
   Scene scene = test::plane_scene(2.0f);
   scene.sphere_lights.push_back(SphereLight{{0.0f, 5.0f, 0.0f}, 1.0f, Vec3f{1.0f}});
-  const BruteAccel accel(scene);
+  const BruteForce accel = test::scene_oracle(scene);
   const Camera camera = test::camera_looking_at({0, 10, 0.5f}, {0, 0, 0}, 16, 16, 20.0f);
   const std::vector<Ray> rays = make_shadow_rays(accel, scene, camera, 3);
   ASSERT_EQ(rays.size(), 256u);
@@ -119,12 +117,13 @@ TEST(RaySets, ShadowRaysAimAtTheFacingSideOfSphereLights) {
 TEST(RaySets, ShadowRaysWithoutLightsAimAboveTheScene) {
   const Scene open = test::plane_scene(2.0f);
   const Camera camera = test::camera_looking_at({0, 10, 0}, {0, 0, 0}, 8, 8, 20.0f);
-  for (const Ray& ray : make_shadow_rays(BruteAccel(open), open, camera, 1)) {
+  const BruteForce open_oracle = test::scene_oracle(open);
+  for (const Ray& ray : make_shadow_rays(open_oracle, open, camera, 1)) {
     EXPECT_NEAR(length(end_point(ray) - Vec3f{0.0f, 4.0f, 0.0f}), 0.0f, 1e-3f);  // one bounds extent (4) up
-    EXPECT_FALSE(BruteAccel(open).occluded(ray));
+    EXPECT_FALSE(open_oracle.occluded(ray));
   }
   const Scene box = test::closed_box_scene();
-  const BruteAccel box_accel(box);
+  const BruteForce box_accel = test::scene_oracle(box);
   const std::vector<Ray> inside = make_shadow_rays(box_accel, box, test::camera_looking_at({0, 0, 0}, {0, -1, 0}, 8, 8, 60.0f), 1);
   ASSERT_EQ(inside.size(), 64u);
   for (const Ray& ray : inside) EXPECT_TRUE(box_accel.occluded(ray));  // the target is outside the closed box

@@ -1,9 +1,39 @@
 #pragma once
 // Small hand-made scenes with known ambient occlusion, shared by the render tests.
 
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "visfield/accel/brute_force.hpp"
 #include "visfield/core/scene.hpp"
+#include "visfield/core/triangle_set.hpp"
 
 namespace vf::test {
+
+// The oracle over a scene's flattened triangles: the exact structure the render tests trace.
+inline BruteForce scene_oracle(const Scene& scene) { return BruteForce::build(flatten(scene)); }
+
+// An occluder (the occlusion role only) that asks `inner` and records every query in call order.
+// Thread-safe.
+class RecordingOccluder {
+ public:
+  explicit RecordingOccluder(const BruteForce& inner) : inner_(inner) {}
+  bool occluded(const Ray& ray) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    queries_.push_back(ray);
+    return inner_.occluded(ray);
+  }
+  AccelStats stats() const { return {}; }
+  static std::string name() { return "recording"; }
+  static constexpr Exactness exactness = Exactness::exact;
+  const std::vector<Ray>& queries() const { return queries_; }
+
+ private:
+  const BruteForce& inner_;
+  mutable std::mutex mutex_;
+  mutable std::vector<Ray> queries_;
+};
 
 // Adds quad (a, b, c, d) as two triangles to mesh.
 inline void add_quad(TriangleMesh& mesh, const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& d) {

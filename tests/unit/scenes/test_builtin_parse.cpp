@@ -22,8 +22,8 @@ TEST(BuiltinParse, KeysSetSizeAndSeed) {
   EXPECT_EQ(parsed.name, "builtin:soup:size=1000,seed=7");
   EXPECT_EQ(parsed.meshes[0].positions, made.meshes[0].positions);
   EXPECT_EQ(parse_builtin_scene("builtin:soup:seed=7,size=1000").meshes[0].positions, made.meshes[0].positions);
-  EXPECT_EQ(parse_builtin_scene("builtin:boxes").instances.size(), 65u);  // 64 boxes + the ground
-  EXPECT_EQ(parse_builtin_scene("builtin:boxes:size=0").instances.size(), 65u);  // 0 = default
+  EXPECT_EQ(parse_builtin_scene("builtin:boxes").instances().size(), 65u);  // 64 boxes + the ground
+  EXPECT_EQ(parse_builtin_scene("builtin:boxes:size=0").instances().size(), 65u);  // 0 = default
   EXPECT_EQ(parse_builtin_scene("builtin:sphere:size=100").instanced_triangle_count(), 102u);
 }
 

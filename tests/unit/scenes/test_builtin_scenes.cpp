@@ -2,11 +2,10 @@
 
 #include <cmath>
 #include <map>
-#include <optional>
 #include <utility>
 
+#include "visfield/accel/brute_force.hpp"
 #include "visfield/core/error.hpp"
-#include "visfield/core/triangle_intersect.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/scenes/builtin.hpp"
 
@@ -42,17 +41,6 @@ double signed_volume(const TriangleMesh& mesh) {
   return volume;
 }
 
-// Closest hit by testing every triangle (the scenes module does not depend on accel).
-std::optional<float> closest_hit(const TriangleSet& set, const Ray& ray) {
-  const WatertightRay wr(ray);
-  std::optional<float> best;
-  for (const auto& tri : set.triangles) {
-    TriangleHit hit;
-    if (intersect_triangle(wr, tri[0], tri[1], tri[2], ray.tmin, best.value_or(ray.tmax), hit)) best = hit.t;
-  }
-  return best;
-}
-
 void expect_well_formed(const Scene& scene) {
   ASSERT_TRUE(scene.camera.has_value()) << scene.name;
   for (const TriangleMesh& mesh : scene.meshes) {
@@ -60,7 +48,7 @@ void expect_well_formed(const Scene& scene) {
     EXPECT_EQ(mesh.count_degenerate(), 0u) << mesh.name;
     for (std::uint32_t id : mesh.material_ids) EXPECT_LT(id, scene.materials.size()) << mesh.name;
   }
-  for (const Instance& inst : scene.instances) {
+  for (const Instance& inst : scene.instances()) {
     EXPECT_LT(inst.mesh, scene.meshes.size());
     if (inst.material) {
       EXPECT_LT(*inst.material, scene.materials.size());
@@ -72,7 +60,7 @@ void expect_well_formed(const Scene& scene) {
   EXPECT_TRUE(scene.bounds().contains(cam.look_at)) << scene.name;
   const TriangleSet set = flatten(scene);
   EXPECT_EQ(set.degenerate_count, 0u);
-  EXPECT_TRUE(closest_hit(set, Ray{cam.position, normalize(cam.look_at - cam.position)}).has_value()) << scene.name;
+  EXPECT_TRUE(BruteForce::build(set).intersect(Ray{cam.position, normalize(cam.look_at - cam.position)})) << scene.name;
 }
 
 TEST(BuiltinScenes, EveryNameBuildsAWellFormedSceneWithACamera) {
@@ -136,7 +124,7 @@ TEST(BuiltinScenes, StadiumIsADenseClosedKnotInAHundredTimesLargerArena) {
   expect_closed_and_oriented(*knot);
   EXPECT_GT(signed_volume(*knot), 0.0);
   Bounds3f knot_bounds;
-  for (const Instance& inst : scene.instances)
+  for (const Instance& inst : scene.instances())
     if (scene.meshes[inst.mesh].name == "knot") knot_bounds.extend(inst.transform.apply_bounds(knot->bounds()));
   const float ratio = max_component(scene.bounds().extent()) / max_component(knot_bounds.extent());
   EXPECT_GT(ratio, 50.0f);
@@ -156,7 +144,7 @@ TEST(BuiltinScenes, BoxesAreInstancesOfOneClosedCube) {
     expect_closed_and_oriented(*cube);
     EXPECT_NEAR(signed_volume(*cube), 1.0, 1e-6);
     std::size_t boxes = 0;
-    for (const Instance& inst : scene.instances) {
+    for (const Instance& inst : scene.instances()) {
       if (&scene.meshes[inst.mesh] != cube) continue;
       ++boxes;
       EXPECT_GE(inst.transform.apply_bounds(cube->bounds()).lo.y, -1e-6f);  // resting on or above the ground
@@ -166,15 +154,15 @@ TEST(BuiltinScenes, BoxesAreInstancesOfOneClosedCube) {
   }
   const Scene a = make_builtin_scene("boxes", {.seed = 2}), b = make_builtin_scene("boxes", {.seed = 2});
   const Scene c = make_builtin_scene("boxes", {.seed = 3});
-  EXPECT_EQ(a.instances.back().transform.rotation.rows, b.instances.back().transform.rotation.rows);
-  EXPECT_NE(a.instances.back().transform.rotation.rows, c.instances.back().transform.rotation.rows);
+  EXPECT_EQ(a.instances().back().transform.rotation.rows, b.instances().back().transform.rotation.rows);
+  EXPECT_NE(a.instances().back().transform.rotation.rows, c.instances().back().transform.rotation.rows);
 }
 
 TEST(BuiltinScenes, BoxesDoNotOverlap) {
   const Scene scene = make_builtin_scene("boxes", {.seed = 9, .size = 30});
   const TriangleMesh* cube = find_mesh(scene, "cube");
   std::vector<Bounds3f> boxes;
-  for (const Instance& inst : scene.instances)
+  for (const Instance& inst : scene.instances())
     if (&scene.meshes[inst.mesh] == cube) boxes.push_back(inst.transform.apply_bounds(cube->bounds()));
   for (std::size_t i = 0; i < boxes.size(); ++i)
     for (std::size_t j = i + 1; j < boxes.size(); ++j) {

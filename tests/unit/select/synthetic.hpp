@@ -31,8 +31,8 @@ inline SceneMeasurement model_scene(const std::string& name, std::uint64_t n, do
   const double log_n = std::log2(static_cast<double>(n));
   m.tree_build_ms = cb * static_cast<double>(n) * log_n;
   m.tree_memory_bytes = 2000 + n;
-  m.rays[ray_kind_index(RayKind::random)] = {10000, grid_random_us, cr_random * log_n, 500, grid_random_us};
-  m.rays[ray_kind_index(RayKind::path)] = {10000, grid_path_us, cr_path * log_n, 500, grid_path_us};
+  m.rays[calibrated_kind_index(RayKind::random)] = {10000, grid_random_us, cr_random * log_n, 500, grid_random_us};
+  m.rays[calibrated_kind_index(RayKind::path)] = {10000, grid_path_us, cr_path * log_n, 500, grid_path_us};
   return m;
 }
 

@@ -42,7 +42,7 @@ TEST(CriticalRays, ExactIsWhereTheTotalsMeet) {
 
 TEST(CriticalRays, ExactFromMeasurementUsesTheFullTimingsOfTheKind) {
   SceneMeasurement m = test::model_scene("s", 1024, 1e-3, 0.1, 0.2, 1.0, 3.0, 0.5);
-  m.rays[ray_kind_index(RayKind::random)].grid_sample_us = 100.0;  // must not be used
+  m.rays[calibrated_kind_index(RayKind::random)].grid_sample_us = 100.0;  // must not be used
   const double tree_random = 0.1 * 10.0, tree_build = 1e-3 * 1024 * 10.0;
   EXPECT_DOUBLE_EQ(exact_critical_rays(m, RayKind::random), (tree_build - 1.0) * 1000.0 / (3.0 - tree_random));
   EXPECT_EQ(exact_critical_rays(m, RayKind::path), kInf);  // grid 0.5 us < tree 2 us

@@ -140,7 +140,7 @@ TEST(DecisionAccuracy, CountsRightDecisionsAgainstMeasuredTotals) {
   EXPECT_EQ(rows[2].tree_right, 3u);
 
   // A misleading sample on d (grid looks fast): the decision keeps the grid where the kd-tree wins.
-  scenes[3].rays[ray_kind_index(RayKind::random)].grid_sample_us = 0.5;
+  scenes[3].rays[calibrated_kind_index(RayKind::random)].grid_sample_us = 0.5;
   rows = decision_accuracy(scenes, RayKind::random, rays, 0.0);
   EXPECT_EQ(rows[0].right, 4u);
   EXPECT_EQ(rows[1].right, 3u);

@@ -6,6 +6,7 @@
 #include "visfield/accel/kdtree.hpp"
 #include "visfield/accel/uniform_grid.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/select/calibration.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/scenes/builtin.hpp"
 #include "visfield/select/path_rays.hpp"
@@ -112,11 +113,14 @@ TEST(Queries, RandomKindIsTheRandomRaySetAndPathKindThePathSet) {
   EXPECT_EQ(path.shadow.size(), expected.shadow.size());
 }
 
-TEST(RayKinds, NamesRoundTrip) {
+TEST(RayKinds, NamesRoundTripAndOnlyTwoAreCalibrated) {
   for (RayKind kind : kRayKinds) EXPECT_EQ(parse_ray_kind(ray_kind_name(kind)), kind);
   EXPECT_FALSE(parse_ray_kind("Random").has_value());
-  EXPECT_EQ(ray_kind_index(RayKind::random), 0u);
-  EXPECT_EQ(ray_kind_index(RayKind::path), 1u);
+  EXPECT_EQ(calibrated_kind_index(RayKind::random), 0u);
+  EXPECT_EQ(calibrated_kind_index(RayKind::path), 1u);
+  EXPECT_THROW(calibrated_kind_index(RayKind::ao), Error);
+  EXPECT_TRUE(is_occlusion_kind(RayKind::shadow));
+  EXPECT_FALSE(is_occlusion_kind(RayKind::path));
 }
 
 }  // namespace

@@ -86,11 +86,18 @@ TEST_F(SelectCli, SelectRefusesBadInputWithOneLine) {
 }
 
 TEST_F(SelectCli, StatsPrintsTheGridStatistics) {
-  const auto r = visfield("stats builtin:stadium:size=2000 --accel grid");
+  const auto r = visfield("stats builtin:stadium:size=2000");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* needle : {"sparseness:", "maxRefs:", "mean:", "variance:", "std dev:", "skewness:", "kurtosis:", "memory:", " x "})
     EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
-  expect_clean_failure("stats builtin:boxes --accel bvh", "--accel", 2);
+  // --grid sets the grid's parameters, and only the grid's.
+  const auto dense = visfield("stats builtin:stadium:size=2000 --grid grid:density=8");
+  ASSERT_EQ(dense.exit_code, 0) << dense.err;
+  EXPECT_NE(dense.out.find("grid:density=8,levels=1"), std::string::npos) << dense.out;
+  EXPECT_NE(dense.out, r.out);
+  expect_clean_failure("stats builtin:boxes --grid bvh", "--grid", 2);
+  expect_clean_failure("stats builtin:boxes --grid grid:density=0", "density=0", 2);
+  expect_clean_failure("stats builtin:boxes --accel grid", "--accel", 2);
 }
 
 TEST_F(SelectCli, CalibrateRefusesAMissingFolderBeforeMeasuring) {
@@ -115,6 +122,13 @@ TEST_F(SelectCli, ReportWritesTheTablesFromMeasurementsOrAFile) {
   const std::string md2 = test::read_text_file(dir_ / "again.md");
   // Same measurements, same tables (only the quoted command differs).
   EXPECT_EQ(md.substr(md.find("## Table 1")), md2.substr(md2.find("## Table 1")));
+  // The quoted command reproduces the report exactly.
+  const std::string quoted = md2.substr(md2.find("- Command: `") + 12, md2.find("`\n", md2.find("- Command: `")) - md2.find("- Command: `") - 12);
+  ASSERT_EQ(quoted.rfind("visfield report --from cal.json ", 0), 0u) << quoted;
+  fs::rename(dir_ / "again.md", dir_ / "first.md");
+  const auto rerun = visfield(quoted.substr(std::string("visfield ").size()));
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.err;
+  EXPECT_EQ(test::read_text_file(dir_ / "again.md"), test::read_text_file(dir_ / "first.md"));
   expect_clean_failure("report --no-builtin --scene builtin:boxes -o r.md", "at least 2 scenes");
   expect_clean_failure("report --from cal.json --models /tmp -o r.md", "excludes", 2);
 }

@@ -1,0 +1,45 @@
+#pragma once
+/// \file The exact structures every differential test runs, taken from the registry: a structure
+/// added to the registry is tested here without touching this file.
+
+#include <string>
+#include <vector>
+
+#include "visfield/registry/registry.hpp"
+
+namespace vf::test {
+
+/// For every exact registry entry: "name:levels=1" and "name:levels=2" when it takes a levels
+/// parameter (flattened and instance layer), else just "name".
+inline std::vector<std::string> exact_structure_specs() {
+  std::vector<std::string> specs;
+  for (const StructureInfo& info : structure_table()) {
+    if (info.exactness != Exactness::exact) continue;
+    bool levels = false;
+    for (const ParamSpec& p : info.params) levels = levels || p.key == "levels";
+    if (!levels) {
+      specs.emplace_back(info.name);
+      continue;
+    }
+    specs.push_back(std::string(info.name) + ":levels=1");
+    specs.push_back(std::string(info.name) + ":levels=2");
+  }
+  return specs;
+}
+
+/// The specs of exact_structure_specs() that build the instance layer.
+inline std::vector<std::string> two_level_specs() {
+  std::vector<std::string> specs;
+  for (const std::string& spec : exact_structure_specs())
+    if (spec.ends_with(":levels=2")) specs.push_back(spec);
+  return specs;
+}
+
+/// A test name for a spec ("bvh:levels=2" -> "bvh_levels_2").
+inline std::string spec_test_name(std::string spec) {
+  for (char& c : spec)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return spec;
+}
+
+}  // namespace vf::test

@@ -1,0 +1,200 @@
+#include <gtest/gtest.h>
+
+#include "differential/test_scenes.hpp"
+#include "visfield/accel/batch.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/registry/registry.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf {
+namespace {
+
+// The vf::Error message of building `spec` over `scene`, or "" when it builds.
+std::string build_error(const std::string& spec, const Scene& scene) {
+  SceneGeometry geometry(scene);
+  try {
+    build_structure(spec, geometry);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const Scene& small_scene() {
+  static const Scene scene = test::scene_from_triangles(test::random_soup(31, 500, 0.05f, 0.1f));
+  return scene;
+}
+
+TEST(Registry, EveryEntryBuildsWithItsDefaultsAndNamesItself) {
+  EXPECT_EQ(structure_names(), (std::vector<std::string>{"bvh", "grid", "kdtree", "median-bsp", "brute", "auto"}));
+  for (const StructureInfo& info : structure_table()) {
+    SceneGeometry geometry(small_scene());
+    const BuiltStructure built = build_structure(info.name, geometry);
+    const AccelStats s = structure_stats(built.structure);
+    EXPECT_GE(s.reference_count, 500u) << info.name;  // subdivisions reference a triangle once per cell
+    EXPECT_GT(s.memory_bytes, 0u) << info.name;
+    EXPECT_TRUE(built.resolved.starts_with(info.name)) << built.resolved;
+    EXPECT_FALSE(info.summary.empty());
+  }
+}
+
+TEST(Registry, DefaultsAreTheConfigDefaults) {
+  // The help text states these defaults; the structures' Config structs hold them.
+  const auto default_of = [](std::string_view structure, std::string_view key) {
+    for (const ParamSpec& p : find_structure(structure).params)
+      if (p.key == key) return std::stod(std::string(p.default_value));
+    ADD_FAILURE() << structure << " has no parameter " << key;
+    return 0.0;
+  };
+  EXPECT_EQ(default_of("bvh", "bins"), BvhConfig{}.bin_count);
+  EXPECT_EQ(default_of("bvh", "leaf"), BvhConfig{}.max_leaf_size);
+  EXPECT_EQ(default_of("bvh", "kt"), BvhConfig{}.traversal_cost);
+  EXPECT_EQ(default_of("bvh", "ki"), BvhConfig{}.intersection_cost);
+  EXPECT_EQ(default_of("grid", "density"), UniformGridConfig{}.density);
+  EXPECT_EQ(default_of("grid", "exact"), UniformGridConfig{}.exact_overlap ? 1.0 : 0.0);
+  EXPECT_EQ(default_of("kdtree", "kt"), KdTreeConfig{}.traversal_cost);
+  EXPECT_EQ(default_of("kdtree", "ki"), KdTreeConfig{}.intersection_cost);
+  EXPECT_FLOAT_EQ(static_cast<float>(default_of("kdtree", "empty")), KdTreeConfig{}.empty_bonus);
+  EXPECT_EQ(default_of("kdtree", "depth"), KdTreeConfig{}.max_depth);
+  EXPECT_EQ(default_of("median-bsp", "depth"), MedianBspConfig{}.max_depth);
+  EXPECT_EQ(default_of("median-bsp", "leaf"), MedianBspConfig{}.max_leaf_size);
+}
+
+TEST(Registry, EveryRangeTheRegistryAcceptsTheStructureAccepts) {
+  // The registry's ranges are what users can type; each end must build (the library checks too).
+  for (const StructureInfo& info : structure_table()) {
+    for (const ParamSpec& p : info.params) {
+      if (p.type != ParamType::whole && p.type != ParamType::number) continue;
+      if (info.name == "auto") continue;  // its rays= only sets the workload size
+      for (const double value : {p.min, p.max}) {
+        std::string text = std::to_string(value);
+        if (p.type == ParamType::whole) text = std::to_string(static_cast<std::uint64_t>(value));
+        const std::string spec = std::string(info.name) + ":" + std::string(p.key) + "=" + text;
+        EXPECT_EQ(build_error(spec, small_scene()), "") << spec;
+      }
+    }
+  }
+}
+
+TEST(Registry, ParametersReachTheStructure) {
+  SceneGeometry geometry(small_scene());
+  const AccelStats leaf1 = structure_stats(build_structure("bvh:leaf=1,levels=1", geometry).structure);
+  const AccelStats leaf8 = structure_stats(build_structure("bvh:leaf=8,levels=1", geometry).structure);
+  EXPECT_GT(leaf1.leaf_count, leaf8.leaf_count);
+  const AccelStats dense = structure_stats(build_structure("grid:density=8", geometry).structure);
+  const AccelStats sparse = structure_stats(build_structure("grid:density=0.5", geometry).structure);
+  EXPECT_GT(dense.node_count, 4 * sparse.node_count);
+  const AccelStats shallow = structure_stats(build_structure("kdtree:depth=2", geometry).structure);
+  EXPECT_LE(shallow.max_depth, 3);
+  const AccelStats bsp = structure_stats(build_structure("median-bsp:depth=3", geometry).structure);
+  EXPECT_LE(bsp.max_depth, 4);
+}
+
+TEST(Registry, BadSpecsAreRefusedWithOneLineNamingTheProblem) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"octree", "--accel octree: unknown structure (valid: bvh, grid, kdtree, median-bsp, brute, auto)"},
+      {"bvh:leaves=4", "unknown key 'leaves' (valid keys: bins, leaf, kt, ki, levels)"},
+      {"bvh:leaf=0", "leaf=0: expected a non-negative integer in 1..128"},
+      {"bvh:leaf=many", "leaf=many"},
+      {"grid:density=-1", "density=-1"},
+      {"grid:exact=maybe", "exact=maybe"},
+      {"kdtree:levels=3", "levels=3: expected one of auto, 1, 2"},
+      {"bvh:leaf=4,leaf=5", "leaf is given twice"},
+      {"bvh:", "empty parameter list"},
+      {"bvh:leaf", "not key=value"},
+      {":leaf=4", "no name"},
+      {"auto:kind=diffuse", "kind=diffuse"},
+      {"brute:leaf=2", "unknown key 'leaf' (valid keys: levels)"},
+  };
+  for (const auto& [spec, expected] : cases) {
+    std::string message;
+    try {
+      check_structure_spec(spec);
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    EXPECT_NE(message.find(expected), std::string::npos) << spec << " -> '" << message << "'";
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+  }
+}
+
+TEST(Registry, ResolvedSpecsSayWhatWasChosen) {
+  SceneGeometry geometry(small_scene());
+  EXPECT_EQ(build_structure("bvh", geometry).resolved, "bvh:levels=1");
+  EXPECT_EQ(build_structure("bvh:leaf=4,levels=2", geometry).resolved, "bvh:leaf=4,levels=2");
+  EXPECT_TRUE(std::holds_alternative<InstanceLayer>(build_structure("grid:levels=2", geometry).structure));
+  EXPECT_TRUE(std::holds_alternative<UniformGrid>(build_structure("grid:levels=1", geometry).structure));
+}
+
+TEST(Registry, LevelsAutoFlattensSmallScenesAndInstancesManyCopies) {
+  // 64 boxes of 12 triangles: few triangles, flattened.
+  const Scene boxes = make_builtin_scene("boxes");
+  SceneGeometry few(boxes);
+  EXPECT_TRUE(std::holds_alternative<Bvh>(build_structure("bvh", few).structure));
+  // 300 copies of a 5000-triangle soup: 1.5M instanced triangles from 5000 unique ones.
+  Scene copies = test::scene_from_triangles(test::random_soup(2, 5000, 0.01f, 0.05f));
+  for (int i = 1; i < 300; ++i) {
+    Transform t;
+    t.translation = {static_cast<float>(i % 20), 0.0f, static_cast<float>(i / 20)};
+    copies.add_instance(0, t);
+  }
+  SceneGeometry many(copies);
+  const BuiltStructure built = build_structure("bvh", many);
+  EXPECT_TRUE(std::holds_alternative<InstanceLayer>(built.structure));
+  EXPECT_EQ(built.resolved, "bvh:levels=2");
+  EXPECT_FALSE(many.is_flattened());  // the two-level build never flattens
+}
+
+TEST(Registry, AutoKeepsTheGridItMeasured) {
+  // Few rays: the grid wins, and it is the grid the decision built (its build time, not a second one).
+  SceneGeometry geometry(small_scene());
+  const BuiltStructure few = build_structure("auto:rays=10", geometry);
+  ASSERT_TRUE(std::holds_alternative<UniformGrid>(few.structure)) << few.resolved;
+  EXPECT_NE(few.resolved.find("-> grid"), std::string::npos);
+  const BuiltStructure many = build_structure("auto:rays=1000000000000", geometry);
+  EXPECT_TRUE(std::holds_alternative<KdTree>(many.structure)) << many.resolved;
+  EXPECT_NE(build_error("auto:calibration=missing.json", small_scene()).find("missing.json"), std::string::npos);
+}
+
+TEST(Registry, BatchQueriesMatchSingleQueries) {
+  const Scene scene = test::scene_from_triangles(test::random_soup(32, 2000, 0.02f, 0.1f));
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1000; ++i) {
+    const float s = static_cast<float>(i) / 1000.0f;
+    rays.push_back(Ray{{s, 0.5f, -1.0f}, {0.0f, 0.1f * s, 1.0f}, 0.0f, i % 3 == 0 ? 1.2f : INFINITY});
+  }
+  for (const std::string& name : structure_names()) {
+    SceneGeometry geometry(scene);
+    const BuiltStructure built = build_structure(name, geometry);
+    std::visit(
+        [&](const auto& a) {
+          std::vector<Hit> hits(rays.size());
+          std::vector<std::uint8_t> occluded(rays.size());
+          intersect_batch(a, std::span<const Ray>(rays), std::span<Hit>(hits));
+          occluded_batch(a, std::span<const Ray>(rays), std::span<std::uint8_t>(occluded));
+          std::size_t hit_count = 0;
+          for (std::size_t i = 0; i < rays.size(); ++i) {
+            const Hit single = a.intersect(rays[i]);
+            ASSERT_EQ(hits[i].found, single.found) << name << " ray " << i;
+            EXPECT_EQ(hits[i].t, single.t);
+            EXPECT_EQ(occluded[i] != 0, a.occluded(rays[i]));
+            hit_count += single ? 1 : 0;
+          }
+          EXPECT_GT(hit_count, 100u) << name;
+        },
+        built.structure);
+  }
+}
+
+TEST(Registry, HelpListsEveryStructureAndParameter) {
+  const std::string help = structures_help();
+  for (const StructureInfo& info : structure_table()) {
+    EXPECT_NE(help.find(std::string(info.name) + " (" + exactness_name(info.exactness)), std::string::npos) << info.name;
+    for (const ParamSpec& p : info.params)
+      EXPECT_NE(help.find(std::string(p.key) + "="), std::string::npos) << info.name << " " << p.key;
+  }
+  EXPECT_NE(help.find("updatable with levels=2"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vf
