@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Runs visfield-bench on every mesh of a folder (default ../shared/models) for one ray kind and
+# Runs visfield-bench on every mesh of a folder (default: test-meshes in the checkout) for one ray kind and
 # prints a markdown table: per structure Mrays/s (ratio to Embree; build ms; rays that disagree with
 # Embree's answer).
 # Usage: scripts/bench-models.sh [MODELS_DIR] [RAY_KIND] [ACCELS] [extra visfield-bench options...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-models=${1:-$root/../shared/models}
+models=${1:-$root/test-meshes}
 kind=${2:-ao}
 accels=${3:-bvh,kdtree,grid,median-bsp,embree}
 shift $(( $# < 3 ? $# : 3 ))
