@@ -82,6 +82,12 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& sourc
     const std::size_t at = message.find("parse error at ");
     const std::string where = at == std::string::npos ? message : message.substr(at + 12);
     throw Error(source + ": invalid JSON " + one_line(where));
+  } catch (const nlohmann::json::exception& e) {
+    // Any other parser complaint, such as a number beyond double's range (out_of_range.406): its
+    // message without nlohmann's "[json.exception.NAME.N] " tag.
+    const std::string message = e.what();
+    const std::size_t tag_end = message.find("] ");
+    throw Error(source + ": invalid JSON: " + one_line(tag_end == std::string::npos ? message : message.substr(tag_end + 2)));
   }
 }
 
