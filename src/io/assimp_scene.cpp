@@ -98,7 +98,8 @@ class MaterialTable {
 
   /// Our index for Assimp material `index`.
   std::uint32_t index_of(unsigned index) {
-    if (!use_materials_ || index >= scene_.mNumMaterials || is_assimp_default_material(*scene_.mMaterials[index]))
+    if (!use_materials_ || index >= scene_.mNumMaterials || scene_.mMaterials[index] == nullptr ||
+        is_assimp_default_material(*scene_.mMaterials[index]))
       return default_index();
     if (!ours_[index]) {
       ours_[index] = static_cast<std::uint32_t>(materials_.size());
@@ -135,13 +136,16 @@ class MaterialTable {
   bool uses_real_ = false;
 };
 
+// Deeper node trees are refused: real files nest a few levels, and recursion must stay bounded.
+constexpr int kMaxNodeDepth = 256;
+
 class SceneConverter {
  public:
   SceneConverter(const aiScene& scene, bool use_materials, const std::string& what)
       : scene_(scene), what_(what), materials_(scene, use_materials, what), welder_(corner_count(scene)) {}
 
   LoadedMesh run() {
-    if (scene_.mRootNode != nullptr) visit(*scene_.mRootNode, aiMatrix4x4{});
+    if (scene_.mRootNode != nullptr) visit(*scene_.mRootNode, aiMatrix4x4{}, 0);
     out_.mesh.positions = welder_.take_positions();
     materials_.finish(out_);
     return std::move(out_);
@@ -150,11 +154,16 @@ class SceneConverter {
  private:
   static std::size_t corner_count(const aiScene& scene) {
     std::size_t n = 0;
-    for (unsigned i = 0; i < scene.mNumMeshes; ++i) n += scene.mMeshes[i]->mNumVertices;
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) n += scene.mMeshes[i] != nullptr ? scene.mMeshes[i]->mNumVertices : 0;
     return n;
   }
 
-  void visit(const aiNode& node, const aiMatrix4x4& parent) {
+  // Assimp validates its scenes, but this code does not rely on it: a hole or a loop in the structure
+  // is reported, never followed.
+  [[noreturn]] void malformed(const std::string& problem) const { throw Error(what_ + ": malformed scene: " + problem); }
+
+  void visit(const aiNode& node, const aiMatrix4x4& parent, int depth) {
+    if (depth > kMaxNodeDepth) malformed("the node tree is deeper than " + std::to_string(kMaxNodeDepth) + " levels");
     const aiMatrix4x4 to_world = parent * node.mTransformation;
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
       if (node.mMeshes[i] >= scene_.mNumMeshes) {
@@ -163,14 +172,20 @@ class SceneConverter {
             << scene_.mNumMeshes;
         throw Error(msg.str());
       }
+      if (scene_.mMeshes[node.mMeshes[i]] == nullptr) malformed("mesh " + std::to_string(node.mMeshes[i]) + " is missing");
       append_mesh(*scene_.mMeshes[node.mMeshes[i]], to_world);
     }
-    for (unsigned i = 0; i < node.mNumChildren; ++i) visit(*node.mChildren[i], to_world);
+    for (unsigned i = 0; i < node.mNumChildren; ++i) {
+      if (node.mChildren[i] == nullptr) malformed("a child of node '" + std::string(node.mName.C_Str()) + "' is missing");
+      visit(*node.mChildren[i], to_world, depth + 1);
+    }
   }
 
   void append_mesh(const aiMesh& mesh, const aiMatrix4x4& to_world) {
     // Multiplying by an identity matrix would still turn -0 into +0; skip it to keep values as read.
     const bool identity = to_world == aiMatrix4x4{};
+    if (mesh.mNumVertices > 0 && mesh.mVertices == nullptr) malformed("mesh '" + std::string(mesh.mName.C_Str()) + "' has no vertex array");
+    if (mesh.mNumFaces > 0 && mesh.mFaces == nullptr) malformed("mesh '" + std::string(mesh.mName.C_Str()) + "' has no face array");
     std::vector<std::uint32_t> ours(mesh.mNumVertices);
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
       const aiVector3D p = identity ? mesh.mVertices[v] : to_world * mesh.mVertices[v];
@@ -180,6 +195,7 @@ class SceneConverter {
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices < 3) continue;  // points and lines carry no surface
+      if (face.mIndices == nullptr) malformed("a face of mesh '" + std::string(mesh.mName.C_Str()) + "' has no indices");
       for (unsigned c = 0; c < face.mNumIndices; ++c) {
         if (face.mIndices[c] >= mesh.mNumVertices) {
           std::ostringstream msg;
