@@ -81,7 +81,7 @@ Scene make_builtin_scene(const std::string& name, const BuiltinParams& params) {
   return scene;
 }
 
-Scene parse_builtin_scene(const std::string& spec) {
+BuiltinSpec parse_builtin_spec(const std::string& spec) {
   const std::string prefix = "builtin:";
   if (spec.rfind(prefix, 0) != 0)
     throw Error("'" + spec + "': a built-in scene is written builtin:NAME[:key=value,...]");
@@ -89,7 +89,12 @@ Scene parse_builtin_scene(const std::string& spec) {
   const BuiltinEntry& entry = find_entry(std::string(rest.substr(0, rest.find(':'))));
   const Spec parsed = parse_spec(rest, prefix);
   const ParamValues values = read_params(parsed, kBuiltinParams, prefix + entry.name);
-  return make_builtin_scene(entry.name, {.seed = values.whole("seed"), .size = static_cast<std::size_t>(values.whole("size"))});
+  return {entry.name, {.seed = values.whole("seed"), .size = static_cast<std::size_t>(values.whole("size"))}};
+}
+
+Scene parse_builtin_scene(const std::string& spec) {
+  const BuiltinSpec parsed = parse_builtin_spec(spec);
+  return make_builtin_scene(parsed.name, parsed.params);
 }
 
 }  // namespace vf

@@ -39,8 +39,17 @@ std::string builtin_scene_description(const std::string& name);
 /// Throws vf::Error on an unknown name or a size out of the scene's range. Cost O(triangles).
 Scene make_builtin_scene(const std::string& name, const BuiltinParams& params = {});
 
-/// Parses "builtin:NAME[:key=value,...]" (keys: seed, size; non-negative integers) and builds that
-/// scene. Throws a one-line vf::Error naming the bad name, key or value.
+/// A parsed "builtin:NAME[:key=value,...]": the scene's name and its parameters.
+struct BuiltinSpec {
+  std::string name;
+  BuiltinParams params;
+};
+
+/// Parses "builtin:NAME[:key=value,...]" (keys: seed, size; non-negative integers) without building
+/// anything. Throws a one-line vf::Error naming the bad name, key or value.
+BuiltinSpec parse_builtin_spec(const std::string& spec);
+
+/// parse_builtin_spec, then make_builtin_scene. Throws as both do.
 Scene parse_builtin_scene(const std::string& spec);
 
 }  // namespace vf
