@@ -9,10 +9,10 @@
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::bench {
 
@@ -120,7 +120,7 @@ RTCScene triangle_scene(EmbreeLayout& layout, const TriangleSet& set) {
     auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
         geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), count));
     layout.check("allocating the triangle buffers");
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
+    vf::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         for (std::size_t corner = 0; corner < 3; ++corner) {
           const Vec3f& p = set.triangles[i][corner];

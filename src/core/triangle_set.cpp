@@ -1,6 +1,6 @@
 #include "visfield/core/triangle_set.hpp"
+#include "visfield/core/parallel.hpp"
 
-#include <tbb/parallel_for.h>
 
 namespace vf {
 
@@ -27,7 +27,7 @@ TriangleSet collect(const std::vector<Placement>& placements) {
   for (const Placement& p : placements) {
     const TriangleMesh& mesh = *p.mesh;
     const bool identity = p.transform.is_identity();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096), [&](const auto& range) {
+    vf::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096), [&](const auto& range) {
       for (std::size_t t = range.begin(); t != range.end(); ++t) {
         const TriangleIndices& idx = mesh.triangles[t];
         auto& out = set.triangles[offset + t];

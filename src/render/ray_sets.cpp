@@ -3,7 +3,6 @@
 #include <string>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
@@ -11,6 +10,7 @@
 #include "visfield/core/sampling.hpp"
 #include "visfield/render/camera.hpp"
 #include "visfield/render/sample_rays.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf {
 namespace {
@@ -42,7 +42,7 @@ std::vector<Ray> make_primary_rays(const Scene& /*scene*/, const Camera& camera)
   const std::size_t count = width * static_cast<std::size_t>(pinhole.height());
   check_fits_in_memory(count, "primary rays");
   std::vector<Ray> rays(count);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i)
       rays[i] = pixel_center_ray(pinhole, static_cast<int>(i % width), static_cast<int>(i / width));
   });
@@ -57,7 +57,7 @@ template <class F>
 void for_each_surface_point(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                             std::uint64_t seed, F&& f) {
   const float scale = spawn_scale(scene);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
       if (!hits[pixel]) continue;
       Rng rng(seed, pixel, 0);
@@ -102,7 +102,7 @@ std::vector<Ray> make_random_rays(const Bounds3f& bounds, std::size_t count, std
   const float half_diagonal = 0.5f * length(bounds.extent());
   const float radius = half_diagonal > 0.0f ? half_diagonal : 1.0f;  // a single point gets a unit sphere
   std::vector<Ray> rays(count);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       Rng rng(seed, i);
       Vec3f a, b;

@@ -4,10 +4,10 @@
 #include <atomic>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/render/progress.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf {
 
@@ -20,7 +20,7 @@ void for_each_tile(int width, int height, int tile_size, const std::string& labe
   ProgressBar bar(label, tile_count, progress);
   // An integer sum: the total does not depend on the order the tiles finish in.
   std::atomic<std::uint64_t> rays{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count, 1), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const int tx = static_cast<int>(i % static_cast<std::size_t>(tiles_x));
       const int ty = static_cast<int>(i / static_cast<std::size_t>(tiles_x));

@@ -10,11 +10,11 @@
 // scaling test.
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "generators.hpp"
 #include "mesh_builders.hpp"
 #include "visfield/core/rng.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::scenes {
 namespace {
@@ -29,7 +29,7 @@ Scene make_soup_scene(std::uint64_t seed, std::size_t triangles) {
   mesh.positions.resize(3 * triangles);
   mesh.triangles.resize(triangles);
   // One generator per triangle, keyed by its index: the soup is the same whatever the thread count.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles, 4096), [&](const auto& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, triangles, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       Rng rng(seed, i);
       const Vec3f centre{0.5f * kTriangleSpan + (1.0f - kTriangleSpan) * rng.uniform(),

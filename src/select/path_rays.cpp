@@ -5,12 +5,12 @@
 #include <string>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/render/camera.hpp"
 #include "visfield/render/sample_rays.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::detail {
 namespace {
@@ -36,7 +36,7 @@ PathChunk::PathChunk(const Scene& scene, const PathRayOptions& options, std::siz
   used_.assign(path_count * slots, 0);
   pending_.resize(path_count);
   pending_path_.resize(path_count);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, path_count, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, path_count, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t p = range.begin(); p != range.end(); ++p) {
       Rng rng(options.seed, first_path + p, 0);
       const float x = rng.uniform() * static_cast<float>(camera.width());
@@ -58,7 +58,7 @@ void PathChunk::advance(std::span<const Hit> hits) {
   // Each hit may continue its path; gather the continuing ones in pending order (deterministic).
   std::vector<Ray> next(pending_.size());
   std::vector<std::uint8_t> continues(pending_.size(), 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending_.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, pending_.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       if (!hits[i]) continue;
       const std::size_t path = pending_path_[i];

@@ -14,11 +14,11 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "visfield/accel/brute_force.hpp"
 #include "visfield/accel/query.hpp"
 #include "visfield/registry/registry.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::test {
 
@@ -91,7 +91,7 @@ OracleAnswers oracle_answers(const O& oracle, std::span<const Ray> rays, bool qu
   answers.closest.resize(rays.size());
   answers.occluded.resize(rays.size());
   std::vector<std::uint8_t> inconsistent(rays.size(), 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 16), [&](const auto& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 16), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       answers.closest[i] = oracle.intersect(rays[i]);
       answers.occluded[i] = answers.closest[i] ? 1 : 0;
@@ -147,7 +147,7 @@ DiffReport compare_answers(const A& structure, const std::string& name, std::spa
   std::vector<const char*> closest_why(rays.size(), nullptr);
   std::vector<Hit> got(rays.size());
   std::vector<std::uint8_t> occluded_wrong(rays.size(), 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const auto& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       got[i] = structure.intersect(rays[i]);
       closest_why[i] = detail::closest_mismatch(rays[i], oracle.closest[i], got[i], options.relative_t_tolerance);

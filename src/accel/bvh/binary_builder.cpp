@@ -8,13 +8,11 @@
 #include <utility>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/parallel_reduce.h>
 
 #include "bvh/wide_nodes.hpp"
 #include "simd/lanes.hpp"
 #include "visfield/accel/aligned_vector.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::bvh {
 namespace {
@@ -121,7 +119,7 @@ class Builder {
  public:
   Builder(std::span<const Bounds3f> boxes, const BvhConfig& config, int leaf_width)
       : config_(config), leaf_width_(leaf_width), prims_(boxes.size()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 4096), [&](const auto& r) {
+    vf::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 4096), [&](const auto& r) {
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
         alignas(16) const float lo[4] = {boxes[i].lo.x, boxes[i].lo.y, boxes[i].lo.z, 0.0f};
         alignas(16) const float hi[4] = {boxes[i].hi.x, boxes[i].hi.y, boxes[i].hi.z, 0.0f};
@@ -201,7 +199,7 @@ class Builder {
       void join(const Body& o) { binning->merge(*o.binning); }
     };
     Body body(*this, map, out);
-    tbb::parallel_reduce(tbb::blocked_range<std::uint32_t>(r.begin, r.end, 4096), body);
+    vf::parallel_reduce(tbb::blocked_range<std::uint32_t>(r.begin, r.end, 4096), body);
   }
 
   Split find_split(const Range& r, BinMapping& map) const {
@@ -329,7 +327,7 @@ class Builder {
     auto node = std::make_unique<BinaryNode>();
     node->bounds = r.bounds.bounds();
     if (n >= kParallelSubtree) {
-      tbb::parallel_invoke([&] { node->left = build_node(halves.first, depth + 1); },
+      vf::parallel_invoke([&] { node->left = build_node(halves.first, depth + 1); },
                            [&] { node->right = build_node(halves.second, depth + 1); });
     } else {
       node->left = build_node(halves.first, depth + 1);

@@ -4,13 +4,13 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "bvh/binary_builder.hpp"
 #include "bvh/bvh_layout.hpp"
 #include "bvh/collapse.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf {
 namespace {
@@ -32,7 +32,7 @@ void validate(const BvhConfig& c, std::size_t triangle_count) {
 
 std::vector<Bounds3f> triangle_boxes(const TriangleSet& set) {
   std::vector<Bounds3f> boxes(set.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.size(), 4096), [&](const auto& r) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, set.size(), 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i)
       for (const Vec3f& p : set.triangles[i]) boxes[i].extend(p);
   });

@@ -16,9 +16,6 @@
 #include <string>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/parallel_reduce.h>
 
 #include "grid/cell_overlap.hpp"
 #include "visfield/core/memory.hpp"
@@ -26,6 +23,7 @@
 #include "grid/grid_layout.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf {
 namespace {
@@ -96,7 +94,7 @@ void find_cells(const Triangles& triangles, const grid::CellFinder& finder, cons
   found.triangle_cell_count.resize(triangles.size());
   found.bucket_counts.assign(p.chunk_count * p.bucket_count, 0);
   std::atomic<std::uint64_t> found_total{0};
-  tbb::parallel_for(std::size_t{0}, p.chunk_count, [&](std::size_t chunk) {
+  vf::parallel_for(std::size_t{0}, p.chunk_count, [&](std::size_t chunk) {
     const std::size_t begin = chunk * p.chunk_size, end = std::min(triangles.size(), begin + p.chunk_size);
     std::vector<std::uint32_t>& cells = found.chunk_cells[chunk];
     std::uint32_t* const counts = found.bucket_counts.data() + chunk * p.bucket_count;
@@ -143,7 +141,7 @@ std::vector<std::uint64_t> slice_starts(const Partition& p, std::vector<std::uin
 // Pass 3.
 void scatter_to_buckets(const FoundCells& found, const Partition& p, std::size_t triangle_count,
                         std::vector<std::uint32_t>& slice_cursor, std::vector<Reference>& by_bucket) {
-  tbb::parallel_for(std::size_t{0}, p.chunk_count, [&](std::size_t chunk) {
+  vf::parallel_for(std::size_t{0}, p.chunk_count, [&](std::size_t chunk) {
     const std::size_t begin = chunk * p.chunk_size, end = std::min(triangle_count, begin + p.chunk_size);
     std::uint32_t* const cursor = slice_cursor.data() + chunk * p.bucket_count;
     const std::uint32_t* cell = found.chunk_cells[chunk].data();
@@ -157,7 +155,7 @@ void scatter_to_buckets(const FoundCells& found, const Partition& p, std::size_t
 std::size_t sort_buckets(const std::vector<Reference>& by_bucket, const std::vector<std::uint64_t>& bucket_start,
                          const Partition& p, std::size_t cells, std::vector<std::uint32_t>& cell_start,
                          std::vector<std::uint32_t>& refs) {
-  return tbb::parallel_reduce(
+  return vf::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, p.bucket_count), std::size_t{0},
       [&](const tbb::blocked_range<std::size_t>& range, std::size_t non_empty) {
         std::vector<std::uint32_t> cursor(std::size_t{1} << p.bucket_shift);
@@ -222,7 +220,7 @@ UniformGrid UniformGrid::build(const TriangleSet& set, const UniformGridConfig& 
     g->cell_start[cells] = static_cast<std::uint32_t>(total);
   };
   // The triangle set is copied while the cells are built.
-  tbb::parallel_invoke(build_cells, [&] {
+  vf::parallel_invoke(build_cells, [&] {
     g->triangles = set.triangles;
     g->prim = set.prim;
     g->instance = set.instance;

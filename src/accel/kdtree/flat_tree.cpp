@@ -6,10 +6,10 @@
 #include <string>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "kdtree/clip.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::kd {
 namespace {
@@ -133,7 +133,7 @@ void finish_layout(FlatTree&& tree, const TriangleSet& set, KdLayout& layout) {
     layout.box_lo[axis].assign(block_total + kBoxWidth, 0.0f);
     layout.box_hi[axis].assign(block_total + kBoxWidth, 0.0f);
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.nodes.size(), 1024), [&](const auto& range) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.nodes.size(), 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const KdNode& node = layout.nodes[i];
       if (!node.is_leaf()) continue;

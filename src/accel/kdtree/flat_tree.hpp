@@ -9,11 +9,11 @@
 #include <utility>
 #include <vector>
 
-#include <tbb/parallel_invoke.h>
 
 #include "kdtree/kd_nodes.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/triangle_set.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::kd {
 
@@ -70,7 +70,7 @@ void build_subtree(const Builder& builder, Node node, int depth, FlatTree& out) 
   const std::size_t self = out.begin_interior();
   if (size >= kParallelSubtreeSize) {
     FlatTree below, above;
-    tbb::parallel_invoke([&] { build_subtree(builder, std::move(split->below), depth + 1, below); },
+    vf::parallel_invoke([&] { build_subtree(builder, std::move(split->below), depth + 1, below); },
                          [&] { build_subtree(builder, std::move(split->above), depth + 1, above); });
     out.append(below);
     below = {};

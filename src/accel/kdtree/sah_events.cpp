@@ -3,11 +3,10 @@
 #include <algorithm>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include "kdtree/flat_tree.hpp"
 #include "kdtree/kd_nodes.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::kd {
 namespace {
@@ -16,7 +15,7 @@ namespace {
 template <class F>
 void for_each_axis(std::size_t node_size, F&& f) {
   if (node_size >= kParallelSubtreeSize)
-    tbb::parallel_for(0, 3, [&](int axis) { f(axis); });
+    vf::parallel_for(0, 3, [&](int axis) { f(axis); });
   else
     for (int axis = 0; axis < 3; ++axis) f(axis);
 }
@@ -103,7 +102,7 @@ SahNode make_root(const TriangleSet& set) {
     for (int axis = 0; axis < 3; ++axis) add_axis_events(b, axis, static_cast<std::uint32_t>(i), root.events[axis]);
   }
   // (position, key) is unique per event, so the parallel sort's order is the only possible one.
-  for_each_axis(n, [&](int axis) { tbb::parallel_sort(root.events[axis].begin(), root.events[axis].end()); });
+  for_each_axis(n, [&](int axis) { vf::parallel_sort(root.events[axis].begin(), root.events[axis].end()); });
   return root;
 }
 
@@ -190,7 +189,7 @@ std::pair<SahNode, SahNode> split_node(SahNode&& node, const SplitPlane& plane, 
     }
   };
   if (cut.size() >= kParallelSubtreeSize)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cut.size(), 256),
+    vf::parallel_for(tbb::blocked_range<std::size_t>(0, cut.size(), 256),
                       [&](const auto& range) { clip_range(range.begin(), range.end()); });
   else
     clip_range(0, cut.size());
