@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian package visfield needs to build, test and benchmark (Debian 12, as root).
+# Installs every Debian package visfield needs to build, test, benchmark and fuzz (Debian 12, as root;
+# clang-14 and its runtime are for the libFuzzer targets, see docs/fuzzing.md).
 # Safe to run twice: when everything is already installed it only checks and returns.
 set -euo pipefail
 
@@ -7,6 +8,7 @@ packages=(
   build-essential cmake pkg-config python3
   libtbb-dev libassimp-dev libstb-dev libopenexr-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libembree-dev pybind11-dev
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

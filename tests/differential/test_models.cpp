@@ -10,12 +10,13 @@
 #include "differential/ray_sets.hpp"
 #include "differential/structure_specs.hpp"
 #include "differential/test_scenes.hpp"
+#include "support/test_scale.hpp"
 #include "visfield/io/scene_file.hpp"
 
 namespace vf::test {
 namespace {
 
-constexpr std::size_t kRaysPerModel = 100'000;
+constexpr std::size_t kRaysPerModel = 100'000;  // scaled down under sanitizers (test_scale.hpp)
 
 std::filesystem::path model_path(const char* file) { return std::filesystem::path(VISFIELD_MODELS_DIR) / file; }
 
@@ -28,7 +29,7 @@ TEST_P(ModelVsOracle, EveryExactStructureAgreesOn100kRays) {
   SceneGeometry geometry(scene);
   const TriangleSet& set = geometry.flattened();
   ASSERT_GT(set.size(), 0u);
-  const std::vector<Ray> rays = model_rays(set, 2024, kRaysPerModel);
+  const std::vector<Ray> rays = model_rays(set, 2024, scaled_count(kRaysPerModel));
   const OracleAnswers answers = oracle_answers(BruteForce::build(set), rays, false);
   // One identity object: the instance layer's answers are the flattened oracle's, bit for bit.
   for (const std::string& spec : exact_structure_specs()) {
@@ -61,7 +62,7 @@ struct CopiesOfRealMeshes {
       auto d = std::make_unique<CopiesOfRealMeshes>();
       d->scene = scattered_copies({load_scene(cow.string()).meshes[0], load_scene(teapot.string()).meshes[0]}, 16, 2.0f, 5);
       const TriangleSet set = flatten(d->scene);
-      d->rays = model_rays(set, 77, 20'000);
+      d->rays = model_rays(set, 77, scaled_count(20'000));
       d->flattened = oracle_answers(BruteForce::build(set), d->rays, true);
       d->instanced = oracle_answers(InstancedOracle(d->scene), d->rays, true);
       return d;
