@@ -61,6 +61,9 @@ class MedianBuilder {
         add(side == kd::Side::below ? result.below : result.above, triangle, b);
       }
     }
+    // A plane that leaves every triangle on both sides (triangles sharing a vertex or an edge inside
+    // the box) separates nothing; splitting on would only copy the node, down to max_depth.
+    if (result.below.size() == node.size() && result.above.size() == node.size()) return std::nullopt;
     node = {};
     return result;
   }
