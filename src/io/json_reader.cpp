@@ -8,6 +8,7 @@
 
 #include "file_checks.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 
 namespace vf::json {
 
@@ -35,6 +36,16 @@ struct DuplicateKey {
   std::string key;
 };
 
+// Thrown from the parser callback when arrays and objects nest deeper than kMaxJsonDepth.
+struct TooDeep {};
+
+// Far beyond any file visfield writes or reads (scene files nest 4 deep), far below where nested
+// values would exhaust the stack of code that walks them recursively (dump, destruction).
+constexpr int kMaxJsonDepth = 64;
+
+// Larger texts are refused before parsing: the parsed values take several times the text's size.
+constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t{256} << 20;
+
 }  // namespace
 
 bool NumberRange::contains(double v) const {
@@ -53,6 +64,11 @@ std::string NumberRange::describe(bool plural) const {
 
 nlohmann::json parse_json_file(const std::filesystem::path& path) {
   require_readable_file(path);
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size > kMaxJsonBytes)
+    throw Error(path.string() + ": " + format_bytes(static_cast<double>(size)) + " of JSON, more than the " +
+                format_bytes(static_cast<double>(kMaxJsonBytes)) + " visfield reads (meshes belong in mesh files)");
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
@@ -61,11 +77,13 @@ nlohmann::json parse_json_file(const std::filesystem::path& path) {
 }
 
 nlohmann::json parse_json_text(const std::string& text, const std::string& source) {
-  // nlohmann keeps the last of repeated keys; a repeated key is almost always a mistake, so refuse it.
+  // nlohmann keeps the last of repeated keys; a repeated key is almost always a mistake, so refuse it;
+  // and refuse deep nesting before it is built.
   std::vector<std::set<std::string>> keys_per_open_object;
-  const nlohmann::json::parser_callback_t reject_duplicates = [&](int, nlohmann::json::parse_event_t event,
+  const nlohmann::json::parser_callback_t check_keys_and_depth = [&](int depth, nlohmann::json::parse_event_t event,
                                                                    nlohmann::json& parsed) {
     using Event = nlohmann::json::parse_event_t;
+    if ((event == Event::object_start || event == Event::array_start) && depth >= kMaxJsonDepth) throw TooDeep{};
     if (event == Event::object_start) keys_per_open_object.emplace_back();
     if (event == Event::object_end) keys_per_open_object.pop_back();
     if (event == Event::key && !keys_per_open_object.back().insert(parsed.get<std::string>()).second)
@@ -73,7 +91,9 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& sourc
     return true;
   };
   try {
-    return nlohmann::json::parse(text, reject_duplicates, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    return nlohmann::json::parse(text, check_keys_and_depth, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const TooDeep&) {
+    throw Error(source + ": invalid JSON: arrays and objects nested more than " + std::to_string(kMaxJsonDepth) + " deep");
   } catch (const DuplicateKey& duplicate) {
     throw Error(source + ": invalid JSON: key \"" + one_line(duplicate.key) + "\" appears twice in one object");
   } catch (const nlohmann::json::parse_error& e) {
