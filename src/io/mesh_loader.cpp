@@ -10,6 +10,7 @@
 #include <string>
 
 #include "assimp_scene.hpp"
+#include "declared_sizes.hpp"
 #include "file_checks.hpp"
 #include "visfield/core/error.hpp"
 
@@ -47,6 +48,7 @@ LoadedMesh load_mesh(const std::filesystem::path& path) {
   if (ext.empty() || !importer.IsExtensionSupported("." + ext))
     throw Error(what + ": unsupported mesh format (expected .obj, .ply, .gltf, .glb, .stl or another format Assimp reads)");
   require_format_signature(path, ext);
+  io_detail::check_declared_sizes(path, ext);
 
   // No triangulation, degenerate removal or vertex joining by Assimp: we fan-triangulate and share
   // bit-identical vertices ourselves so that triangle counts and coordinates stay exactly the file's.
