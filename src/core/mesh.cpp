@@ -37,6 +37,12 @@ void validate_mesh(const TriangleMesh& mesh, const std::string& what) {
       msg << what << ": vertex " << i << " has a NaN or infinite coordinate";
       throw Error(msg.str());
     }
+    if (max_component(abs(mesh.positions[i])) > kMaxCoordinate) {
+      std::ostringstream msg;
+      msg << what << ": vertex " << i << " has coordinate " << max_component(abs(mesh.positions[i]))
+          << ", beyond the ±" << kMaxCoordinate << " visfield supports";
+      throw Error(msg.str());
+    }
   }
   const std::size_t vertex_count = mesh.positions.size();
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <sstream>
 #include <string>
 
 #include "visfield/core/error.hpp"
@@ -11,7 +13,8 @@ namespace vf {
 namespace {
 
 void check_transform(const Transform& t, const std::string& what) {
-  if (!t.is_valid()) throw Error(what + ": the transform must be finite with a scale > 0");
+  if (!t.is_valid())
+    throw Error(what + ": the transform must be a rotation (orthonormal, determinant +1), a finite translation and a finite scale > 0");
 }
 
 }  // namespace
@@ -61,6 +64,23 @@ Bounds3f Scene::bounds() const {
   Bounds3f b;
   for (const Instance& inst : instances_) b.extend(inst.transform.apply_bounds(meshes[inst.mesh].bounds()));
   return b;
+}
+
+void Scene::check_coordinate_range(const std::string& what) const {
+  std::vector<std::optional<Bounds3f>> mesh_bounds(meshes.size());
+  for (const Instance& inst : instances_) {
+    if (!mesh_bounds[inst.mesh]) mesh_bounds[inst.mesh] = meshes[inst.mesh].bounds();
+    const Bounds3f world = inst.transform.apply_bounds(*mesh_bounds[inst.mesh]);
+    if (world.empty()) continue;
+    const float reach = std::fmax(max_component(abs(world.lo)), max_component(abs(world.hi)));
+    if (!(reach <= kMaxCoordinate)) {
+      std::ostringstream msg;
+      msg << what << ": object " << inst.id << " (mesh " << inst.mesh
+          << (meshes[inst.mesh].name.empty() ? "" : " \"" + meshes[inst.mesh].name + "\"") << ") reaches coordinate "
+          << reach << " in world space, beyond the ±" << kMaxCoordinate << " visfield supports";
+      throw Error(msg.str());
+    }
+  }
 }
 
 std::size_t Scene::instanced_triangle_count() const {

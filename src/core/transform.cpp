@@ -65,7 +65,12 @@ bool Transform::is_identity() const { return rotation.is_identity() && translati
 bool Transform::is_valid() const {
   for (const Vec3f& row : rotation.rows)
     if (!is_finite(row)) return false;
-  return is_finite(translation) && std::isfinite(scale) && scale > 0.0f;
+  if (!(is_finite(translation) && std::isfinite(scale) && scale > 0.0f)) return false;
+  constexpr float kTolerance = 1e-4f;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::fabs(dot(rotation.rows[i], rotation.rows[j]) - (i == j ? 1.0f : 0.0f)) > kTolerance) return false;
+  return dot(cross(rotation.rows[0], rotation.rows[1]), rotation.rows[2]) > 0.0f;
 }
 
 }  // namespace vf

@@ -64,6 +64,7 @@ Scene load_scene_file(const std::filesystem::path& path) {
   } else {
     for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) scene.add_instance(m);
   }
+  scene.check_coordinate_range(path.string());
   if (const std::optional<json::JsonField> camera = root.optional_member("camera"))
     scene.camera = io_detail::parse_camera(*camera);
   if (const std::optional<json::JsonField> lights = root.optional_member("lights"))

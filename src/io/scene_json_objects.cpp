@@ -55,8 +55,11 @@ Instance parse_instance(const JsonField& field, const SceneNames& names) {
   instance.mesh = resolve(field.member("mesh"), names.meshes, "mesh");
   instance.transform.translation = vec3_or(field, "translate", Vec3f{0.0f}, NumberRange::any());
   instance.transform.rotation = parse_rotation(field);
-  instance.transform.scale =
-      optional_or(field, "scale", 1.0f, [](const JsonField& f) { return f.as_float(NumberRange::positive()); });
+  instance.transform.scale = optional_or(field, "scale", 1.0f, [](const JsonField& f) {
+    // Objects are rigid with one scale factor, which keeps instance normals and distances exact.
+    if (f.json().is_array()) f.fail("non-uniform scale is not supported (an object takes one number > 0)");
+    return f.as_float(NumberRange::positive());
+  });
   if (const std::optional<JsonField> material = field.optional_member("material"))
     instance.material = resolve(*material, names.materials, "material");
   return instance;

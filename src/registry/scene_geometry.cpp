@@ -4,6 +4,10 @@
 
 namespace vf {
 
+SceneGeometry::SceneGeometry(const Scene& scene) : scene_(scene) {
+  scene_.check_coordinate_range(scene.name.empty() ? "scene" : scene.name);
+}
+
 const TriangleSet& SceneGeometry::flattened() {
   if (!flat_) flat_ = flatten(scene_);
   return *flat_;

@@ -33,8 +33,13 @@ struct TriangleMesh {
 /// True when triangle (a, b, c) has zero area in float arithmetic (degenerate, kept out of accelerators).
 bool is_degenerate_triangle(const Vec3f& a, const Vec3f& b, const Vec3f& c);
 
-/// Checks a mesh for NaN/Inf positions, out-of-range indices and emptiness; throws vf::Error naming
-/// `what` (a file name) and the first problem found. O(V + T).
+/// Largest coordinate magnitude visfield accepts, in object and in world space. The watertight
+/// triangle test multiplies three coordinate differences; below 1e12 those products stay inside
+/// float range (3.4e38) with room to spare, so no hit is lost to overflow.
+inline constexpr float kMaxCoordinate = 1e12f;
+
+/// Checks a mesh for NaN/Inf positions or positions beyond ±kMaxCoordinate, out-of-range indices and
+/// emptiness; throws vf::Error naming `what` (a file name) and the first problem found. O(V + T).
 void validate_mesh(const TriangleMesh& mesh, const std::string& what);
 
 }  // namespace vf

@@ -66,7 +66,7 @@ class Scene {
 
   /// Adds an object (`instance.id` is ignored) and returns its new id, larger than every id given
   /// before. Throws vf::Error when the mesh or material index is out of range or the transform is
-  /// not a finite rotation, translation and scale > 0. O(1) amortised.
+  /// not a rotation, a finite translation and a finite scale > 0 (Transform::is_valid). O(1) amortised.
   ObjectId add_instance(Instance instance);
   /// Adds an object of mesh `mesh` placed by `transform`; see above.
   ObjectId add_instance(std::uint32_t mesh, const Transform& transform = {});
@@ -83,6 +83,10 @@ class Scene {
 
   /// World-space bounds of all objects; O(objects * 8) using mesh bounds.
   Bounds3f bounds() const;
+  /// Throws vf::Error "<what>: object ID (mesh ...) reaches coordinate ..." for the first object whose
+  /// world-space bounds reach beyond ±kMaxCoordinate (through its translation or scale).
+  /// O(vertices of the meshes + objects).
+  void check_coordinate_range(const std::string& what) const;
   /// Total triangles over all objects.
   std::size_t instanced_triangle_count() const;
   /// The scene camera (resized when width/height > 0), or framing_camera() of the bounds from the

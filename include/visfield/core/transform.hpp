@@ -64,7 +64,8 @@ struct Transform {
   Bounds3f apply_bounds(const Bounds3f& b) const;
   /// Exactly the identity (rotation identity, no translation, scale 1).
   bool is_identity() const;
-  /// Finite entries and a finite scale > 0 (the rotation part is not checked for orthonormality).
+  /// Finite entries, a finite scale > 0, and a rotation part that is a rotation: orthonormal rows
+  /// (to 1e-4) and determinant +1 (no mirroring, no shear, no singular matrix).
   bool is_valid() const;
 };
 

@@ -13,7 +13,8 @@ namespace vf {
 /// Borrows a Scene (which must outlive it) and flattens it at most once. Not thread-safe.
 class SceneGeometry {
  public:
-  explicit SceneGeometry(const Scene& scene) : scene_(scene) {}
+  /// Checks the scene's world coordinates (Scene::check_coordinate_range, throws vf::Error).
+  explicit SceneGeometry(const Scene& scene);
   /// The scene.
   const Scene& scene() const { return scene_; }
   /// flatten(scene()), computed on the first call. O(instanced triangles) once.
