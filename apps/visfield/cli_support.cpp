@@ -1,8 +1,11 @@
 #include "cli_support.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <sstream>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
@@ -13,6 +16,46 @@ namespace vf::cli {
 
 void add_scene_argument(CLI::App& cmd, std::string& scene) {
   cmd.add_option("scene", scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
+}
+
+namespace {
+
+// A number as a person writes it: 1e+15, 0.5, 64.
+std::string shown(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// The option's value as a double, or nothing when it is not a number at all.
+std::optional<double> as_number(const std::string& text) {
+  double v = 0.0;
+  if (!CLI::detail::lexical_cast(text, v)) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+CLI::Validator number_in(double lo, double hi) {
+  const std::string range = "[" + shown(lo) + ", " + shown(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& value) {
+        const std::optional<double> v = as_number(value);
+        if (v && *v >= lo && *v <= hi) return std::string();
+        return "must be a number in " + range + ", got " + value;
+      },
+      "NUMBER in " + range);
+}
+
+CLI::Validator positive_number(bool infinity_allowed) {
+  const std::string expected = infinity_allowed ? "a number > 0 (or inf)" : "a number > 0";
+  return CLI::Validator(
+      [infinity_allowed, expected](std::string& value) {
+        const std::optional<double> v = as_number(value);
+        if (v && *v > 0.0 && (infinity_allowed || std::isfinite(*v))) return std::string();
+        return "must be " + expected + ", got " + value;
+      },
+      "NUMBER > 0");
 }
 
 void add_threads_option(CLI::App& cmd, int& threads) {

@@ -23,6 +23,13 @@ struct StructureCommandOptions {
 /// Registers the required positional "scene" (mesh file, scene .json or builtin:NAME[:size=N,seed=S]).
 void add_scene_argument(CLI::App& cmd, std::string& scene);
 
+/// Checks a real-valued option against [lo, hi] and prints the range as a person writes it
+/// ("--rays: must be a number in [0, 1e+15], got -1"); NaN is refused.
+CLI::Validator number_in(double lo, double hi);
+
+/// Checks a real-valued option is > 0 (and not NaN); `infinity_allowed` also accepts "inf".
+CLI::Validator positive_number(bool infinity_allowed);
+
 /// Registers --threads (0 = all cores, at most 4096).
 void add_threads_option(CLI::App& cmd, int& threads);
 

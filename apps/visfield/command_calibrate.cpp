@@ -5,6 +5,7 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "select_cli_support.hpp"
+#include "visfield/io/atomic_file.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/select/calibrate.hpp"
 
@@ -21,7 +22,7 @@ struct CalibrateOptions {
 
 int run_calibrate(const CalibrateOptions& o) {
   const CalibrationOptions options = o.measure.options();
-  check_output_target(o.out);
+  check_writable(o.out);
   ThreadLimit limit(o.threads);
   std::vector<NamedScene> scenes;
   for (const std::string& spec : o.scenes) scenes.push_back(load_named(spec));

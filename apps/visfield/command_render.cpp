@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/io/atomic_file.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/render/ao.hpp"
 
@@ -45,6 +46,7 @@ std::string structure_summary(const BuiltStructure& built) {
 
 int run_render(const RenderOptions& o) {
   check_image_extension(o.out);
+  check_writable(o.out);
   ThreadLimit limit(o.threads);
   const Scene scene = load_scene_argument(o.scene);
   SceneGeometry geometry(scene);
@@ -92,7 +94,7 @@ void register_render_command(CLI::App& app, Action& action) {
   cmd->add_option("--spp", options->spp, "Camera samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--ao-rays", options->ao_rays, "AO rays per camera sample")->check(CLI::Range(1, 65536))->capture_default_str();
   cmd->add_option("--max-distance", options->max_distance, "AO ray length (world units; default unlimited)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number(/*infinity_allowed=*/true));
   cmd->add_option("--width", options->width, "Image width in pixels (default: the scene camera's, else 512)")
       ->check(CLI::Range(1, 16384));
   cmd->add_option("--height", options->height, "Image height in pixels (default: the scene camera's, else 512)")
@@ -102,8 +104,6 @@ void register_render_command(CLI::App& app, Action& action) {
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float)")->capture_default_str();
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");
   cmd->callback([options, &action] {
-    if (!std::isnan(options->max_distance) && options->max_distance <= 0.0)
-      throw CLI::ValidationError("--max-distance", "must be > 0");
     action = [options] { return run_render(*options); };
   });
 }

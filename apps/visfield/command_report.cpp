@@ -79,8 +79,8 @@ std::string command_line(const ReportCommandOptions& o, int threads) {
 }
 
 int run_report(const ReportCommandOptions& o) {
-  check_output_target(o.out);
-  if (!o.save_measurements.empty()) check_output_target(o.save_measurements);
+  check_writable(o.out);
+  if (!o.save_measurements.empty()) check_writable(o.save_measurements);
   ThreadLimit limit(o.threads);
   Calibration measured;
   if (!o.from.empty()) {

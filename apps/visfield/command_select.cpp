@@ -71,13 +71,13 @@ void register_select_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand(
       "select", "Choose between the uniform grid and the SAH kd-tree for a workload of R rays (build, sample, estimate R_C)");
   add_scene_argument(*cmd, options->scene);
-  cmd->add_option("--rays", options->rays, "R: rays the workload will trace")->check(CLI::Range(0.0, 1e15))->required();
+  cmd->add_option("--rays", options->rays, "R: rays the workload will trace")->check(number_in(0.0, 1e15))->required();
   cmd->add_option("--calibration", options->calibration, "Calibration file from `visfield calibrate` (default: built in)");
   cmd->add_option("--kind", options->kind, "Kind of the workload's rays")
       ->check(CLI::IsMember({"random", "path"}))
       ->capture_default_str();
   cmd->add_option("--sample-rays", options->sample_rays, "S: sample rays timed through the grid")
-      ->check(CLI::Range(5.0, 1e6))
+      ->check(number_in(5.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--seed", options->seed, "Seed of the sample rays")->capture_default_str();
   add_threads_option(*cmd, options->threads);

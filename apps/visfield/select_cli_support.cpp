@@ -19,14 +19,6 @@ NamedScene load_named(const std::string& spec) {
   return named;
 }
 
-void check_output_target(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path target = fs::absolute(path, ec);
-  if (ec || fs::is_directory(target, ec)) throw Error(path + ": is a directory, not a file name");
-  if (!fs::is_directory(target.parent_path(), ec)) throw Error(path + ": folder " + target.parent_path().string() + " does not exist");
-}
-
 std::uint64_t ray_count(double value, const std::string& option) {
   if (!(value >= 0.0) || value > 1e15 || std::floor(value) != value)
     throw Error(option + ": expected a whole number of rays in 0..1e15, got " + std::to_string(value));
@@ -57,10 +49,10 @@ CalibrationOptions MeasureFlags::options() const {
 
 void add_measure_flags(CLI::App& cmd, MeasureFlags& flags) {
   cmd.add_option("--rays", flags.rays, "M: rays of each kind timed per scene through both structures")
-      ->check(CLI::Range(1.0, 1e9))
+      ->check(number_in(1.0, 1e9))
       ->capture_default_str();
   cmd.add_option("--sample-rays", flags.sample_rays, "S: sample rays the decision algorithm times through the grid")
-      ->check(CLI::Range(5.0, 1e6))
+      ->check(number_in(5.0, 1e6))
       ->capture_default_str();
   cmd.add_option("--build-repetitions", flags.build_repetitions, "Builds per structure (the median counts)")
       ->check(CLI::Range(1, 1000))

@@ -15,10 +15,6 @@ namespace vf::cli {
 /// Loads and flattens `spec` (load_named_scene), warning on stderr about zero-area triangles left out.
 NamedScene load_named(const std::string& spec);
 
-/// Throws vf::Error naming `path` unless its folder exists and `path` is not a folder: checked before
-/// minutes of measuring, so a typo does not throw the measurements away.
-void check_output_target(const std::string& path);
-
 /// `value` (from an option parsed as a number so "1e6" works) as a ray count; throws vf::Error naming
 /// `option` unless it is a whole number in 0..1e15.
 std::uint64_t ray_count(double value, const std::string& option);
