@@ -28,17 +28,36 @@ std::string replace_all(std::string text, const std::string& from, const std::st
   return text;
 }
 
-}  // namespace
+std::filesystem::path folder_of(const std::filesystem::path& target) {
+  return target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+}
 
-void write_atomically(const std::filesystem::path& target,
-                      const std::function<void(const std::filesystem::path&)>& write) {
-  const std::filesystem::path folder = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+void check_target(const std::filesystem::path& target) {
+  const std::filesystem::path folder = folder_of(target);
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
     throw Error(target.string() + ": cannot write: folder " + folder.string() + " does not exist");
   if (target.filename().empty() || std::filesystem::is_directory(target, ec))
     throw Error(target.string() + ": cannot write: is a directory");
-  const std::filesystem::path temp = temporary_sibling(folder, target);
+}
+
+}  // namespace
+
+void check_writable(const std::filesystem::path& target) {
+  check_target(target);
+  const std::filesystem::path probe = temporary_sibling(folder_of(target), target);
+  std::FILE* file = std::fopen(probe.c_str(), "wx");
+  if (file == nullptr) throw Error(target.string() + ": cannot write: " + std::strerror(errno));
+  std::fclose(file);
+  std::error_code ec;
+  std::filesystem::remove(probe, ec);
+}
+
+void write_atomically(const std::filesystem::path& target,
+                      const std::function<void(const std::filesystem::path&)>& write) {
+  check_target(target);
+  std::error_code ec;
+  const std::filesystem::path temp = temporary_sibling(folder_of(target), target);
   try {
     write(temp);
   } catch (const Error& e) {

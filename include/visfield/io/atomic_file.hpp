@@ -7,6 +7,11 @@
 
 namespace vf {
 
+/// Checks, before any work, that write_atomically(target, ...) can succeed as far as the file system
+/// goes: the folder exists, `target` is not a directory, and a file can be created in the folder (a
+/// probe is created and removed). Throws vf::Error "<target>: cannot write: <reason>".
+void check_writable(const std::filesystem::path& target);
+
 /// Calls `write(tmp)` with a temporary path next to `target`, then renames it over `target`. If
 /// `write` throws, the temporary is removed and the exception propagates (a vf::Error reworded to
 /// name `target` instead of the temporary); `target` is untouched.
