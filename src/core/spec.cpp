@@ -92,7 +92,8 @@ std::vector<std::string> split_spec_list(std::string_view text) {
 }
 
 ParamValues read_params(const Spec& spec, std::span<const ParamSpec> params, const std::string& where) {
-  for (const auto& [key, value] : spec.params) {
+  for (const auto& entry : spec.params) {
+    const std::string& key = entry.first;
     const bool known = std::any_of(params.begin(), params.end(), [&](const ParamSpec& p) { return p.key == key; });
     if (known) continue;
     std::string valid;
