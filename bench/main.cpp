@@ -7,6 +7,7 @@
 #include "bench_options.hpp"
 #include "bench_run.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace {
 
@@ -24,12 +25,15 @@ int fail(std::string message, int status) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  vf::install_interrupt_handlers();
   try {
     const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
     if (!options) return 0;
     const vf::bench::BenchReport report = vf::bench::run_bench(*options);
     vf::bench::print_report(std::cout, report, options->json);
     return 0;
+  } catch (const vf::Interrupted& interrupted) {
+    return fail(interrupted.what(), 128 + interrupted.signal());
   } catch (const vf::bench::UsageError& error) {
     return fail(error.what(), kExitUsage);
   } catch (const vf::Error& error) {

@@ -1,11 +1,13 @@
 // visfield: the command-line tool. Parses the subcommand, runs it, and turns every failure into one
-// line on stderr and a non-zero exit code (2 for bad command lines, 1 for bad input or I/O).
+// line on stderr and a non-zero exit code (2 for bad command lines, 1 for bad input or I/O, 128 + the
+// signal's number when SIGINT or SIGTERM stopped it: 130, 143).
 #include <iostream>
 #include <new>
 #include <string>
 
 #include "commands.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace {
 
@@ -19,6 +21,7 @@ std::string one_line(std::string text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  vf::install_interrupt_handlers();
   CLI::App app{"visfield: fast ray-scene visibility queries (AO, shadows) with exact structures and visibility fields"};
   app.require_subcommand(1);
   vf::cli::Action action;
@@ -50,6 +53,9 @@ int main(int argc, char** argv) {
   }
   try {
     return action();
+  } catch (const vf::Interrupted& e) {
+    std::cerr << "visfield: " << e.what() << "; nothing was written\n";
+    return 128 + e.signal();
   } catch (const vf::Error& e) {
     std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
   } catch (const std::bad_alloc&) {

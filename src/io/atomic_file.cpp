@@ -9,6 +9,7 @@
 #include <string>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace vf {
 namespace {
@@ -60,6 +61,10 @@ void write_atomically(const std::filesystem::path& target,
   const std::filesystem::path temp = temporary_sibling(folder_of(target), target);
   try {
     write(temp);
+    check_interrupt();  // a signal during the write: the target keeps its old contents
+  } catch (const Interrupted&) {
+    std::filesystem::remove(temp, ec);
+    throw;
   } catch (const Error& e) {
     std::filesystem::remove(temp, ec);
     // The user knows the target, not our temporary name.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 
 namespace vf {
 namespace {
@@ -14,7 +15,14 @@ constexpr int kBarWidth = 30;
 ProgressBar::ProgressBar(std::string label, std::size_t total, bool enabled, double delay_s)
     : label_(std::move(label)), total_(total), enabled_(enabled), delay_s_(delay_s) {}
 
-ProgressBar::~ProgressBar() { finish(); }
+ProgressBar::~ProgressBar() {
+  // Unwinding (an error, an interrupt): end the line where the bar stands rather than draw 100%.
+  if (std::uncaught_exceptions() > 0 && !finished_.exchange(true)) {
+    if (shown_.load()) std::fputc('\n', stderr);
+    return;
+  }
+  finish();
+}
 
 void ProgressBar::tick(std::size_t n) {
   const std::size_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;

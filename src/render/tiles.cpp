@@ -8,6 +8,7 @@
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/render/progress.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace vf {
 
@@ -22,6 +23,7 @@ void for_each_tile(int width, int height, int tile_size, const std::string& labe
   std::atomic<std::uint64_t> rays{0};
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count, 1), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      check_interrupt();
       const int tx = static_cast<int>(i % static_cast<std::size_t>(tiles_x));
       const int ty = static_cast<int>(i / static_cast<std::size_t>(tiles_x));
       const ImageTile tile{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),

@@ -1,5 +1,6 @@
 #pragma once
-/// \file Batch queries for either role: many rays at once, parallel over TBB's threads.
+/// \file Batch queries for either role: many rays at once, parallel over TBB's threads; they throw
+/// vf::Interrupted on SIGINT/SIGTERM (see interrupt.hpp).
 
 #include <cstdint>
 #include <memory>
@@ -9,6 +10,7 @@
 
 #include "visfield/accel/query.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace vf {
 
@@ -17,6 +19,7 @@ namespace vf {
 template <ClosestHitQuery S>
 void intersect_batch(const S& structure, std::span<const Ray> rays, std::span<Hit> hits) {
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
+    check_interrupt();
     // Constructed in place (Hit is trivially destructible): the query writes its answer straight into
     // the array, where an assignment would copy it from a temporary, which measured 5-7% slower.
     for (std::size_t i = range.begin(); i != range.end(); ++i) std::construct_at(&hits[i], structure.intersect(rays[i]));
@@ -27,6 +30,7 @@ void intersect_batch(const S& structure, std::span<const Ray> rays, std::span<Hi
 template <OcclusionQuery S>
 void occluded_batch(const S& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
+    check_interrupt();
     for (std::size_t i = range.begin(); i != range.end(); ++i) occluded[i] = structure.occluded(rays[i]) ? 1 : 0;
   });
 }

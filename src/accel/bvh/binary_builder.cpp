@@ -13,6 +13,7 @@
 #include "simd/lanes.hpp"
 #include "visfield/accel/aligned_vector.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace vf::bvh {
 namespace {
@@ -306,6 +307,7 @@ class Builder {
 
   std::unique_ptr<BinaryNode> build_node(const Range& r, int depth) {
     const std::uint32_t n = r.size();
+    if (n >= kParallelBinning) check_interrupt();
     const bool fits_leaf = n <= static_cast<std::uint32_t>(config_.max_leaf_size);
     if (n == 1) return make_leaf(r);
     std::pair<Range, Range> halves;
