@@ -52,6 +52,14 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
       ->check(CLI::Range(std::int64_t{1}, kMaxRayCount));
   app.add_option("--threads", options.threads, "Worker threads for every structure, 0 = all hardware threads")
       ->check(CLI::Range(0, kMaxThreads));
+  std::string max_memory;
+  app.add_option("--max-memory", max_memory,
+                 "Refuse builds and ray sets estimated to need more, e.g. 4G (default: the available memory)")
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            return parse_byte_size(value) ? std::string() : "expected " + std::string(kByteSizeSyntax) + ", got " + value;
+          },
+          "SIZE"));
   app.add_flag("--json", options.json, "Print a JSON document instead of the table");
   app.add_option("--width", options.width, "Image width in pixels (default: the scene camera's)")
       ->check(CLI::Range(1, 32768));
@@ -73,6 +81,10 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     throw UsageError(error.what());
   }
 
+  if (!max_memory.empty()) {
+    const double bytes = *parse_byte_size(max_memory);
+    set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
+  }
   options.kind = *parse_ray_kind(kind_name);
   options.accels = split_spec_list(accel_list);
   if (app.count("--count") > 0) options.count = static_cast<std::size_t>(count);

@@ -58,8 +58,21 @@ CLI::Validator positive_number(bool infinity_allowed) {
       "NUMBER > 0");
 }
 
-void add_threads_option(CLI::App& cmd, int& threads) {
+void add_resource_options(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  const CLI::Validator size(
+      [](std::string& value) {
+        return parse_byte_size(value) ? std::string() : "expected " + std::string(kByteSizeSyntax) + ", got " + value;
+      },
+      "SIZE");
+  cmd.add_option_function<std::string>(
+         "--max-memory",
+         [](const std::string& value) {
+           const double bytes = *parse_byte_size(value);
+           set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
+         },
+         "Refuse builds and ray sets estimated to need more (default: the memory available at the start of each build)")
+      ->check(size);
 }
 
 CLI::Option* add_structure_option(CLI::App& cmd, const std::string& name, std::string& spec, const std::string& help,
@@ -106,6 +119,8 @@ void print_structure(std::ostream& out, const std::string& option, const BuiltSt
       << "  build:            " << s.build_ms << " ms\n"
       << "  memory:           " << format_bytes(static_cast<double>(s.memory_bytes)) << " (" << s.memory_bytes
       << " bytes)\n"
+      << "  build estimate:   " << format_bytes(built.estimated_bytes) << " (checked before the build against "
+      << memory_limit().source << ")\n"
       << "  nodes:            " << s.node_count << "\n"
       << "  leaves:           " << s.leaf_count << "\n"
       << "  references:       " << s.reference_count << "\n"

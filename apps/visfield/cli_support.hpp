@@ -30,8 +30,10 @@ CLI::Validator number_in(double lo, double hi);
 /// Checks a real-valued option is > 0 (and not NaN); `infinity_allowed` also accepts "inf".
 CLI::Validator positive_number(bool infinity_allowed);
 
-/// Registers --threads (0 = all cores, at most 4096).
-void add_threads_option(CLI::App& cmd, int& threads);
+/// Registers --threads (0 = all cores, at most 4096) and --max-memory SIZE, which sets the process's
+/// memory limit (vf::set_memory_limit) as soon as it is parsed; without it the limit is the memory
+/// available when a build starts.
+void add_resource_options(CLI::App& cmd, int& threads);
 
 /// Registers a structure option (--accel, --occluder) whose value is checked against the registry
 /// while the command line is parsed, so a bad spec fails before any loading; with `only` set, the

@@ -45,7 +45,7 @@ void register_calibrate_command(CLI::App& app, Action& action) {
   cmd->add_option("scenes", options->scenes, "Mesh files, scene .json files or builtin:NAME[:size=N,seed=S]")->required();
   cmd->add_option("-o,--out", options->out, "Calibration file to write (JSON)")->required();
   add_measure_flags(*cmd, options->measure);
-  add_threads_option(*cmd, options->threads);
+  add_resource_options(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_calibrate(*options); }; });
 }
 

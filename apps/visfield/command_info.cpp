@@ -49,7 +49,7 @@ void register_info_command(CLI::App& app, Action& action) {
   add_scene_argument(*cmd, options->scene);
   add_structure_option(*cmd, "--accel", options->structure, "Structure to build and measure, NAME[:key=value,...]")
       ->capture_default_str();
-  add_threads_option(*cmd, options->threads);
+  add_resource_options(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_info(*options); }; });
 }
 

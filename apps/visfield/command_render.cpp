@@ -51,6 +51,9 @@ int run_render(const RenderOptions& o) {
   const Scene scene = load_scene_argument(o.scene);
   SceneGeometry geometry(scene);
   const Camera camera = scene.camera_or_default(o.width, o.height);
+  // The float image and its encoded copy (at most 4 bytes a pixel for PNG, 12 for EXR).
+  require_memory(static_cast<double>(camera.width) * static_cast<double>(camera.height) * (sizeof(Vec3f) + 12.0),
+                 "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
   const BuildContext context{rays_of_render(camera, o)};
   const BuiltStructure closest = build_structure_for(o.accel, geometry, context, "--accel", o.scene);
   std::optional<BuiltStructure> occluder;
@@ -99,7 +102,7 @@ void register_render_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 16384));
   cmd->add_option("--height", options->height, "Image height in pixels (default: the scene camera's, else 512)")
       ->check(CLI::Range(1, 16384));
-  add_threads_option(*cmd, options->threads);
+  add_resource_options(*cmd, options->threads);
   cmd->add_option("--seed", options->seed, "Random seed (the image depends on it, not on the thread count)")->capture_default_str();
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float)")->capture_default_str();
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");

@@ -127,7 +127,7 @@ void register_report_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--split-seed", options->split_seed, "Seed of the leave-k-out splits")->capture_default_str();
-  add_threads_option(*cmd, options->threads);
+  add_resource_options(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_report(*options); }; });
 }
 

@@ -80,7 +80,7 @@ void register_select_command(CLI::App& app, Action& action) {
       ->check(number_in(5.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--seed", options->seed, "Seed of the sample rays")->capture_default_str();
-  add_threads_option(*cmd, options->threads);
+  add_resource_options(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_select(*options); }; });
 }
 

@@ -43,7 +43,7 @@ void register_stats_command(CLI::App& app, Action& action) {
   add_scene_argument(*cmd, options->scene);
   add_structure_option(*cmd, "--grid", options->structure, "The grid to analyse, grid[:density=D,exact=0|1]", "grid")
       ->capture_default_str();
-  add_threads_option(*cmd, options->threads);
+  add_resource_options(*cmd, options->threads);
   cmd->callback([options, &action] { action = [options] { return run_stats(*options); }; });
 }
 

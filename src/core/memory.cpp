@@ -2,12 +2,24 @@
 
 #include <unistd.h>
 
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
+#include <mutex>
+#include <sstream>
 
 #include "visfield/core/error.hpp"
 
 namespace vf {
+namespace {
+
+std::mutex limit_mutex;
+std::optional<MemoryLimit> set_limit;
+
+}  // namespace
 
 std::size_t physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
@@ -15,26 +27,71 @@ std::size_t physical_memory_bytes() {
   return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size);
 }
 
-double allocation_budget_bytes() {
-  const std::size_t bytes = physical_memory_bytes();
-  return bytes == 0 ? std::numeric_limits<double>::infinity() : 0.5 * static_cast<double>(bytes);
+std::size_t available_memory_bytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  std::size_t kib = 0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024;
+  return physical_memory_bytes();
+}
+
+MemoryLimit memory_limit() {
+  {
+    const std::lock_guard lock(limit_mutex);
+    if (set_limit) return *set_limit;
+  }
+  const std::size_t available = available_memory_bytes();
+  if (available == 0) return {std::numeric_limits<double>::infinity(), "the available memory (unknown)"};
+  const auto bytes = static_cast<double>(available);
+  return {bytes, "the available memory (" + format_bytes(bytes) + ")"};
+}
+
+void set_memory_limit(double bytes, const std::string& source) {
+  const std::lock_guard lock(limit_mutex);
+  set_limit = MemoryLimit{bytes, source};
+}
+
+void clear_memory_limit() {
+  const std::lock_guard lock(limit_mutex);
+  set_limit.reset();
 }
 
 void require_memory(double bytes, const std::string& what) {
-  const double budget = allocation_budget_bytes();
-  if (!(bytes <= budget))
-    throw Error(what + " would need " + format_bytes(bytes) + ", more than half of this machine's " +
-                format_bytes(2.0 * budget));
+  const MemoryLimit limit = memory_limit();
+  if (!(bytes <= limit.bytes)) throw Error(what + " would need about " + format_bytes(bytes) + ", more than " + limit.source);
 }
 
 std::string format_bytes(double bytes) {
-  constexpr double kKiB = 1024.0, kMiB = kKiB * 1024.0, kGiB = kMiB * 1024.0;
+  constexpr double kKiB = 1024.0, kMiB = kKiB * 1024.0, kGiB = kMiB * 1024.0, kTiB = kGiB * 1024.0;
   char text[64];
-  if (bytes >= kGiB) std::snprintf(text, sizeof text, "%.2f GiB", bytes / kGiB);
+  if (bytes >= kTiB) std::snprintf(text, sizeof text, "%.2f TiB", bytes / kTiB);
+  else if (bytes >= kGiB) std::snprintf(text, sizeof text, "%.2f GiB", bytes / kGiB);
   else if (bytes >= kMiB) std::snprintf(text, sizeof text, "%.2f MiB", bytes / kMiB);
   else if (bytes >= kKiB) std::snprintf(text, sizeof text, "%.1f KiB", bytes / kKiB);
   else std::snprintf(text, sizeof text, "%.0f B", bytes);
   return text;
+}
+
+std::optional<double> parse_byte_size(std::string_view text) {
+  double number = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), number);
+  if (ec != std::errc() || end == text.data()) return std::nullopt;
+  std::string unit;
+  for (const char* c = end; c != text.data() + text.size(); ++c)
+    if (!std::isspace(static_cast<unsigned char>(*c))) unit += static_cast<char>(std::toupper(static_cast<unsigned char>(*c)));
+  if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();                    // "GB", "GIB", "KB"
+  if (unit.size() == 2 && unit.back() == 'I') unit.pop_back();                   // "GI" (from "GiB")
+  double scale = 1.0;
+  if (unit == "K") scale = 1024.0;
+  else if (unit == "M") scale = 1024.0 * 1024.0;
+  else if (unit == "G") scale = 1024.0 * 1024.0 * 1024.0;
+  else if (unit == "T") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  else if (!unit.empty() && unit != "B") return std::nullopt;
+  const double bytes = number * scale;
+  if (!std::isfinite(bytes) || !(bytes > 0.0)) return std::nullopt;
+  return bytes;
 }
 
 }  // namespace vf

@@ -8,6 +8,8 @@
 #include <variant>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/select/calibration.hpp"
 #include "visfield/select/decision.hpp"
 
@@ -67,6 +69,30 @@ BuiltStructure build_triangle_structure(const ParamValues& p, SceneGeometry& geo
   return {std::move(layer), with_params(S::name(), resolved), object_degenerate_count(geometry.scene())};
 }
 
+// Bytes of the flattened triangles, when a one-level build has yet to make them.
+double flattening_bytes(const SceneGeometry& geometry) {
+  if (geometry.is_flattened()) return 0.0;
+  constexpr double kBytesPerTriangle = sizeof(std::array<Vec3f, 3>) + sizeof(std::uint32_t) + sizeof(ObjectId);
+  return kBytesPerTriangle * static_cast<double>(geometry.instanced_triangle_count());
+}
+
+// Peak bytes of build_triangle_structure<S>: one structure over the flattened scene, or one per used
+// mesh (all alive at the end) and the top level.
+template <class S, class Config>
+double estimate_triangle_structure(const ParamValues& p, const SceneGeometry& geometry, const Config& config) {
+  if (!two_levels(p, geometry))
+    return flattening_bytes(geometry) + S::estimate_build_bytes(geometry.instanced_triangle_count(), config);
+  const Scene& scene = geometry.scene();
+  std::vector<std::uint8_t> used(scene.meshes.size(), 0);
+  double bytes = InstanceLayer::estimate_top_level_bytes(scene.instances().size());
+  for (const Instance& inst : scene.instances()) {
+    if (used[inst.mesh]) continue;
+    used[inst.mesh] = 1;
+    bytes += S::estimate_build_bytes(scene.meshes[inst.mesh].triangles.size(), config);
+  }
+  return bytes;
+}
+
 // A parameter that sets a field of a structure's Config.
 template <class Config>
 struct ConfigField {
@@ -101,12 +127,19 @@ constexpr ParamSpec kBvhParams[] = {
     kLevelsParam,
 };
 
+BvhConfig bvh_config(const ParamValues& p) {
+  return config_from<BvhConfig>(p, {{"bins", &BvhConfig::bin_count},
+                                    {"leaf", &BvhConfig::max_leaf_size},
+                                    {"kt", &BvhConfig::traversal_cost},
+                                    {"ki", &BvhConfig::intersection_cost}});
+}
+
 BuiltStructure build_bvh(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<Bvh>(p, geometry,
-                                       config_from<BvhConfig>(p, {{"bins", &BvhConfig::bin_count},
-                                                                  {"leaf", &BvhConfig::max_leaf_size},
-                                                                  {"kt", &BvhConfig::traversal_cost},
-                                                                  {"ki", &BvhConfig::intersection_cost}}));
+  return build_triangle_structure<Bvh>(p, geometry, bvh_config(p));
+}
+
+double estimate_bvh(const ParamValues& p, const SceneGeometry& geometry) {
+  return estimate_triangle_structure<Bvh>(p, geometry, bvh_config(p));
 }
 
 constexpr ParamSpec kGridParams[] = {
@@ -115,10 +148,16 @@ constexpr ParamSpec kGridParams[] = {
     kLevelsParam,
 };
 
+UniformGridConfig grid_config(const ParamValues& p) {
+  return config_from<UniformGridConfig>(p, {{"density", &UniformGridConfig::density}, {"exact", &UniformGridConfig::exact_overlap}});
+}
+
 BuiltStructure build_grid(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<UniformGrid>(
-      p, geometry,
-      config_from<UniformGridConfig>(p, {{"density", &UniformGridConfig::density}, {"exact", &UniformGridConfig::exact_overlap}}));
+  return build_triangle_structure<UniformGrid>(p, geometry, grid_config(p));
+}
+
+double estimate_grid(const ParamValues& p, const SceneGeometry& geometry) {
+  return estimate_triangle_structure<UniformGrid>(p, geometry, grid_config(p));
 }
 
 constexpr ParamSpec kKdTreeParams[] = {
@@ -129,12 +168,19 @@ constexpr ParamSpec kKdTreeParams[] = {
     kLevelsParam,
 };
 
+KdTreeConfig kdtree_config(const ParamValues& p) {
+  return config_from<KdTreeConfig>(p, {{"kt", &KdTreeConfig::traversal_cost},
+                                       {"ki", &KdTreeConfig::intersection_cost},
+                                       {"empty", &KdTreeConfig::empty_bonus},
+                                       {"depth", &KdTreeConfig::max_depth}});
+}
+
 BuiltStructure build_kdtree(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<KdTree>(p, geometry,
-                                          config_from<KdTreeConfig>(p, {{"kt", &KdTreeConfig::traversal_cost},
-                                                                        {"ki", &KdTreeConfig::intersection_cost},
-                                                                        {"empty", &KdTreeConfig::empty_bonus},
-                                                                        {"depth", &KdTreeConfig::max_depth}}));
+  return build_triangle_structure<KdTree>(p, geometry, kdtree_config(p));
+}
+
+double estimate_kdtree(const ParamValues& p, const SceneGeometry& geometry) {
+  return estimate_triangle_structure<KdTree>(p, geometry, kdtree_config(p));
 }
 
 constexpr ParamSpec kMedianBspParams[] = {
@@ -143,10 +189,16 @@ constexpr ParamSpec kMedianBspParams[] = {
     kLevelsParam,
 };
 
+MedianBspConfig median_bsp_config(const ParamValues& p) {
+  return config_from<MedianBspConfig>(p, {{"depth", &MedianBspConfig::max_depth}, {"leaf", &MedianBspConfig::max_leaf_size}});
+}
+
 BuiltStructure build_median_bsp(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<MedianBsp>(
-      p, geometry,
-      config_from<MedianBspConfig>(p, {{"depth", &MedianBspConfig::max_depth}, {"leaf", &MedianBspConfig::max_leaf_size}}));
+  return build_triangle_structure<MedianBsp>(p, geometry, median_bsp_config(p));
+}
+
+double estimate_median_bsp(const ParamValues& p, const SceneGeometry& geometry) {
+  return estimate_triangle_structure<MedianBsp>(p, geometry, median_bsp_config(p));
 }
 
 constexpr ParamSpec kBruteParams[] = {kLevelsParam};
@@ -155,11 +207,16 @@ constexpr ParamSpec kBruteParams[] = {kLevelsParam};
 struct NoConfig {};
 struct BruteBuild {
   static BruteForce build(const TriangleSet& set, NoConfig) { return BruteForce::build(set); }
+  static double estimate_build_bytes(std::size_t triangles, NoConfig) { return BruteForce::estimate_build_bytes(triangles); }
   static std::string name() { return BruteForce::name(); }
 };
 
 BuiltStructure build_brute(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
   return build_triangle_structure<BruteBuild>(p, geometry, NoConfig{});
+}
+
+double estimate_brute(const ParamValues& p, const SceneGeometry& geometry) {
+  return estimate_triangle_structure<BruteBuild>(p, geometry, NoConfig{});
 }
 
 constexpr ParamSpec kAutoParams[] = {
@@ -183,21 +240,27 @@ BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const B
   return {KdTree::build(set), resolved, set.degenerate_count};
 }
 
+// The decision's grid and, when it loses, the kd-tree built while the grid is still held.
+double estimate_auto(const ParamValues&, const SceneGeometry& geometry) {
+  const std::size_t n = geometry.instanced_triangle_count();
+  return flattening_bytes(geometry) + UniformGrid::estimate_build_bytes(n) + KdTree::estimate_build_bytes(n);
+}
+
 constexpr std::string_view kTwoLevelUpdates = "with levels=2";
 
 const StructureInfo kTable[] = {
     {"bvh", "SAH BVH, 8-wide nodes, SIMD box and triangle tests", Exactness::exact, kTwoLevelUpdates, kBvhParams,
-     build_bvh},
+     build_bvh, estimate_bvh},
     {"grid", "uniform grid, density x N cells, 3D-DDA traversal (Havran et al.)", Exactness::exact, kTwoLevelUpdates,
-     kGridParams, build_grid},
+     kGridParams, build_grid, estimate_grid},
     {"kdtree", "SAH kd-tree, O(N log N) event sorting, perfect splits (Wald & Havran)", Exactness::exact,
-     kTwoLevelUpdates, kKdTreeParams, build_kdtree},
+     kTwoLevelUpdates, kKdTreeParams, build_kdtree, estimate_kdtree},
     {"median-bsp", "spatial-median BSP, the VLF-RT paper's CRT baseline", Exactness::exact, kTwoLevelUpdates,
-     kMedianBspParams, build_median_bsp},
+     kMedianBspParams, build_median_bsp, estimate_median_bsp},
     {"brute", "every triangle for every ray: the test oracle, O(N) per ray", Exactness::exact, kTwoLevelUpdates,
-     kBruteParams, build_brute},
+     kBruteParams, build_brute, estimate_brute},
     {"auto", "grid or kdtree, whichever the calibrated selection (Hapala et al.) expects to finish first",
-     Exactness::exact, "", kAutoParams, build_auto},
+     Exactness::exact, "", kAutoParams, build_auto, estimate_auto},
 };
 
 }  // namespace
@@ -227,7 +290,17 @@ void check_structure_spec(std::string_view spec, std::string_view what) { read_s
 BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, const BuildContext& context,
                                std::string_view what) {
   const auto [info, params] = read_spec(spec, what);
-  return info->build(params, geometry, context);
+  check_interrupt();
+  const double estimate = info->estimate(params, geometry);
+  require_memory(estimate, std::string(what) + std::string(spec) + ": the build");
+  BuiltStructure built = info->build(params, geometry, context);
+  built.estimated_bytes = estimate;
+  return built;
+}
+
+double estimate_structure_bytes(std::string_view spec, const SceneGeometry& geometry, std::string_view what) {
+  const auto [info, params] = read_spec(spec, what);
+  return info->estimate(params, geometry);
 }
 
 std::vector<std::string> structure_names() {

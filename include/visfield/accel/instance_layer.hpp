@@ -44,6 +44,9 @@ class InstanceLayer {
   /// Builds the structure of every mesh some object uses (each once, with `build_mesh`) and the top
   /// level. O(unique triangles log + objects log objects); throws what build_mesh throws.
   static InstanceLayer build(const Scene& scene, MeshStructureBuilder build_mesh);
+  /// Bytes of the top level and the per-object records for `objects` objects (the mesh structures
+  /// not included): 256 per object.
+  static double estimate_top_level_bytes(std::size_t objects) { return 256.0 * static_cast<double>(objects); }
   InstanceLayer(InstanceLayer&&) noexcept;
   InstanceLayer& operator=(InstanceLayer&&) noexcept;
   ~InstanceLayer();

@@ -38,6 +38,7 @@ struct BuiltStructure {
   AnyStructure structure;
   std::string resolved;                  ///< The spec with automatic choices made: "bvh:levels=1", "auto:kind=path,rays=16000000 -> grid".
   std::size_t degenerate_triangles = 0;  ///< Zero-area triangles (counted once per object) left out of the structure.
+  double estimated_bytes = 0.0;          ///< The estimate the build was checked against (StructureInfo::estimate).
 };
 
 /// One row of the table.
@@ -49,6 +50,9 @@ struct StructureInfo {
   std::span<const ParamSpec> params;   ///< Its parameters, with defaults and ranges.
   /// Builds it from validated parameters; throws vf::Error on a failed build.
   BuiltStructure (*build)(const ParamValues& params, SceneGeometry& geometry, const BuildContext& context);
+  /// Peak bytes the build would take, from triangle and object counts (the structure's own
+  /// estimate_build_bytes, plus the flattened triangles when they are still to be made). O(objects).
+  double (*estimate)(const ParamValues& params, const SceneGeometry& geometry);
 };
 
 /// The table, in help order.
@@ -61,10 +65,14 @@ const StructureInfo& find_structure(std::string_view name, std::string_view what
 /// vf::Error starting with `what` on an unknown name or a bad parameter.
 void check_structure_spec(std::string_view spec, std::string_view what = "--accel ");
 
-/// Builds the structure `spec` names over `geometry`. Throws vf::Error on a bad spec (messages start
-/// with `what`) or a failed build. The build's own timing is in stats().build_ms.
+/// Builds the structure `spec` names over `geometry`, after checking its estimate against the memory
+/// limit (memory_limit(); vf::Error "<what><spec>: the build would need about ..."). Throws vf::Error
+/// on a bad spec (messages start with `what`) or a failed build. Build timing is in stats().build_ms.
 BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, const BuildContext& context = {},
                                std::string_view what = "--accel ");
+
+/// The estimate build_structure() checks for `spec` over `geometry`, in bytes; throws on a bad spec.
+double estimate_structure_bytes(std::string_view spec, const SceneGeometry& geometry, std::string_view what = "--accel ");
 
 /// The names of the table's structures, in order.
 std::vector<std::string> structure_names();

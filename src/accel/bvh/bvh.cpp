@@ -105,6 +105,8 @@ Bvh Bvh::build(const TriangleSet& set, const BvhConfig& config) {
   return Bvh(std::move(layout));
 }
 
+double Bvh::estimate_build_bytes(std::size_t triangles, const BvhConfig&) { return 128.0 * static_cast<double>(triangles); }
+
 Hit Bvh::intersect(const Ray& ray) const { return bvh::intersect(*layout_, ray); }
 bool Bvh::occluded(const Ray& ray) const { return bvh::occluded(*layout_, ray); }
 const AccelStats& Bvh::stats() const { return layout_->stats; }

@@ -24,6 +24,7 @@
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/interrupt.hpp"
 
 namespace vf {
 namespace {
@@ -66,16 +67,16 @@ constexpr double kBytesPerReference = sizeof(std::uint32_t) + sizeof(Reference) 
 // Pass 1 adds each chunk's references to the shared total after this many triangles.
 constexpr std::size_t kTotalUpdateInterval = 256;
 
-/// The most references a grid may hold: offsets are 32-bit, and the build must fit in memory.
+/// The most references a grid may hold: offsets are 32-bit, and the build must fit in the memory limit.
 std::uint64_t reference_limit() {
-  const double by_memory = std::floor(allocation_budget_bytes() / kBytesPerReference);
+  const double by_memory = std::floor(memory_limit().bytes / kBytesPerReference);
   const double by_offsets = static_cast<double>(std::numeric_limits<std::uint32_t>::max());
   return static_cast<std::uint64_t>(std::min(by_memory, by_offsets));
 }
 
 [[noreturn]] void refuse_references(std::uint64_t limit) {
   throw Error("grid: the triangles would need more than " + std::to_string(limit) +
-              " cell references (the limit of 32-bit offsets and of half this machine's memory); lower the density");
+              " cell references (the limit of 32-bit offsets and of " + memory_limit().source + "); lower the density");
 }
 
 /// What pass 1 leaves for pass 3: per chunk, the cells met by its triangles in triangle order,
@@ -95,6 +96,7 @@ void find_cells(const Triangles& triangles, const grid::CellFinder& finder, cons
   found.bucket_counts.assign(p.chunk_count * p.bucket_count, 0);
   std::atomic<std::uint64_t> found_total{0};
   vf::parallel_for(std::size_t{0}, p.chunk_count, [&](std::size_t chunk) {
+    check_interrupt();
     const std::size_t begin = chunk * p.chunk_size, end = std::min(triangles.size(), begin + p.chunk_size);
     std::vector<std::uint32_t>& cells = found.chunk_cells[chunk];
     std::uint32_t* const counts = found.bucket_counts.data() + chunk * p.bucket_count;
@@ -142,6 +144,7 @@ std::vector<std::uint64_t> slice_starts(const Partition& p, std::vector<std::uin
 void scatter_to_buckets(const FoundCells& found, const Partition& p, std::size_t triangle_count,
                         std::vector<std::uint32_t>& slice_cursor, std::vector<Reference>& by_bucket) {
   vf::parallel_for(std::size_t{0}, p.chunk_count, [&](std::size_t chunk) {
+    check_interrupt();
     const std::size_t begin = chunk * p.chunk_size, end = std::min(triangle_count, begin + p.chunk_size);
     std::uint32_t* const cursor = slice_cursor.data() + chunk * p.bucket_count;
     const std::uint32_t* cell = found.chunk_cells[chunk].data();
@@ -158,6 +161,7 @@ std::size_t sort_buckets(const std::vector<Reference>& by_bucket, const std::vec
   return vf::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, p.bucket_count), std::size_t{0},
       [&](const tbb::blocked_range<std::size_t>& range, std::size_t non_empty) {
+        check_interrupt();
         std::vector<std::uint32_t> cursor(std::size_t{1} << p.bucket_shift);
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
           const std::size_t first_cell = b << p.bucket_shift;
@@ -195,6 +199,11 @@ std::span<const std::uint32_t> UniformGrid::cell_starts() const { return layout_
 std::span<const std::uint32_t> UniformGrid::cell_references(std::size_t cell) const {
   const std::vector<std::uint32_t>& start = layout_->cell_start;
   return std::span<const std::uint32_t>(layout_->refs).subspan(start[cell], start[cell + 1] - start[cell]);
+}
+
+double UniformGrid::estimate_build_bytes(std::size_t triangles, const UniformGridConfig& config) {
+  const auto n = static_cast<double>(triangles);
+  return n * (80.0 + 4.0 * static_cast<double>(config.density) + 4.0 * 16.0);
 }
 
 UniformGrid UniformGrid::build(const TriangleSet& set, const UniformGridConfig& config) {

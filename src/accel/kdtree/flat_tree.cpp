@@ -9,6 +9,7 @@
 
 #include "kdtree/clip.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 
 namespace vf::kd {
@@ -27,7 +28,24 @@ void check_reference_count(std::size_t count) {
 
 }  // namespace
 
+BuildGrowth::BuildGrowth(std::string structure) : structure_(std::move(structure)) {
+  const MemoryLimit limit = memory_limit();
+  limit_bytes_ = limit.bytes;
+  limit_source_ = limit.source;
+}
+
+void BuildGrowth::add_leaf(std::size_t references) {
+  const std::uint64_t refs = references_.fetch_add(references, std::memory_order_relaxed) + references;
+  const std::uint64_t leaves = leaves_.fetch_add(1, std::memory_order_relaxed) + 1;
+  const double bytes = static_cast<double>(refs) * kBytesPerReference + static_cast<double>(leaves) * kBytesPerLeaf;
+  if (bytes > limit_bytes_)
+    throw Error(structure_ + ": the tree grew to " + std::to_string(refs) + " triangle references in " + std::to_string(leaves) +
+                " leaves, about " + format_bytes(bytes) + ", more than " + limit_source_ +
+                " (straddling triangles are copied into both children: a smaller depth or a larger leaf helps)");
+}
+
 void FlatTree::add_leaf(std::span<const std::uint32_t> triangles, int depth) {
+  if (growth) growth->add_leaf(triangles.size());
   if (triangles.size() > kMaxNodePayload)
     throw Error("kd-tree build: a leaf would hold " + std::to_string(triangles.size()) + " triangles, more than " +
                 std::to_string(kMaxNodePayload));

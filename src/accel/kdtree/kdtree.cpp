@@ -72,7 +72,11 @@ KdTree::~KdTree() = default;
 KdTree KdTree::build(const TriangleSet& set, const KdTreeConfig& config) {
   validate(config, set);
   const int max_depth = config.max_depth > 0 ? config.max_depth : automatic_max_depth(set.size());
-  return KdTree(kd::build_layout(set, SahBuilder(set, config, max_depth), [&] { return kd::make_root(set); }));
+  return KdTree(kd::build_layout(name(), set, SahBuilder(set, config, max_depth), [&] { return kd::make_root(set); }));
+}
+
+double KdTree::estimate_build_bytes(std::size_t triangles, const KdTreeConfig&) {
+  return 320.0 * static_cast<double>(triangles);
 }
 
 Hit KdTree::intersect(const Ray& ray) const { return kd::intersect(*layout_, ray); }

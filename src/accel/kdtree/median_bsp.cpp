@@ -109,7 +109,11 @@ MedianBsp::~MedianBsp() = default;
 MedianBsp MedianBsp::build(const TriangleSet& set, const MedianBspConfig& config) {
   validate(config, set);
   const int max_depth = config.max_depth > 0 ? config.max_depth : automatic_median_depth(set.size());
-  return MedianBsp(kd::build_layout(set, MedianBuilder(set, config, max_depth), [&] { return make_root(set); }));
+  return MedianBsp(kd::build_layout(name(), set, MedianBuilder(set, config, max_depth), [&] { return make_root(set); }));
+}
+
+double MedianBsp::estimate_build_bytes(std::size_t triangles, const MedianBspConfig&) {
+  return 256.0 * static_cast<double>(triangles);
 }
 
 Hit MedianBsp::intersect(const Ray& ray) const { return kd::intersect(*layout_, ray); }

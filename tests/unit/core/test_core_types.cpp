@@ -121,18 +121,49 @@ TEST(Sampling, CosineHemisphereHasMeanCosineTwoThirds) {
   EXPECT_NEAR(sum / n, 2.0 / 3.0, 0.005);
 }
 
-TEST(Memory, RequestsBeyondTheMachineAreRefusedWithTheEstimate) {
-  const double physical = static_cast<double>(physical_memory_bytes());
-  ASSERT_GT(physical, 0.0);
+TEST(Memory, RequestsBeyondTheAvailableMemoryAreRefusedWithTheEstimate) {
+  clear_memory_limit();
+  const double available = static_cast<double>(available_memory_bytes());
+  ASSERT_GT(available, 0.0);
+  ASSERT_LE(available, static_cast<double>(physical_memory_bytes()));
   EXPECT_NO_THROW(require_memory(1 << 20, "a small request"));
   try {
-    require_memory(physical, "a grid of 10^12 cells");
-    FAIL() << "all of physical memory was granted";
+    require_memory(2.0 * available, "a grid of 10^12 cells");
+    FAIL() << "twice the available memory was granted";
   } catch (const Error& e) {
     const std::string what = e.what();
-    EXPECT_EQ(what.find("a grid of 10^12 cells would need " + format_bytes(physical)), 0u) << what;
-    EXPECT_NE(what.find("more than half of this machine's"), std::string::npos) << what;
+    EXPECT_EQ(what.find("a grid of 10^12 cells would need about " + format_bytes(2.0 * available)), 0u) << what;
+    EXPECT_NE(what.find("more than the available memory ("), std::string::npos) << what;
   }
+}
+
+TEST(Memory, ASetLimitReplacesTheAvailableMemoryAndNamesItsSource) {
+  set_memory_limit(1024.0 * 1024.0, "--max-memory 1.00 MiB");
+  EXPECT_EQ(memory_limit().bytes, 1024.0 * 1024.0);
+  EXPECT_NO_THROW(require_memory(1024.0 * 1024.0, "exactly the limit"));
+  try {
+    require_memory(1024.0 * 1024.0 + 1.0, "one byte more");
+    FAIL() << "a request over the set limit was granted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "one byte more would need about 1.00 MiB, more than --max-memory 1.00 MiB");
+  }
+  clear_memory_limit();
+  EXPECT_NE(memory_limit().source.find("available memory"), std::string::npos);
+}
+
+TEST(Memory, SizesAreReadAsPeopleWriteThem) {
+  constexpr double kKiB = 1024.0, kMiB = kKiB * 1024.0, kGiB = kMiB * 1024.0;
+  EXPECT_EQ(parse_byte_size("4G"), 4 * kGiB);
+  EXPECT_EQ(parse_byte_size("4GiB"), 4 * kGiB);
+  EXPECT_EQ(parse_byte_size("4 GB"), 4 * kGiB);
+  EXPECT_EQ(parse_byte_size("512M"), 512 * kMiB);
+  EXPECT_EQ(parse_byte_size("1.5g"), 1.5 * kGiB);
+  EXPECT_EQ(parse_byte_size("64k"), 64 * kKiB);
+  EXPECT_EQ(parse_byte_size("2T"), 2 * kGiB * 1024.0);
+  EXPECT_EQ(parse_byte_size("1e9"), 1e9);
+  EXPECT_EQ(parse_byte_size("100B"), 100.0);
+  for (const char* bad : {"", "G", "0", "-1G", "4X", "4GiBs", "nan", "inf", "1e400"})
+    EXPECT_FALSE(parse_byte_size(bad).has_value()) << bad;
 }
 
 TEST(Memory, SizesAreWrittenForPeople) {
