@@ -56,12 +56,12 @@ namespace {
 template <class F>
 void for_each_surface_point(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                             std::uint64_t seed, F&& f) {
-  const float scale = spawn_scale(scene);
+  const SurfaceSpawner spawner(scene);
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t pixel = range.begin(); pixel != range.end(); ++pixel) {
       if (!hits[pixel]) continue;
       Rng rng(seed, pixel, 0);
-      f(pixel, rng, surface_point(scale, primary[pixel], hits[pixel]));
+      f(pixel, rng, spawner.surface_point(primary[pixel], hits[pixel]));
     }
   });
 }

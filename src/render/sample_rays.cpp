@@ -35,12 +35,25 @@ float spawn_offset(const Ray& ray, float hit_t, float scene_scale) {
   return kRayRelativeOffset * ray_scale + kSceneRelativeOffset * scene_scale;
 }
 
-SurfacePoint surface_point(float scene_scale, const Ray& ray, const Hit& hit) {
+SurfaceSpawner::SurfaceSpawner(const Scene& scene) : scene_(scene), scale_(spawn_scale(scene)) {}
+
+SurfacePoint SurfaceSpawner::surface_point(const Ray& ray, const Hit& hit) const {
   SurfacePoint point;
   point.normal = hit.has_normal ? normalize(hit.normal) : -normalize(ray.dir);
   if (dot(point.normal, ray.dir) > 0.0f) point.normal = -point.normal;
   const Vec3f hit_point = ray.org + ray.dir * hit.t;
-  point.position = hit_point + point.normal * spawn_offset(ray, hit.t, scene_scale);
+  const float offset = spawn_offset(ray, hit.t, scale_);
+  point.position = hit_point + point.normal * offset;
+  if (hit.has_triangle()) {
+    const Instance& object = scene_.instance(hit.instance);
+    const TriangleMesh& mesh = scene_.meshes[object.mesh];
+    const TriangleIndices& corners = mesh.triangles[hit.prim];
+    Vec3f centroid{0.0f};
+    for (std::uint32_t index : corners) centroid += object.transform.apply_point(mesh.positions[index]);
+    const Vec3f inward = centroid * (1.0f / 3.0f) - hit_point;
+    const float distance = length(inward);
+    if (distance > 0.0f) point.position += inward * (std::fmin(offset, 0.5f * distance) / distance);
+  }
   orthonormal_basis(point.normal, point.tangent, point.bitangent);
   return point;
 }

@@ -24,12 +24,11 @@ std::size_t slots_per_path(const PathRayOptions& options) { return 2 * static_ca
 std::size_t path_chunk_size(std::size_t missing) { return std::clamp<std::size_t>(missing / 2, 256, 65536); }
 
 PathChunk::PathChunk(const Scene& scene, const PathRayOptions& options, std::size_t first_path, std::size_t path_count)
-    : scene_(scene), options_(options), first_path_(first_path) {
+    : scene_(scene), spawner_(scene), options_(options), first_path_(first_path) {
   if (options.max_bounces < 0 || options.max_bounces > kMaxBounces)
     throw Error("path rays: max_bounces must be in 0.." + std::to_string(kMaxBounces) + ", got " +
                 std::to_string(options.max_bounces));
   if (scene.bounds().empty()) throw Error("path rays: the scene has no geometry");
-  scene_scale_ = spawn_scale(scene);
   const PinholeCamera camera(scene.camera_or_default(0, 0));
   const std::size_t slots = slots_per_path(options);
   slots_.resize(path_count * slots);
@@ -63,7 +62,7 @@ void PathChunk::advance(std::span<const Hit> hits) {
       if (!hits[i]) continue;
       const std::size_t path = pending_path_[i];
       Rng rng(options_.seed, first_path_ + path, static_cast<std::uint64_t>(depth_) + 1);
-      const SurfacePoint point = surface_point(scene_scale_, pending_[i], hits[i]);
+      const SurfacePoint point = spawner_.surface_point(pending_[i], hits[i]);
       const std::size_t shadow_slot = path * slots + 2 * static_cast<std::size_t>(depth_) + 1;
       slots_[shadow_slot] = shadow_ray(point, lights.sample(point.position, rng));
       used_[shadow_slot] = 1;

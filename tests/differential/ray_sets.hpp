@@ -16,9 +16,11 @@
 
 namespace vf::test {
 
-/// Uniform random point in `b` grown by `margin` times its extent on every side.
+/// Uniform random point in `b` grown by `margin` times its extent on every side (a flat axis counts
+/// 1% of the largest extent, so that rays start off a flat scene's plane: one starting on it would
+/// not hit it, tmin being exclusive).
 inline Vec3f point_around(Rng& rng, const Bounds3f& b, float margin) {
-  const Vec3f e = b.extent();
+  const Vec3f e = max(b.extent(), Vec3f(0.01f * max_component(b.extent())));
   return {b.lo.x - margin * e.x + (1 + 2 * margin) * e.x * rng.uniform(),
           b.lo.y - margin * e.y + (1 + 2 * margin) * e.y * rng.uniform(),
           b.lo.z - margin * e.z + (1 + 2 * margin) * e.z * rng.uniform()};
@@ -119,7 +121,8 @@ inline std::vector<Ray> grazing_rays(const TriangleSet& set, std::uint64_t seed,
 }
 
 /// For every ray the oracle hits at t: copies with tmax = t, tmin = t, tmax just below t and tmin
-/// just above t (in that order, four per hit).
+/// just below t (in that order, four per hit). The range is (tmin, tmax]: the first and the last
+/// must find the hit at t, the second and third must not.
 inline std::vector<Ray> boundary_t_rays(std::span<const Ray> rays, const std::vector<Hit>& hits) {
   std::vector<Ray> out;
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -129,7 +132,7 @@ inline std::vector<Ray> boundary_t_rays(std::span<const Ray> rays, const std::ve
     out.push_back(Ray{r.org, r.dir, r.tmin, t});
     out.push_back(Ray{r.org, r.dir, t, r.tmax});
     out.push_back(Ray{r.org, r.dir, r.tmin, std::nextafter(t, -std::numeric_limits<float>::infinity())});
-    out.push_back(Ray{r.org, r.dir, std::nextafter(t, std::numeric_limits<float>::infinity()), r.tmax});
+    out.push_back(Ray{r.org, r.dir, std::nextafter(t, -std::numeric_limits<float>::infinity()), r.tmax});
   }
   return out;
 }

@@ -64,14 +64,18 @@ class ExactVsOracle : public ::testing::TestWithParam<std::string> {
         EXPECT_GT(main.oracle_hits, 0u) << label << ": no ray hits anything";
       }
 
-      // The same rays with tmin or tmax exactly at each hit (must hit: the range is inclusive), and
-      // just beyond it.
+      // The same rays with tmin or tmax exactly at each hit and just below it: the range (tmin, tmax]
+      // keeps a hit at tmax and one just above tmin, and drops one at tmin.
       const std::vector<Ray> boundary = boundary_t_rays(ray_set.rays, answers.closest);
       const OracleAnswers boundary_answers = oracle_answers(oracle, boundary, true, &oracle_inconsistent);
       EXPECT_EQ(oracle_inconsistent, 0u) << label;
       for (std::size_t i = 0; i < boundary.size(); i += 4) {
+        const float t = boundary[i].tmax;
         ASSERT_TRUE(boundary_answers.closest[i]) << label << ": tmax = t must hit";
-        ASSERT_TRUE(boundary_answers.closest[i + 1]) << label << ": tmin = t must hit";
+        ASSERT_TRUE(!boundary_answers.closest[i + 1] || boundary_answers.closest[i + 1].t > t)
+            << label << ": tmin = t must not hit at t";
+        ASSERT_TRUE(boundary_answers.closest[i + 3]) << label << ": tmin just below t must hit";
+        ASSERT_LE(boundary_answers.closest[i + 3].t, t) << label;
       }
       const DiffReport edge = compare_built(built, boundary, boundary_answers, {.label = label + ", boundary t"});
       EXPECT_EQ(edge.closest_mismatches, 0u) << label;

@@ -26,7 +26,7 @@ void intersect_batch(const S& structure, std::span<const Ray> rays, std::span<Hi
   });
 }
 
-/// occluded[i] = 1 when rays[i] hits anything in [tmin, tmax], else 0. Spans must have equal sizes.
+/// occluded[i] = 1 when rays[i] hits anything in (tmin, tmax], else 0. Spans must have equal sizes.
 template <OcclusionQuery S>
 void occluded_batch(const S& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {

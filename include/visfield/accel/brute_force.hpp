@@ -29,7 +29,7 @@ class BruteForce {
 
   /// Closest hit over all triangles.
   Hit intersect(const Ray& ray) const;
-  /// True when any triangle is hit in [tmin, tmax].
+  /// True when any triangle is hit in (tmin, tmax].
   bool occluded(const Ray& ray) const;
   /// Build statistics.
   const AccelStats& stats() const;

@@ -38,12 +38,12 @@ class Bvh {
   Bvh& operator=(Bvh&&) noexcept;
   ~Bvh();
 
-  /// Closest hit in [tmin, tmax], with the triangle's geometric normal: the same t, u, v and triangle
+  /// Closest hit in (tmin, tmax], with the triangle's geometric normal: the same t, u, v and triangle
   /// as BruteForce (equal t: the lowest TriangleSet index) provided the triangle test's rounding keeps
   /// its computed hit inside the node boxes, which are padded by 2^-16 of their extent for that
   /// purpose (it has held on every ray of the differential tests).
   Hit intersect(const Ray& ray) const;
-  /// True when any triangle is hit in [tmin, tmax]; stops at the first.
+  /// True when any triangle is hit in (tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics: 8-wide node count, leaf count, triangle references, deepest leaf (in 8-wide
   /// levels), bytes (nodes, leaf blocks, lane and id maps), build ms.

@@ -51,9 +51,9 @@ class InstanceLayer {
   InstanceLayer& operator=(InstanceLayer&&) noexcept;
   ~InstanceLayer();
 
-  /// Closest hit in [tmin, tmax] over all objects.
+  /// Closest hit in (tmin, tmax] over all objects.
   Hit intersect(const Ray& ray) const;
-  /// True when any object is hit in [tmin, tmax]; stops at the first.
+  /// True when any object is hit in (tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Statistics of the committed state: memory of the top level plus each mesh structure once; node,
   /// leaf and reference counts summed over them likewise; depth of the top level plus the deepest

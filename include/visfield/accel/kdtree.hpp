@@ -44,9 +44,9 @@ class KdTree {
   KdTree& operator=(KdTree&&) noexcept;
   ~KdTree();
 
-  /// Closest hit in [tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
+  /// Closest hit in (tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
   Hit intersect(const Ray& ray) const;
-  /// True when any triangle is hit in [tmin, tmax]; stops at the first.
+  /// True when any triangle is hit in (tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics: node_count = interior nodes, leaf_count = all leaves (empty ones too),
   /// reference_count = leaf references (a triangle crossing k leaves counts k times), max_depth =

@@ -41,9 +41,9 @@ class MedianBsp {
   MedianBsp& operator=(MedianBsp&&) noexcept;
   ~MedianBsp();
 
-  /// Closest hit in [tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
+  /// Closest hit in (tmin, tmax]; bit-identical to BruteForce (ties: lowest triangle index).
   Hit intersect(const Ray& ray) const;
-  /// True when any triangle is hit in [tmin, tmax]; stops at the first.
+  /// True when any triangle is hit in (tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics, counted as for KdTree::stats().
   const AccelStats& stats() const;

@@ -53,7 +53,7 @@ concept ClosestHitQuery = Structure<S> && requires(const S& s, const Ray& ray) {
   { s.intersect(ray) } -> std::same_as<Hit>;
 };
 
-/// The occlusion role: occluded(ray) tells whether anything lies on the ray within [tmin, tmax].
+/// The occlusion role: occluded(ray) tells whether anything lies on the ray within (tmin, tmax].
 /// Const and thread-safe.
 template <class S>
 concept OcclusionQuery = Structure<S> && requires(const S& s, const Ray& ray) {

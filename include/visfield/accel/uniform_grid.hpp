@@ -75,9 +75,9 @@ class UniformGrid {
   UniformGrid& operator=(UniformGrid&&) noexcept;
   ~UniformGrid();
 
-  /// Closest hit in [tmin, tmax]; a zero direction never hits.
+  /// Closest hit in (tmin, tmax]; a zero direction never hits.
   Hit intersect(const Ray& ray) const;
-  /// True when any triangle is hit in [tmin, tmax]; stops at the first.
+  /// True when any triangle is hit in (tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
   /// Build statistics: node_count = cells, leaf_count = non-empty cells, reference_count, bytes, ms.
   const AccelStats& stats() const;

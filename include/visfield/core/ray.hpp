@@ -15,12 +15,21 @@ inline constexpr std::uint32_t kInvalidId = 0xffffffffu;
 /// reused, unchanged when other objects are added, moved or removed.
 using ObjectId = std::uint32_t;
 
-/// A ray segment org + t*dir for t in [tmin, tmax]; dir need not be unit length (t is in units of |dir|).
+/// A ray segment org + t*dir for t in (tmin, tmax]: tmin is exclusive, so a ray that starts on a surface
+/// (tmin = 0) does not hit it at t = 0, as in Embree and pbrt; tmax is inclusive. dir need not be unit
+/// length (t is in units of |dir|). A ray with a NaN or infinite org or dir, a zero dir, a NaN tmin or
+/// tmax, or tmin >= tmax hits nothing in every structure (Ray::is_valid tells).
 struct Ray {
   Vec3f org;
   Vec3f dir;
   float tmin = 0.0f;
   float tmax = std::numeric_limits<float>::infinity();
+
+  /// Finite org and dir, dir non-zero, tmin < tmax (tmax may be +infinity, tmin not NaN).
+  bool is_valid() const {
+    return is_finite(org) && is_finite(dir) && !(dir.x == 0.0f && dir.y == 0.0f && dir.z == 0.0f) && tmin < tmax &&
+           !(tmin != tmin);
+  }
 };
 
 /// The answer to a closest-hit query. A default-constructed Hit is a miss; found() tells. A hit has a
@@ -28,7 +37,7 @@ struct Ray {
 /// (prim, barycentrics u, v); an approximate hit (a visibility field) may have no triangle
 /// (prim == kInvalidId) but a surface normal. Shading reads `normal`, never the triangle.
 struct Hit {
-  float t = std::numeric_limits<float>::infinity();  ///< Ray parameter of the hit, in [tmin, tmax].
+  float t = std::numeric_limits<float>::infinity();  ///< Ray parameter of the hit, in (tmin, tmax].
   float u = 0.0f;                      ///< Barycentric weight of the triangle's vertex 1 (triangle hits).
   float v = 0.0f;                      ///< Barycentric weight of the triangle's vertex 2 (triangle hits).
   std::uint32_t prim = kInvalidId;     ///< Triangle index in its mesh; kInvalidId when the hit has no triangle.

@@ -34,8 +34,9 @@ struct TriangleHit {
   float t, u, v;
 };
 
-/// Watertight test of triangle (p0, p1, p2) against the ray for t in [tmin, tmax]; true and `out`
-/// filled on a hit. Edges shared by two triangles are never missed by both. Both sides hit.
+/// Watertight test of triangle (p0, p1, p2) against the ray for t in (tmin, tmax]; true and `out`
+/// filled on a hit. Edges shared by two triangles are never missed by both. Both sides hit. tmin is
+/// exclusive (as in Embree and pbrt): a ray that starts on a triangle does not hit it at t = tmin.
 inline bool intersect_triangle(const WatertightRay& r, const Vec3f& p0, const Vec3f& p1, const Vec3f& p2,
                                float tmin, float tmax, TriangleHit& out) {
   const Vec3f a = p0 - r.org, b = p1 - r.org, c = p2 - r.org;
@@ -58,7 +59,7 @@ inline bool intersect_triangle(const WatertightRay& r, const Vec3f& p0, const Ve
   const float t_scaled = e0 * az + e1 * bz + e2 * cz;
   const float inv_det = 1.0f / det;
   const float t = t_scaled * inv_det;
-  if (!(t >= tmin && t <= tmax)) return false;
+  if (!(t > tmin && t <= tmax)) return false;
   out = {t, e1 * inv_det, e2 * inv_det};
   return true;
 }

@@ -53,7 +53,7 @@ Image render_ao(const C& closest, const O& occluder, const Scene& scene, const C
                 RenderStats* stats = nullptr) {
   validate_ao_options(opt);
   const PinholeCamera pinhole(camera);
-  const float scale = spawn_scale(scene);
+  const SurfaceSpawner spawner(scene);
   Image image(pinhole.width(), pinhole.height());
   auto shade_tile = [&](const ImageTile& tile) -> std::uint64_t {
     std::uint64_t rays = 0;
@@ -70,7 +70,7 @@ Image render_ao(const C& closest, const O& occluder, const Scene& scene, const C
             sum += kAoBackground;
             continue;
           }
-          const SurfacePoint point = surface_point(scale, primary, hit);
+          const SurfacePoint point = spawner.surface_point(primary, hit);
           sum += ambient_occlusion(occluder, point, rng, opt.ao_rays, opt.max_distance);
           rays += static_cast<std::uint64_t>(opt.ao_rays);
         }

@@ -40,9 +40,27 @@ float spawn_scale(const Scene& scene);
 /// skip a nearby one.
 float spawn_offset(const Ray& ray, float hit_t, float scene_scale);
 
-/// Surface point of `hit` (found by tracing `ray`); scene_scale from spawn_scale(scene). The normal is
-/// the hit's (exact structures always give one); a hit without a normal faces the ray's origin.
-SurfacePoint surface_point(float scene_scale, const Ray& ray, const Hit& hit);
+/// Where secondary rays leave a surface: the offset rule of every renderer and ray generator.
+/// The hit point moves spawn_offset() along the normal, to the side the ray came from, and the same
+/// distance (at most half-way) toward the centroid of the hit triangle. The first move keeps a
+/// secondary ray from re-hitting its own surface (no acne). The second takes the point off the
+/// triangle's edges: a hit on an edge shared with a perpendicular surface (a room's corner, a box
+/// standing on a floor) would otherwise start exactly on that surface, which rays entering it would
+/// pass unseen (tmin is exclusive): light would leak through corners. Holds a reference to the scene;
+/// immutable and thread-safe.
+class SurfaceSpawner {
+ public:
+  /// Prepares for hits in `scene`, which must outlive this; O(objects + vertices).
+  explicit SurfaceSpawner(const Scene& scene);
+  /// Surface point of `hit` (found by tracing `ray`). The normal is the hit's (exact structures always
+  /// give one; a hit without a normal faces the ray's origin); a hit without a triangle moves only
+  /// along the normal. O(log objects).
+  SurfacePoint surface_point(const Ray& ray, const Hit& hit) const;
+
+ private:
+  const Scene& scene_;
+  float scale_;
+};
 
 /// The next ambient-occlusion ray from `point`: cosine-weighted about its normal (two numbers drawn from
 /// `rng`), unit direction, t in [0, max_distance].

@@ -13,6 +13,7 @@
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/render/ray_kind.hpp"
+#include "visfield/render/sample_rays.hpp"
 #include "visfield/select/query_set.hpp"
 
 namespace vf {
@@ -43,10 +44,10 @@ class PathChunk {
 
  private:
   const Scene& scene_;
+  SurfaceSpawner spawner_;
   PathRayOptions options_;
   std::size_t first_path_ = 0;
   int depth_ = 0;                       // depth of the rays in pending_
-  float scene_scale_ = 0.0f;
   std::vector<Ray> slots_;              // per path 2 * (max_bounces + 1) slots: (closest, shadow) per depth
   std::vector<std::uint8_t> used_;      // slot holds a ray
   std::vector<Ray> pending_;

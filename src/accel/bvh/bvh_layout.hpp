@@ -27,9 +27,9 @@ struct BvhLayout {
   AccelStats stats;
 };
 
-/// Closest hit in [tmin, tmax] (see Bvh::intersect). Thread-safe.
+/// Closest hit in (tmin, tmax] (see Bvh::intersect). Thread-safe.
 Hit intersect(const BvhLayout& bvh, const Ray& ray);
-/// Any hit in [tmin, tmax] (see Bvh::occluded). Thread-safe.
+/// Any hit in (tmin, tmax] (see Bvh::occluded). Thread-safe.
 bool occluded(const BvhLayout& bvh, const Ray& ray);
 
 }  // namespace vf::bvh

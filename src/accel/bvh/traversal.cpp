@@ -78,7 +78,7 @@ class TriangleLeaves {
   TriangleLeaves(const BvhLayout& bvh, const TraversalRay& ray, float tmin, float tmax)
       : bvh_(bvh), ray_(ray.triangle), tmin_(LeafLanes::broadcast(tmin)), tmax_(LeafLanes::broadcast(tmax)) {}
 
-  /// Any triangle of leaf `ref` hit in [tmin, tmax].
+  /// Any triangle of leaf `ref` hit in (tmin, tmax].
   bool any(std::uint32_t ref) const {
     const std::uint32_t first = leaf_first_item(ref), end = first + leaf_item_count(ref);
     for (std::uint32_t b = first; b != end; ++b)

@@ -22,7 +22,7 @@
 // computed just before a cell's exit may belong to a triangle referenced only by the next cell.
 // The slack is 2^-16 of |t| plus traversal_slack() (2^-16 of the grid's coordinate scale) in t
 // units; it costs one extra cell only for hits that close to a cell's exit. The same slack widens
-// [tmin, tmax] before the clip, so hits computed at exactly tmin or tmax are found.
+// [tmin, tmax] before the clip, so hits computed just above tmin or exactly at tmax are found.
 
 #include <algorithm>
 #include <cmath>

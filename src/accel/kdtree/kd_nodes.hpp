@@ -78,11 +78,11 @@ struct KdLayout {
   std::size_t memory_bytes() const;
 };
 
-/// Closest hit in [tmin, tmax]: bit-identical (t, u, v, triangle) to intersect_triangle() run on
+/// Closest hit in (tmin, tmax]: bit-identical (t, u, v, triangle) to intersect_triangle() run on
 /// every triangle in TriangleSet order with ties going to the lowest index. Thread-safe.
 Hit intersect(const KdLayout& kd, const Ray& ray);
 
-/// True when some triangle is hit in [tmin, tmax]; stops at the first hit found. Thread-safe.
+/// True when some triangle is hit in (tmin, tmax]; stops at the first hit found. Thread-safe.
 bool occluded(const KdLayout& kd, const Ray& ray);
 
 }  // namespace vf::kd

@@ -95,7 +95,7 @@ inline void recompute_edges_in_double(LaneBits lanes, const Lanes<W> (&xy)[6], L
 
 }  // namespace detail
 
-/// Tests the W triangles of `block` against the ray for t in [tmin, tmax] (broadcast); returns the
+/// Tests the W triangles of `block` against the ray for t in (tmin, tmax] (broadcast); returns the
 /// lanes that hit. With kWantHits the t, u, v of those lanes are written to `hits`.
 template <int W, bool kWantHits>
 inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>& r, const Lanes<W>& tmin,
@@ -142,7 +142,7 @@ inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>
   const V t_scaled = e0 * az + e1 * bz + e2 * cz;
   const V inv_det = V::broadcast(1.0f) / det;
   const V t = t_scaled * inv_det;
-  const LaneBits hit = candidates & cmp_ge(t, tmin) & cmp_le(t, tmax);
+  const LaneBits hit = candidates & cmp_gt(t, tmin) & cmp_le(t, tmax);
   if constexpr (kWantHits) {
     if (hit != 0) {
       t.store(hits->t);

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "visfield/core/rng.hpp"
 #include "visfield/core/triangle_intersect.hpp"
 
@@ -25,8 +27,13 @@ TEST(TriangleIntersect, MissesOutsideAndRespectsTRange) {
   EXPECT_FALSE(hit(Ray{{0.75f, 0.75f, -1.0f}, {0, 0, 1}}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
   EXPECT_FALSE(hit(Ray{{0.25f, 0.25f, -1.0f}, {0, 0, 1}, 0.0f, 0.5f}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
   EXPECT_FALSE(hit(Ray{{0.25f, 0.25f, -1.0f}, {0, 0, -1}}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
-  // tmin and tmax exactly at the hit are inclusive.
-  EXPECT_TRUE(hit(Ray{{0.25f, 0.25f, -1.0f}, {0, 0, 1}, 1.0f, 1.0f}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  // The range is (tmin, tmax]: tmax exactly at the hit keeps it, tmin exactly at the hit drops it.
+  EXPECT_TRUE(hit(Ray{{0.25f, 0.25f, -1.0f}, {0, 0, 1}, 0.0f, 1.0f}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  EXPECT_TRUE(hit(Ray{{0.25f, 0.25f, -1.0f}, {0, 0, 1}, std::nextafter(1.0f, 0.0f), 1.0f}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  EXPECT_FALSE(hit(Ray{{0.25f, 0.25f, -1.0f}, {0, 0, 1}, 1.0f, 2.0f}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  // A ray that starts on the triangle (tmin = 0) does not hit it, whichever way it leaves.
+  EXPECT_FALSE(hit(Ray{{0.25f, 0.25f, 0.0f}, {0, 0, 1}}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  EXPECT_FALSE(hit(Ray{{0.25f, 0.25f, 0.0f}, {0.3f, 0.1f, -1}}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
 }
 
 TEST(TriangleIntersect, BackFacesHitToo) {

@@ -189,7 +189,8 @@ TYPED_TEST(KdStructureQueries, SingleTriangleAndEmptySet) {
     EXPECT_EQ(h.prim, 0u);
     EXPECT_FALSE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 0.0f, 1.99f}));
     EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 0.0f, 2.0f}));
-    EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 2.0f, 2.0f}));
+    EXPECT_FALSE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, 2.0f, 3.0f}));  // tmin is exclusive
+    EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, std::nextafter(2.0f, 0.0f), 2.0f}));
     EXPECT_FALSE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}, std::nextafter(2.0f, 3.0f), 5.0f}));
     test::expect_matches_oracle(one, oracle, "single");
   }
