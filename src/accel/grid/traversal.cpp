@@ -161,7 +161,8 @@ bool walk(const grid::GridLayout& g, const Ray& ray, BestHit& best) {
 
 Hit UniformGrid::intersect(const Ray& ray) const {
   BestHit best;
-  if (!walk<false>(*layout_, ray, best)) return Hit{};
+  // The 3D-DDA steps by t: a NaN or infinite step would index cells outside the grid.
+  if (!ray.is_valid() || !walk<false>(*layout_, ray, best)) return Hit{};
   const std::array<Vec3f, 3>& tri = layout_->triangles[best.triangle];
   return Hit::triangle(best.t, best.u, best.v, layout_->prim[best.triangle], layout_->instance[best.triangle],
                        cross(tri[1] - tri[0], tri[2] - tri[0]));
@@ -169,7 +170,7 @@ Hit UniformGrid::intersect(const Ray& ray) const {
 
 bool UniformGrid::occluded(const Ray& ray) const {
   BestHit unused;
-  return walk<true>(*layout_, ray, unused);
+  return ray.is_valid() && walk<true>(*layout_, ray, unused);
 }
 
 }  // namespace vf

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
+#include "differential/structure_specs.hpp"
 #include "differential/test_scenes.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/error.hpp"
@@ -194,6 +197,41 @@ TEST(Registry, HelpListsEveryStructureAndParameter) {
       EXPECT_NE(help.find(std::string(p.key) + "="), std::string::npos) << info.name << " " << p.key;
   }
   EXPECT_NE(help.find("updatable with levels=2"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vf
+
+namespace vf {
+namespace {
+
+TEST(Registry, InvalidRaysHitNothingInEveryStructure) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const Vec3f org{0.5f, 0.5f, -1.0f}, dir{0.01f, 0.02f, 1.0f};
+  const std::vector<Ray> invalid = {
+      Ray{org, {0, 0, 0}},          Ray{org, {-0.0f, 0, 0}},       Ray{org, {nan, 0, 1}},
+      Ray{org, {inf, 0, 1}},        Ray{{nan, 0.5f, -1}, dir},     Ray{{-inf, 0.5f, -1}, dir},
+      Ray{org, dir, 2.0f, 1.0f},    Ray{org, dir, 1.0f, 1.0f},     Ray{org, dir, nan, inf},
+      Ray{org, dir, 0.0f, nan},
+  };
+  for (const Ray& r : invalid) EXPECT_FALSE(r.is_valid());
+  std::vector<Ray> nothing_to_hit = invalid;
+  nothing_to_hit.push_back(Ray{org, dir, -inf, -1.0f});  // valid, but the segment lies behind the origin
+  EXPECT_TRUE((Ray{org, dir}.is_valid()));
+  for (const std::string& spec : test::exact_structure_specs()) {
+    SceneGeometry geometry(small_scene());
+    const BuiltStructure built = build_structure(spec, geometry);
+    const std::string& name = spec;
+    std::visit(
+        [&](const auto& s) {
+          ASSERT_TRUE(s.intersect(Ray{org, dir})) << name << ": the valid ray should hit the soup";
+          for (std::size_t i = 0; i < nothing_to_hit.size(); ++i) {
+            EXPECT_FALSE(s.intersect(nothing_to_hit[i])) << name << ", ray " << i;
+            EXPECT_FALSE(s.occluded(nothing_to_hit[i])) << name << ", ray " << i;
+          }
+        },
+        built.structure);
+  }
 }
 
 }  // namespace
