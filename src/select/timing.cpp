@@ -1,12 +1,6 @@
 #include "visfield/select/timing.hpp"
 
-#include <tbb/global_control.h>
-
 namespace vf {
-
-int threads_in_force() {
-  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-}
 
 void do_not_optimize(std::uint64_t value) {
   static volatile std::uint64_t sink = 0;

@@ -20,8 +20,9 @@
 #endif
 #endif
 
-#if defined(VISFIELD_TSAN)
 #include "visfield/core/parallel_threads.hpp"
+
+#if defined(VISFIELD_TSAN)
 namespace vf::parallel_backend {
 using namespace vf::threads;
 }

@@ -18,17 +18,22 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 
+namespace vf {
+
+/// The thread count in force: the ThreadLimit of the command (through tbb::global_control), else
+/// all hardware threads. Thread-safe.
+inline int threads_in_force() {
+  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
+}  // namespace vf
+
 namespace vf::threads {
 
 /// Threads alive in this backend beyond the callers', across nested calls; past kMaxHelpers
 /// nested work runs on the calling thread.
 inline std::atomic<int> live_helpers{0};
 inline constexpr int kMaxHelpers = 64;
-
-/// The thread count in force (vf::ThreadLimit sets it through tbb::global_control).
-inline int thread_count() {
-  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-}
 
 /// Runs worker(k) for k in [0, n): k = 0 on the caller, the rest on new threads when the helper
 /// budget allows, else on the caller after worker(0). Rethrows the first exception after all end.
@@ -92,7 +97,7 @@ void for_each_piece(std::size_t pieces, int workers, const Work& piece_work) {
 }
 
 inline int workers_for(std::size_t pieces) {
-  return static_cast<int>(std::min<std::size_t>(pieces, static_cast<std::size_t>(std::max(1, thread_count()))));
+  return static_cast<int>(std::min<std::size_t>(pieces, static_cast<std::size_t>(std::max(1, threads_in_force()))));
 }
 
 /// As tbb::parallel_for(range, body).

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "visfield/accel/query.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/core/statistics.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/render/ray_kind.hpp"
@@ -103,8 +104,5 @@ template <Accelerator A>
 double sample_query_us(const A& accel, const QuerySet& sample, int threads) {
   return median_batch_query_us(accel, sample, kSampleParts, threads);
 }
-
-/// TBB threads in force (the ThreadLimit of the command, else all hardware threads).
-int threads_in_force();
 
 }  // namespace vf

@@ -111,7 +111,7 @@ TYPED_TEST(ParallelLoops, NestedInvokeRunsBothSidesAndPropagatesExceptions) {
 
 TEST(ParallelLoops, ThreadBackendUsesTheThreadLimit) {
   ThreadLimit limit(3);
-  EXPECT_EQ(threads::thread_count(), 3);
+  EXPECT_EQ(threads_in_force(), 3);
   std::mutex m;
   std::set<std::thread::id> seen;
   threads::parallel_for(Range(0, 3000, 1), [&](const Range&) {
