@@ -39,6 +39,7 @@ int run_select(const SelectCommandOptions& o) {
   validate_select_options(options);
   const Calibration calibration = o.calibration.empty() ? builtin_calibration() : load_calibration(o.calibration);
   ThreadLimit limit(o.threads);
+  if (!o.calibration.empty()) require_calibration_for(calibration, this_machine(limit.threads()), o.calibration);
   const NamedScene loaded = load_named(o.scene);
   const RayKind kind = *parse_ray_kind(o.kind);
   const Selection s = select_structure(loaded.scene, loaded.triangles, rays, calibration, kind, options);

@@ -10,6 +10,7 @@
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/memory.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/select/calibration.hpp"
 #include "visfield/select/decision.hpp"
 
@@ -229,6 +230,7 @@ BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const B
   const TriangleSet& set = geometry.flattened();
   if (set.size() == 0) throw Error("auto: the scene has no non-degenerate triangles");
   const Calibration calibration = p.has("calibration") ? load_calibration(p.text("calibration")) : builtin_calibration();
+  if (p.has("calibration")) require_calibration_for(calibration, this_machine(threads_in_force()), p.text("calibration"));
   const std::uint64_t rays = p.has("rays") ? p.whole("rays") : context.expected_rays;
   const RayKind kind = *parse_ray_kind(p.text("kind"));
   Selection selection = select_structure(geometry.scene(), set, rays, calibration, kind);

@@ -47,15 +47,5 @@ void save_calibration(const std::filesystem::path& path, const Calibration& cali
   write_atomically(path, [&](const std::filesystem::path& tmp) { write_file_bytes(tmp, text); });
 }
 
-Calibration load_calibration(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error(path.string() + ": is a directory, not a calibration file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.string() + ": cannot open calibration file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw Error(path.string() + ": cannot read calibration file");
-  return calibration_from_json(text.str(), path.string());
-}
 
 }  // namespace vf

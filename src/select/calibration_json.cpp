@@ -122,8 +122,9 @@ std::string calibration_to_json(const Calibration& c) {
   return doc.dump(2);
 }
 
-Calibration calibration_from_json(const std::string& text, const std::string& source) {
-  const nlohmann::json doc = json::parse_json_text(text, source);
+namespace {
+
+Calibration calibration_from_document(const nlohmann::json& doc, const std::string& source) {
   const JsonField root(doc, source);
   root.require_object({"format", "version", "machine", "settings", "constants", "scenes"});
   const JsonField format = root.member("format");
@@ -160,6 +161,25 @@ Calibration calibration_from_json(const std::string& text, const std::string& so
 
   for (const JsonField& scene : root.member("scenes").elements()) c.scenes.push_back(scene_from_json(scene));
   return c;
+}
+
+}  // namespace
+
+Calibration calibration_from_json(const std::string& text, const std::string& source) {
+  return calibration_from_document(json::parse_json_text(text, source), source);
+}
+
+Calibration load_calibration(const std::filesystem::path& path) {
+  return calibration_from_document(json::parse_json_file(path), path.string());
+}
+
+void require_calibration_for(const Calibration& calibration, const MachineInfo& here, const std::string& source) {
+  const MachineInfo& there = calibration.machine;
+  if (there.cpu_model == here.cpu_model && there.threads == here.threads) return;
+  throw Error(source + ": measured on " + there.cpu_model + " with " + std::to_string(there.threads) +
+              " threads, but this is " + here.cpu_model + " with " + std::to_string(here.threads) +
+              " threads: its timings do not apply (run `visfield calibrate` here" +
+              (there.cpu_model == here.cpu_model ? ", or use --threads " + std::to_string(there.threads) : std::string()) + ")");
 }
 
 }  // namespace vf

@@ -128,6 +128,11 @@ void save_calibration(const std::filesystem::path& path, const Calibration& cali
 /// Reads and validates a calibration file (see calibration_from_json). Throws vf::Error naming the file.
 Calibration load_calibration(const std::filesystem::path& path);
 
+/// Refuses (vf::Error naming `source`) a calibration measured on another CPU model or with another
+/// thread count than `here`: its timings would mislead the selection. The built-in calibration is
+/// not checked by its callers (it is the documented approximation for machines without their own).
+void require_calibration_for(const Calibration& calibration, const MachineInfo& here, const std::string& source);
+
 /// The constants measured on the project's build machine (see builtin_calibration.cpp for the command
 /// and the figures); used when no calibration file is given. No scenes.
 const Calibration& builtin_calibration();

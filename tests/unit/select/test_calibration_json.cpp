@@ -154,5 +154,25 @@ TEST(CalibrationJson, LoadNamesAMissingFileOrAFolder) {
   }
 }
 
+TEST(CalibrationJson, RefusesACalibrationFromAnotherMachineOrThreadCount) {
+  Calibration c = builtin_calibration();
+  c.machine = MachineInfo{"lab", 2, "Some CPU @ 3.0GHz"};
+  EXPECT_NO_THROW(require_calibration_for(c, MachineInfo{"other-host", 2, "Some CPU @ 3.0GHz"}, "cal.json"));
+  const auto message = [&](const MachineInfo& here) {
+    try {
+      require_calibration_for(c, here, "cal.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  const std::string other_cpu = message(MachineInfo{"lab", 2, "Another CPU"});
+  EXPECT_EQ(other_cpu.rfind("cal.json: measured on Some CPU @ 3.0GHz with 2 threads, but this is Another CPU with 2 threads", 0), 0u)
+      << other_cpu;
+  EXPECT_EQ(other_cpu.find("--threads"), std::string::npos) << other_cpu;
+  const std::string other_threads = message(MachineInfo{"lab", 8, "Some CPU @ 3.0GHz"});
+  EXPECT_NE(other_threads.find("or use --threads 2"), std::string::npos) << other_threads;
+}
+
 }  // namespace
 }  // namespace vf
