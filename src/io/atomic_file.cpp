@@ -37,7 +37,9 @@ void check_target(const std::filesystem::path& target) {
   const std::filesystem::path folder = folder_of(target);
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
-    throw Error(target.string() + ": cannot write: folder " + folder.string() + " does not exist");
+    throw Error(target.string() + ": cannot write: " +
+                (std::filesystem::exists(folder, ec) ? folder.string() + " is not a folder"
+                                                     : "folder " + folder.string() + " does not exist"));
   if (target.filename().empty() || std::filesystem::is_directory(target, ec))
     throw Error(target.string() + ": cannot write: is a directory");
 }
@@ -48,7 +50,9 @@ void check_writable(const std::filesystem::path& target) {
   check_target(target);
   const std::filesystem::path probe = temporary_sibling(folder_of(target), target);
   std::FILE* file = std::fopen(probe.c_str(), "wx");
-  if (file == nullptr) throw Error(target.string() + ": cannot write: " + std::strerror(errno));
+  if (file == nullptr)
+    throw Error(target.string() + ": cannot write: cannot create a file in " + folder_of(target).string() + ": " +
+                std::strerror(errno));
   std::fclose(file);
   std::error_code ec;
   std::filesystem::remove(probe, ec);

@@ -15,6 +15,8 @@ void require_readable_file(const std::filesystem::path& path) {
   if (!std::filesystem::exists(status)) throw Error(path.string() + ": no such file");
   if (std::filesystem::is_directory(status)) throw Error(path.string() + ": is a directory, not a file");
   if (!std::filesystem::is_regular_file(status)) throw Error(path.string() + ": not a regular file");
+  // No format we read has a valid empty file; saying so beats each parser's own wording.
+  if (std::filesystem::file_size(path, ec) == 0 && !ec) throw Error(path.string() + ": the file is empty");
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) throw Error(path.string() + ": cannot open: " + std::strerror(errno));
   std::fclose(file);
@@ -35,6 +37,11 @@ std::string one_line(std::string_view text) {
     out += std::iscntrl(static_cast<unsigned char>(c)) ? '?' : c;
   }
   return out;
+}
+
+std::string upper_case(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return text;
 }
 
 std::string lower_extension(const std::filesystem::path& path) {

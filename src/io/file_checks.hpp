@@ -7,14 +7,18 @@
 
 namespace vf::io_detail {
 
-/// Throws vf::Error ("<path>: no such file", "<path>: is a directory, not a file", "<path>: cannot
-/// open: <reason>") unless `path` names a regular file this process can open for reading.
+/// Throws vf::Error ("<path>: no such file", "<path>: is a directory, not a file", "<path>: the file
+/// is empty", "<path>: cannot open: <reason>") unless `path` names a non-empty regular file this
+/// process can open for reading.
 void require_readable_file(const std::filesystem::path& path);
 
 /// `text` with every run of whitespace (line breaks included) collapsed to one space, leading and
 /// trailing whitespace dropped and control characters shown as '?': third-party error strings made
 /// fit for a one-line message.
 std::string one_line(std::string_view text);
+
+/// `text` upper-cased (ASCII): a format's name in messages ("PLY").
+std::string upper_case(std::string text);
 
 /// The extension of `path` without the dot, lower-cased ("" when there is none).
 std::string lower_extension(const std::filesystem::path& path);

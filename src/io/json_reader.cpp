@@ -1,5 +1,6 @@
 #include "visfield/io/json_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -36,12 +37,6 @@ struct DuplicateKey {
   std::string key;
 };
 
-// Thrown from the parser callback when arrays and objects nest deeper than kMaxJsonDepth.
-struct TooDeep {};
-
-// Far beyond any file visfield writes or reads (scene files nest 4 deep), far below where nested
-// values would exhaust the stack of code that walks them recursively (dump, destruction).
-constexpr int kMaxJsonDepth = 64;
 
 // Larger texts are refused before parsing: the parsed values take several times the text's size.
 constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t{256} << 20;
@@ -76,14 +71,36 @@ nlohmann::json parse_json_file(const std::filesystem::path& path) {
   return parse_json_text(text.str(), path.string());
 }
 
+// kMaxJsonDepth is far beyond any file visfield writes or reads (scene files nest 4 deep, glTF files
+// about 6) and far below where nested values exhaust the stack of a recursive parser or of code
+// that walks them recursively (dump, destruction): Assimp's glTF reader overflows at about 100,000.
+void check_json_nesting(std::string_view text, const std::string& source) {
+  int depth = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"') {
+      for (++i; i < text.size() && text[i] != '"'; ++i) i += text[i] == '\\';
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {
+      i = std::min(text.find('\n', i), text.size());
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      i = std::min(text.find("*/", i + 2), text.size()) + 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw Error(source + ": invalid JSON: arrays and objects nested more than " + std::to_string(kMaxJsonDepth) +
+                    " deep");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 nlohmann::json parse_json_text(const std::string& text, const std::string& source) {
-  // nlohmann keeps the last of repeated keys; a repeated key is almost always a mistake, so refuse it;
-  // and refuse deep nesting before it is built.
+  check_json_nesting(text, source);
+  // nlohmann keeps the last of repeated keys; a repeated key is almost always a mistake, so refuse it.
   std::vector<std::set<std::string>> keys_per_open_object;
-  const nlohmann::json::parser_callback_t check_keys_and_depth = [&](int depth, nlohmann::json::parse_event_t event,
-                                                                   nlohmann::json& parsed) {
+  const nlohmann::json::parser_callback_t check_keys = [&](int /*depth*/, nlohmann::json::parse_event_t event,
+                                                         nlohmann::json& parsed) {
     using Event = nlohmann::json::parse_event_t;
-    if ((event == Event::object_start || event == Event::array_start) && depth >= kMaxJsonDepth) throw TooDeep{};
     if (event == Event::object_start) keys_per_open_object.emplace_back();
     if (event == Event::object_end) keys_per_open_object.pop_back();
     if (event == Event::key && !keys_per_open_object.back().insert(parsed.get<std::string>()).second)
@@ -91,9 +108,7 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& sourc
     return true;
   };
   try {
-    return nlohmann::json::parse(text, check_keys_and_depth, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const TooDeep&) {
-    throw Error(source + ": invalid JSON: arrays and objects nested more than " + std::to_string(kMaxJsonDepth) + " deep");
+    return nlohmann::json::parse(text, check_keys, /*allow_exceptions=*/true, /*ignore_comments=*/true);
   } catch (const DuplicateKey& duplicate) {
     throw Error(source + ": invalid JSON: key \"" + one_line(duplicate.key) + "\" appears twice in one object");
   } catch (const nlohmann::json::parse_error& e) {

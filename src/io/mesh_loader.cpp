@@ -10,35 +10,13 @@
 #include <string>
 
 #include "assimp_scene.hpp"
-#include "declared_sizes.hpp"
 #include "file_checks.hpp"
+#include "mesh_header.hpp"
 #include "visfield/core/error.hpp"
 
 namespace vf {
-namespace {
 
-std::string upper(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// Assimp picks a reader by extension and, failing that, by probing every reader; a file whose
-// header does not match its extension could then be read as some other format. Check the magic
-// bytes of the formats that have them so a mislabelled or corrupt file is reported, not guessed.
-void require_format_signature(const std::filesystem::path& path, const std::string& ext) {
-  std::string expected;
-  if (ext == "ply") expected = "ply";
-  else if (ext == "glb") expected = "glTF";
-  else return;
-  std::string head(expected.size(), '\0');
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  const std::size_t got = file != nullptr ? std::fread(head.data(), 1, head.size(), file) : 0;
-  if (file != nullptr) std::fclose(file);
-  if (got != head.size() || head != expected)
-    throw Error(path.string() + ": malformed " + upper(ext) + ": the file does not start with \"" + expected + "\"");
-}
-
-}  // namespace
+using io_detail::upper_case;
 
 LoadedMesh load_mesh(const std::filesystem::path& path) {
   const std::string what = path.string();
@@ -47,14 +25,16 @@ LoadedMesh load_mesh(const std::filesystem::path& path) {
   Assimp::Importer importer;
   if (ext.empty() || !importer.IsExtensionSupported("." + ext))
     throw Error(what + ": unsupported mesh format (expected .obj, .ply, .gltf, .glb, .stl or another format Assimp reads)");
-  require_format_signature(path, ext);
-  io_detail::check_declared_sizes(path, ext);
+  io_detail::check_mesh_header(path, ext);
 
   // No triangulation, degenerate removal or vertex joining by Assimp: we fan-triangulate and share
   // bit-identical vertices ourselves so that triangle counts and coordinates stay exactly the file's.
   const aiScene* scene = importer.ReadFile(path.string(), 0);
   const auto malformed = [&] {
-    return Error(what + ": malformed " + upper(ext) + ": " + io_detail::one_line(importer.GetErrorString()));
+    std::string reason = io_detail::one_line(importer.GetErrorString());
+    // Assimp prefixes some messages with the format ("OBJ: vertex index out of range"); we already say it.
+    if (reason.starts_with(upper_case(ext) + ": ")) reason.erase(0, ext.size() + 2);
+    return Error(what + ": malformed " + upper_case(ext) + ": " + reason);
   };
   if (scene == nullptr) throw malformed();
   if (scene->mNumMeshes == 0) throw Error(what + ": the file holds no mesh (no faces)");

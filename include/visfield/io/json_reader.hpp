@@ -42,6 +42,14 @@ nlohmann::json parse_json_file(const std::filesystem::path& path);
 /// Parses JSON text as parse_json_file does; `source` names it in messages.
 nlohmann::json parse_json_text(const std::string& text, const std::string& source);
 
+/// Deepest nesting of arrays and objects visfield accepts in any JSON, its own files and glTF alike.
+inline constexpr int kMaxJsonDepth = 64;
+
+/// Throws vf::Error "<source>: invalid JSON: arrays and objects nested more than 64 deep" when
+/// `text` nests deeper than kMaxJsonDepth, before any parser recurses into it (strings and comments
+/// are skipped; syntax is otherwise not checked). O(size), no allocation.
+void check_json_nesting(std::string_view text, const std::string& source);
+
 /// One JSON value plus where it sits: the file (for messages) and its path from the root.
 /// Borrows the document, which must outlive it. Every accessor throws vf::Error on a type or range
 /// mismatch, naming file, path, what was expected and the value found.

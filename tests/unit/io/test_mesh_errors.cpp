@@ -86,10 +86,24 @@ TEST(MeshErrors, ObjNanAndInfCoordinates) {
 
 TEST(MeshErrors, ObjWithoutFaces) {
   TempDir dir;
-  expect_refused(write_file(dir / "empty.obj", ""), "malformed OBJ");
+  expect_refused(write_file(dir / "empty.obj", ""), "empty.obj: the file is empty");
   expect_refused(write_file(dir / "comment.obj", "# only a comment line\n"), "no faces");
   expect_refused(write_file(dir / "vertices.obj", kTriangle), "no faces");
   expect_refused(write_file(dir / "lines.obj", kTriangle + "l 1 2 3\n"), "no triangles");
+}
+
+// Assimp's glTF reader recurses on nested JSON: 100,000 levels crashed it (stack overflow) before
+// the nesting check; a GLB's JSON chunk is checked the same way, and its declared length first.
+TEST(MeshErrors, DeeplyNestedGltfAndOverlongGlbChunks) {
+  TempDir dir;
+  const std::string deep = "{\"asset\": {\"version\": \"2.0\"}, \"x\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  expect_refused(write_file(dir / "deep.gltf", deep), "deep.gltf: malformed GLTF: invalid JSON: arrays and objects nested more than 64 deep");
+  const auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  expect_refused(write_file(dir / "deep.glb", "glTF" + u32(2) + u32(static_cast<std::uint32_t>(20 + deep.size())) +
+                                                  u32(static_cast<std::uint32_t>(deep.size())) + "JSON" + deep),
+                 "deep.glb: malformed GLB: invalid JSON: arrays and objects nested more than 64 deep");
+  expect_refused(write_file(dir / "long.glb", "glTF" + u32(2) + u32(1000) + u32(4000000000u) + "JSON{}"),
+                 "long.glb: malformed GLB: the header declares 4000000000 bytes of JSON but only 2 bytes follow it");
 }
 
 TEST(MeshErrors, GarbageGlbAndStl) {

@@ -1,5 +1,6 @@
-#include "declared_sizes.hpp"
+#include "mesh_header.hpp"
 
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <sstream>
@@ -9,6 +10,7 @@
 
 #include "file_checks.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/io/json_reader.hpp"
 
 namespace vf::io_detail {
 namespace {
@@ -127,14 +129,60 @@ void check_binary_stl(const std::filesystem::path& path, std::uintmax_t file_siz
                 " bytes) but the file holds " + std::to_string(file_size) + " bytes");
 }
 
+std::uint32_t little_endian_u32(const std::string& bytes, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(i)]);
+  return v;
+}
+
+// Assimp's glTF reader parses the JSON recursively: deep nesting must be refused before it starts.
+// Its answer to JSON that is cut short is "no suitable reader found": say what is wrong instead.
+void check_gltf_json(std::string_view text, const std::string& what) {
+  json::check_json_nesting(text, what);
+  if (!nlohmann::json::accept(text)) throw Error(what + ": the JSON is invalid or cut short");
+}
+
+void check_gltf(const std::filesystem::path& path, std::uintmax_t file_size) {
+  check_gltf_json(read_head(path, file_size), path.string() + ": malformed GLTF");
+}
+
+// A GLB is a 12-byte header ("glTF", version, length) and chunks; version 2 starts with a JSON chunk
+// (length, "JSON", text), version 1 with its JSON content's length and format at offset 12.
+void check_glb(const std::filesystem::path& path, std::uintmax_t file_size) {
+  const std::string what = path.string() + ": malformed GLB: ";
+  const std::string head = read_head(path, 20);
+  if (head.size() < 20) throw Error(what + "a GLB of " + std::to_string(file_size) + " bytes, shorter than its 20-byte header");
+  const std::uint64_t json_bytes = little_endian_u32(head, 12);
+  if (20 + json_bytes > file_size)
+    throw Error(what + "the header declares " + std::to_string(json_bytes) + " bytes of JSON but only " +
+                std::to_string(file_size - 20) + " bytes follow it");
+  check_gltf_json(std::string_view(read_head(path, 20 + json_bytes)).substr(20), what.substr(0, what.size() - 2));
+}
+
+
+// Assimp picks a reader by extension and, failing that, by probing every reader; a file whose
+// header does not match its extension could then be read as some other format. Check the magic
+// bytes of the formats that have them so a mislabelled or corrupt file is reported, not guessed.
+void require_format_signature(const std::filesystem::path& path, const std::string& ext) {
+  std::string expected;
+  if (ext == "ply") expected = "ply";
+  else if (ext == "glb") expected = "glTF";
+  else return;
+  if (read_head(path, expected.size()) != expected)
+    throw Error(path.string() + ": malformed " + upper_case(ext) + ": the file does not start with \"" + expected + "\"");
+}
+
 }  // namespace
 
-void check_declared_sizes(const std::filesystem::path& path, const std::string& lower_extension) {
+void check_mesh_header(const std::filesystem::path& path, const std::string& lower_extension) {
+  require_format_signature(path, lower_extension);
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec) return;  // require_readable_file has run; the reader will report what is wrong
   if (lower_extension == "ply") check_ply(path, size);
   if (lower_extension == "stl") check_binary_stl(path, size);
+  if (lower_extension == "gltf") check_gltf(path, size);
+  if (lower_extension == "glb") check_glb(path, size);
 }
 
 }  // namespace vf::io_detail
