@@ -17,10 +17,11 @@ int run_info(const StructureCommandOptions& o) {
   double load_ms = 0.0;
   const Scene scene = load_scene_argument(o.scene, &load_ms);
   SceneGeometry geometry(scene);
-  std::size_t vertices = 0, mesh_bytes = 0;
+  std::size_t vertices = 0, mesh_bytes = 0, duplicates = 0;
   for (const TriangleMesh& m : scene.meshes) {
     vertices += m.positions.size();
     mesh_bytes += m.memory_bytes();
+    duplicates += m.count_duplicates();
   }
   const BuiltStructure built = build_structure_for(o.structure, geometry, {}, "--accel", o.scene);
   const std::size_t instanced = scene.instanced_triangle_count();
@@ -32,6 +33,7 @@ int run_info(const StructureCommandOptions& o) {
             << "objects:            " << scene.instances().size() << "\n"
             << "triangles:          " << instanced << " instanced, " << instanced - built.degenerate_triangles << " kept\n"
             << "degenerate:         " << built.degenerate_triangles << " zero-area triangles left out\n"
+            << "duplicates:         " << duplicates << " triangles repeat another's vertices (kept)\n"
             << "bounds:             " << bounds.lo << " - " << bounds.hi << "\n"
             << "materials:          " << scene.materials.size() << "\n"
             << "lights:             " << scene.point_lights.size() << " point, " << scene.sphere_lights.size() << " sphere\n"

@@ -1,6 +1,8 @@
 #include "visfield/core/mesh.hpp"
 
+#include <algorithm>
 #include <sstream>
+#include <vector>
 
 #include "visfield/core/error.hpp"
 
@@ -21,6 +23,15 @@ std::size_t TriangleMesh::count_degenerate() const {
   std::size_t count = 0;
   for (const TriangleIndices& t : triangles)
     if (is_degenerate_triangle(positions[t[0]], positions[t[1]], positions[t[2]])) ++count;
+  return count;
+}
+
+std::size_t TriangleMesh::count_duplicates() const {
+  std::vector<TriangleIndices> keys(triangles);
+  for (TriangleIndices& k : keys) std::sort(k.begin(), k.end());
+  std::sort(keys.begin(), keys.end());
+  std::size_t count = 0;
+  for (std::size_t i = 1; i < keys.size(); ++i) count += keys[i] == keys[i - 1];
   return count;
 }
 

@@ -26,6 +26,10 @@ struct TriangleMesh {
   Bounds3f bounds() const;
   /// Number of triangles with exactly zero area (coincident or collinear corners); O(T).
   std::size_t count_degenerate() const;
+  /// Number of triangles with the same three vertex indices (in any order) as an earlier triangle.
+  /// They are kept: the surface is the same, and an exact query returns one of the copies. O(T log T)
+  /// time, 12 bytes per triangle of scratch.
+  std::size_t count_duplicates() const;
   /// Bytes held by the arrays.
   std::size_t memory_bytes() const;
 };
