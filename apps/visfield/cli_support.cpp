@@ -79,12 +79,13 @@ CLI::Option* add_structure_option(CLI::App& cmd, const std::string& name, std::s
                                   const std::string& only) {
   const CLI::Validator registered(
       [name, only](std::string& value) {
+        // CLI11 puts "--accel: " before the message; the spec's name follows.
         try {
-          check_structure_spec(value, name + " ");
+          check_structure_spec(value, "");
         } catch (const Error& e) {
           return std::string(e.what());
         }
-        if (!only.empty() && parse_spec(value, name + " ").name != only) return name + " " + value + ": must be " + only;
+        if (!only.empty() && parse_spec(value, "").name != only) return value + ": must be " + only;
         return std::string();
       },
       "SPEC");
@@ -98,16 +99,19 @@ Scene load_scene_argument(const std::string& spec, double* load_ms) {
   return scene;
 }
 
+void warn_degenerate_triangles(const std::string& scene_spec, std::size_t count) {
+  if (count > 0)
+    std::cerr << "visfield: warning: " << scene_spec << ": " << count << " zero-area triangles left out of the acceleration structure\n";
+}
+
 BuiltStructure build_structure_for(const std::string& structure_spec, SceneGeometry& geometry, const BuildContext& context,
                                    const std::string& option, const std::string& scene_spec) {
   if (geometry.scene().instances().empty() || geometry.instanced_triangle_count() == 0)
     throw Error(scene_spec + ": the scene has no triangles");
   BuiltStructure built = build_structure(structure_spec, geometry, context, option + " ");
-  if (built.degenerate_triangles > 0)
-    std::cerr << "visfield: warning: " << scene_spec << ": " << built.degenerate_triangles
-              << " zero-area triangles left out of the acceleration structure\n";
   if (built.degenerate_triangles >= geometry.instanced_triangle_count())
     throw Error(scene_spec + ": the scene has no non-degenerate triangles");
+  warn_degenerate_triangles(scene_spec, built.degenerate_triangles);
   return built;
 }
 

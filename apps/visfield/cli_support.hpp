@@ -44,6 +44,10 @@ CLI::Option* add_structure_option(CLI::App& cmd, const std::string& name, std::s
 /// Loads the scene a user named; `load_ms` gets the time taken. Throws vf::Error on bad input.
 Scene load_scene_argument(const std::string& spec, double* load_ms = nullptr);
 
+/// Prints "visfield: warning: <scene>: N zero-area triangles left out of the acceleration structure"
+/// on stderr when `count` > 0.
+void warn_degenerate_triangles(const std::string& scene_spec, std::size_t count);
+
 /// Builds `structure_spec` over `geometry` (option names the CLI option, for messages), warning on
 /// stderr when zero-area triangles were left out. Throws vf::Error on a bad spec, a failed build, or a
 /// scene with no triangle left.

@@ -13,9 +13,7 @@ namespace vf::cli {
 
 NamedScene load_named(const std::string& spec) {
   NamedScene named = load_named_scene(spec);
-  if (named.triangles.degenerate_count > 0)
-    std::cerr << "visfield: warning: " << spec << ": " << named.triangles.degenerate_count
-              << " zero-area triangles left out of the acceleration structure\n";
+  warn_degenerate_triangles(spec, named.triangles.degenerate_count);
   return named;
 }
 

@@ -178,7 +178,7 @@ void require_calibration_for(const Calibration& calibration, const MachineInfo& 
   if (there.cpu_model == here.cpu_model && there.threads == here.threads) return;
   throw Error(source + ": measured on " + there.cpu_model + " with " + std::to_string(there.threads) +
               " threads, but this is " + here.cpu_model + " with " + std::to_string(here.threads) +
-              " threads: its timings do not apply (run `visfield calibrate` here" +
+              " threads: its timings do not apply (run visfield calibrate here" +
               (there.cpu_model == here.cpu_model ? ", or use --threads " + std::to_string(there.threads) : std::string()) + ")");
 }
 
