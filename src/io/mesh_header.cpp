@@ -159,7 +159,6 @@ void check_glb(const std::filesystem::path& path, std::uintmax_t file_size) {
   check_gltf_json(std::string_view(read_head(path, 20 + json_bytes)).substr(20), what.substr(0, what.size() - 2));
 }
 
-
 // Assimp picks a reader by extension and, failing that, by probing every reader; a file whose
 // header does not match its extension could then be read as some other format. Check the magic
 // bytes of the formats that have them so a mislabelled or corrupt file is reported, not guessed.
