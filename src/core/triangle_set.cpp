@@ -71,6 +71,10 @@ TriangleSet flatten(const Scene& scene) {
   return collect(placements);
 }
 
+TriangleSet object_triangles(const TriangleMesh& mesh, const Transform& transform, ObjectId id) {
+  return collect({{&mesh, transform, id}});
+}
+
 TriangleSet mesh_triangles(const TriangleMesh& mesh) { return collect({{&mesh, Transform{}, kInvalidId}}); }
 
 }  // namespace vf

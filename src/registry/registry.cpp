@@ -220,6 +220,31 @@ double estimate_brute(const ParamValues& p, const SceneGeometry& geometry) {
   return estimate_triangle_structure<BruteBuild>(p, geometry, NoConfig{});
 }
 
+constexpr ParamSpec kBeamParams[] = {
+    {"dirs", ParamType::choice, "513", "directions (lines) of the field: 2*4^level+1 for level 2..6", 0, 0, "33|129|513|2049|8193"},
+    {"n", ParamType::whole, "64", "tiles per side of each direction's parallel subfield", 16, 1024},
+    {"depth", ParamType::whole, "4", "deepest tile-BSP: at most 2^depth leaves per tile", 0, 12},
+    {"leaf", ParamType::whole, "4", "a tile of c references gets about c/leaf leaves", 1, 4096},
+};
+
+BeamFieldConfig beam_config(const ParamValues& p) {
+  BeamFieldConfig c = config_from<BeamFieldConfig>(
+      p, {{"n", &BeamFieldConfig::resolution}, {"depth", &BeamFieldConfig::max_depth}, {"leaf", &BeamFieldConfig::leaf_size}});
+  const std::uint64_t dirs = std::stoull(p.text("dirs"));
+  for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
+    if (DirectionLines::count(level) == dirs) c.level = level;
+  return c;
+}
+
+BuiltStructure build_beam(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+  const TriangleSet& set = geometry.flattened();
+  return {BeamField::build(geometry.scene(), set, beam_config(p)), with_params("beam", p.canonical()), set.degenerate_count};
+}
+
+double estimate_beam(const ParamValues& p, const SceneGeometry& geometry) {
+  return flattening_bytes(geometry) + BeamField::estimate_build_bytes(geometry.scene(), beam_config(p));
+}
+
 constexpr ParamSpec kAutoParams[] = {
     {"rays", ParamType::whole, "", "R, the rays the workload traces (default: the command's own count)", 1, 1e15},
     {"kind", ParamType::choice, "path", "kind of the workload's rays", 0, 0, "random|path"},
@@ -261,6 +286,8 @@ const StructureInfo kTable[] = {
      kMedianBspParams, build_median_bsp, estimate_median_bsp},
     {"brute", "every triangle for every ray: the test oracle, O(N) per ray", Exactness::exact, kTwoLevelUpdates,
      kBruteParams, build_brute, estimate_brute},
+    {"beam", "BeamField (VLF-RT): directions x n*n parallel beams x tile-BSP, exact; fast along its directions",
+     Exactness::exact, "always", kBeamParams, build_beam, estimate_beam},
     {"auto", "grid or kdtree, whichever the calibrated selection (Hapala et al.) expects to finish first",
      Exactness::exact, "", kAutoParams, build_auto, estimate_auto},
 };

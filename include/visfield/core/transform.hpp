@@ -13,6 +13,9 @@ namespace vf {
 struct Mat3 {
   std::array<Vec3f, 3> rows{Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, 0, 1}};
 
+  /// Element-wise equality.
+  bool operator==(const Mat3&) const = default;
+
   /// Matrix-vector product.
   constexpr Vec3f operator*(const Vec3f& v) const { return {dot(rows[0], v), dot(rows[1], v), dot(rows[2], v)}; }
   /// Matrix product.
@@ -48,6 +51,9 @@ struct Transform {
   Mat3 rotation;
   Vec3f translation{0.0f};
   float scale = 1.0f;
+
+  /// Element-wise equality (the same map written the same way).
+  bool operator==(const Transform&) const = default;
 
   /// Maps an object-space point to world space.
   Vec3f apply_point(const Vec3f& p) const { return rotation * p * scale + translation; }

@@ -30,6 +30,10 @@ struct TriangleSet {
 /// order, with zero-area triangles (in world space) dropped and counted. O(total triangles), parallel.
 TriangleSet flatten(const Scene& scene);
 
+/// World-space triangles of one object: `mesh` placed by `transform`, tagged with `id`, exactly as
+/// flatten() makes that object's part (same corners, same zero-area triangles dropped). O(triangles).
+TriangleSet object_triangles(const TriangleMesh& mesh, const Transform& transform, ObjectId id);
+
 /// Object-space triangles of `mesh` (zero-area ones dropped and counted), with instance = kInvalidId:
 /// what a per-mesh structure shared by all objects of the mesh is built from. O(triangles), parallel.
 TriangleSet mesh_triangles(const TriangleMesh& mesh);

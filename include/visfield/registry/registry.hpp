@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "visfield/accel/beam_field.hpp"
 #include "visfield/accel/brute_force.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/accel/instance_layer.hpp"
@@ -26,7 +27,7 @@
 namespace vf {
 
 /// Every structure type the table builds; std::visit it so that callers stay generic.
-using AnyStructure = std::variant<Bvh, UniformGrid, KdTree, MedianBsp, BruteForce, InstanceLayer>;
+using AnyStructure = std::variant<Bvh, UniformGrid, KdTree, MedianBsp, BruteForce, InstanceLayer, BeamField>;
 
 /// What a build may need to know beyond the scene.
 struct BuildContext {

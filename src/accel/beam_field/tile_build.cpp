@@ -1,0 +1,306 @@
+// BeamField construction and update: per direction, every triangle is projected along the line,
+// conservatively rasterised into the tiles its projection comes within `slack` of, clipped to each
+// such tile's beam for its depth range, and the tile's references are split into 2^D equal depth
+// leaves. A fresh build and an update share all of it: an update only rebuilds the tiles its old and
+// new triangles touch.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include "beam_field/beam_layout.hpp"
+#include "beam_field/tile_clip.hpp"
+#include "beam_field/tile_geometry.hpp"
+#include "beam_field/tile_raster.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
+#include "visfield/core/parallel.hpp"
+
+namespace vf::beam {
+namespace {
+
+/// One reference before it is stored: a triangle slot in a tile, with its depth range there.
+struct Entry {
+  std::uint32_t tile;
+  std::uint32_t slot;
+  double lo, hi;
+};
+
+/// Per-thread buffers, reused across directions.
+struct Scratch {
+  std::vector<Entry> entries;
+  std::vector<Entry> sorted;
+  std::vector<std::uint32_t> tiles;
+  std::vector<std::uint32_t> counts;
+  std::vector<std::uint8_t> marked;
+  std::vector<std::uint32_t> affected;
+  std::vector<std::uint32_t> record;
+  std::vector<Entry> tile_entries;
+};
+
+/// The direction-independent parts of rasterising into one direction's tiles.
+class Rasterizer {
+ public:
+  Rasterizer(const BeamLayout& layout, std::size_t line)
+      : frame_(layout.frames[line]), geometry_(layout.geometry),
+        grid_{-layout.geometry.radius, -layout.geometry.radius, layout.geometry.tile_size, layout.geometry.n},
+        flat_area_(1e-12 * layout.geometry.radius * layout.geometry.radius) {}
+
+  /// Calls visit(tile, depth range) for every tile triangle `corners` comes within slack of.
+  template <class Visit>
+  void rasterize(const std::array<Vec3f, 3>& corners, std::vector<std::uint32_t>& tiles, Visit&& visit) const {
+    const std::array<double, 3>& c = geometry_.center;
+    const PsfPoint p[3] = {project(frame_, c, corners[0]), project(frame_, c, corners[1]), project(frame_, c, corners[2])};
+    const double e = geometry_.slack;
+    const double s_lo = std::min({p[0].s, p[1].s, p[2].s}) - e, s_hi = std::max({p[0].s, p[1].s, p[2].s}) + e;
+    const double t_lo = std::min({p[0].t, p[1].t, p[2].t}) - e, t_hi = std::max({p[0].t, p[1].t, p[2].t}) + e;
+    const int x0 = geometry_.cell(s_lo), x1 = geometry_.cell(s_hi);
+    const int y0 = geometry_.cell(t_lo), y1 = geometry_.cell(t_hi);
+    const auto index = [&](int x, int y) { return static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(geometry_.n) + static_cast<std::uint32_t>(x); };
+    // A triangle inside one tile (the common case for fine meshes) keeps its whole depth range; one
+    // whose box spans two tiles in a row or column meets both (it is connected); others are tested
+    // tile by tile.
+    if (x0 == x1 && y0 == y1) {
+      visit(index(x0, y0), DepthRange{std::min({p[0].w, p[1].w, p[2].w}) - e, std::max({p[0].w, p[1].w, p[2].w}) + e});
+      return;
+    }
+    tiles.clear();
+    if ((x1 - x0) + (y1 - y0) == 1) {
+      tiles.push_back(index(x0, y0));
+      tiles.push_back(index(x1, y1));
+    } else {
+      rasterize_triangle(grid_, {p[0].s, p[0].t}, {p[1].s, p[1].t}, {p[2].s, p[2].t}, e, tiles);
+    }
+    const int n = geometry_.n;
+    for (const std::uint32_t tile : tiles) {
+      const int x = static_cast<int>(tile % static_cast<std::uint32_t>(n)), y = static_cast<int>(tile / static_cast<std::uint32_t>(n));
+      const double s0 = -geometry_.radius + x * geometry_.tile_size - e, s1 = -geometry_.radius + (x + 1) * geometry_.tile_size + e;
+      const double t0 = -geometry_.radius + y * geometry_.tile_size - e, t1 = -geometry_.radius + (y + 1) * geometry_.tile_size + e;
+      const DepthRange r = clipped_depth_range(p[0], p[1], p[2], s0, s1, t0, t1, flat_area_);
+      visit(tile, DepthRange{r.lo - e, r.hi + e});
+    }
+  }
+
+ private:
+  const FrameD& frame_;
+  const TileGeometry& geometry_;
+  TileGrid grid_;
+  double flat_area_;
+};
+
+// A deeper tile-BSP than needed for leaf_size references per leaf costs leaf-start words and
+// duplicated straddlers for nothing; one that would store more than kMaxDuplication references per
+// triangle of the tile (triangles lying along the beam) is made shallower.
+constexpr double kMaxDuplication = 3.0;
+
+/// Writes the record of one tile (entries sorted by slot) into `words`.
+void make_record(std::span<const Entry> entries, const BeamFieldConfig& config, std::vector<std::uint32_t>& words) {
+  double lo = entries[0].lo, hi = entries[0].hi;
+  for (const Entry& e : entries) lo = std::min(lo, e.lo), hi = std::max(hi, e.hi);
+  const std::size_t count = entries.size();
+  int depth = 0;
+  while (depth < config.max_depth && (count >> depth) > static_cast<std::size_t>(config.leaf_size)) ++depth;
+  const float lo_f = static_cast<float>(lo);
+  const auto scale_for = [&](int d) {
+    const double width = hi - static_cast<double>(lo_f);
+    return width > 0.0 ? static_cast<float>(static_cast<double>(1 << d) / width) : 0.0f;
+  };
+  const auto references_at = [&](int d) {
+    const double scale = scale_for(d);
+    std::size_t refs = 0;
+    for (const Entry& e : entries)
+      refs += static_cast<std::size_t>(leaf_of(e.hi, lo_f, scale, (1 << d) - 1) - leaf_of(e.lo, lo_f, scale, (1 << d) - 1) + 1);
+    return refs;
+  };
+  if (!(scale_for(depth) > 0.0f) || !std::isfinite(scale_for(depth))) depth = 0;
+  while (depth > 0 && static_cast<double>(references_at(depth)) > kMaxDuplication * static_cast<double>(count)) --depth;
+
+  const int leaves = 1 << depth;
+  const float scale_f = depth == 0 ? 0.0f : scale_for(depth);
+  const std::size_t first_ref = kRecordHeaderWords + static_cast<std::size_t>(leaves) + 1;
+  words.assign(first_ref, 0);
+  words[0] = std::bit_cast<std::uint32_t>(lo_f);
+  words[1] = std::bit_cast<std::uint32_t>(scale_f);
+  words[2] = static_cast<std::uint32_t>(depth);
+  std::uint32_t* starts = words.data() + kRecordHeaderWords;
+  for (const Entry& e : entries) {
+    const int a = leaf_of(e.lo, lo_f, scale_f, leaves - 1), b = leaf_of(e.hi, lo_f, scale_f, leaves - 1);
+    for (int l = a; l <= b; ++l) ++starts[l + 1];
+  }
+  for (int l = 0; l < leaves; ++l) starts[l + 1] += starts[l];
+  std::vector<std::uint32_t> fill(starts, starts + leaves);
+  words.resize(first_ref + words[kRecordHeaderWords + static_cast<std::size_t>(leaves)]);
+  for (const Entry& e : entries) {
+    const int a = leaf_of(e.lo, lo_f, scale_f, leaves - 1), b = leaf_of(e.hi, lo_f, scale_f, leaves - 1);
+    for (int l = a; l <= b; ++l) words[first_ref + fill[static_cast<std::size_t>(l)]++] = e.slot;
+  }
+  words[3] = static_cast<std::uint32_t>(words.size());  // capacity: exactly its size when written
+}
+
+/// Appends `record` to the direction's arena and returns its offset; throws past 32-bit offsets.
+std::uint32_t append_record(DirectionTiles& dir, const std::vector<std::uint32_t>& record) {
+  if (dir.arena.size() + record.size() >= kEmptyTile)
+    throw Error("beam: a direction's tile records exceed 2^32 words (lower n, dirs or depth)");
+  const auto offset = static_cast<std::uint32_t>(dir.arena.size());
+  dir.arena.insert(dir.arena.end(), record.begin(), record.end());
+  return offset;
+}
+
+/// Groups `entries` by tile (stable: slot order kept within a tile) into `sorted`, with counts.
+void sort_by_tile(const std::vector<Entry>& entries, std::size_t tile_count, Scratch& s) {
+  s.counts.assign(tile_count + 1, 0);
+  for (const Entry& e : entries) ++s.counts[e.tile + 1];
+  for (std::size_t i = 0; i < tile_count; ++i) s.counts[i + 1] += s.counts[i];
+  s.sorted.resize(entries.size());
+  std::vector<std::uint32_t>& fill = s.tiles;  // reused as the fill cursor
+  fill.assign(s.counts.begin(), s.counts.end() - 1);
+  for (const Entry& e : entries) s.sorted[fill[e.tile]++] = e;
+}
+
+void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles& dir, Scratch& s) {
+  const Rasterizer raster(layout, line);
+  const std::size_t tile_count = static_cast<std::size_t>(layout.geometry.n) * static_cast<std::size_t>(layout.geometry.n);
+  s.entries.clear();
+  std::vector<std::uint32_t> tiles;
+  for (std::uint32_t slot = 0; slot < layout.triangles.size(); ++slot) {
+    if (!layout.alive[slot]) continue;
+    raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, DepthRange r) { s.entries.push_back({tile, slot, r.lo, r.hi}); });
+  }
+  sort_by_tile(s.entries, tile_count, s);
+  dir.tiles.assign(tile_count, kEmptyTile);
+  dir.arena.clear();
+  dir.arena.reserve(s.sorted.size() * 5 / 4 + 64);
+  for (std::size_t tile = 0; tile < tile_count; ++tile) {
+    const std::uint32_t begin = s.counts[tile], end = s.counts[tile + 1];
+    if (begin == end) continue;
+    make_record(std::span<const Entry>(s.sorted.data() + begin, end - begin), layout.config, s.record);
+    dir.tiles[tile] = append_record(dir, s.record);
+  }
+  dir.live_words = dir.arena.size();
+  dir.arena.shrink_to_fit();
+}
+
+/// The distinct slots of a record (its references without the straddlers' repeats), ascending.
+void record_slots(const std::uint32_t* record, std::vector<std::uint32_t>& slots) {
+  const int leaves = 1 << record[2];
+  const std::uint32_t* refs = record + kRecordHeaderWords + leaves + 1;
+  const std::uint32_t count = record[kRecordHeaderWords + leaves];
+  slots.assign(refs, refs + count);
+  std::sort(slots.begin(), slots.end());
+  slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
+}
+
+std::size_t record_words(const std::uint32_t* record) {
+  const int leaves = 1 << record[2];
+  return kRecordHeaderWords + static_cast<std::size_t>(leaves) + 1 + record[kRecordHeaderWords + leaves];
+}
+
+void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::size_t line, DirectionTiles& dir, Scratch& s) {
+  const Rasterizer raster(layout, line);
+  const int n = layout.geometry.n;
+  const std::size_t tile_count = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  s.marked.assign(tile_count, 0);
+  s.affected.clear();
+  const auto mark = [&](std::uint32_t tile) {
+    if (!s.marked[tile]) s.marked[tile] = 1, s.affected.push_back(tile);
+  };
+  std::vector<std::uint32_t> tiles;
+  for (const auto& corners : edits.old_corners) raster.rasterize(corners, tiles, [&](std::uint32_t tile, DepthRange) { mark(tile); });
+  s.entries.clear();
+  for (const std::uint32_t slot : edits.add)
+    raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, DepthRange r) {
+      mark(tile);
+      s.entries.push_back({tile, slot, r.lo, r.hi});
+    });
+  std::sort(s.affected.begin(), s.affected.end());
+  std::stable_sort(s.entries.begin(), s.entries.end(), [](const Entry& a, const Entry& b) { return a.tile < b.tile; });
+
+  std::vector<std::uint32_t> survivors;
+  std::size_t next_new = 0;
+  for (const std::uint32_t tile : s.affected) {
+    s.tile_entries.clear();
+    const std::uint32_t offset = dir.tiles[tile];
+    if (offset != kEmptyTile) {
+      record_slots(dir.arena.data() + offset, survivors);
+      for (const std::uint32_t slot : survivors) {
+        if (edits.dropped[slot]) continue;
+        // A surviving reference's depth range is recomputed, as the record's leaves are redrawn.
+        raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t t, DepthRange r) {
+          if (t == tile) s.tile_entries.push_back({tile, slot, r.lo, r.hi});
+        });
+      }
+    }
+    while (next_new < s.entries.size() && s.entries[next_new].tile < tile) ++next_new;
+    for (; next_new < s.entries.size() && s.entries[next_new].tile == tile; ++next_new) s.tile_entries.push_back(s.entries[next_new]);
+    std::sort(s.tile_entries.begin(), s.tile_entries.end(), [](const Entry& a, const Entry& b) { return a.slot < b.slot; });
+
+    const std::size_t old_words = offset == kEmptyTile ? 0 : record_words(dir.arena.data() + offset);
+    dir.live_words -= old_words;
+    if (s.tile_entries.empty()) {
+      dir.tiles[tile] = kEmptyTile;
+      continue;
+    }
+    make_record(s.tile_entries, layout.config, s.record);
+    dir.live_words += s.record.size();
+    if (offset != kEmptyTile && s.record.size() <= dir.arena[offset + 3]) {
+      const std::uint32_t capacity = dir.arena[offset + 3];
+      std::copy(s.record.begin(), s.record.end(), dir.arena.begin() + offset);
+      dir.arena[offset + 3] = capacity;
+    } else {
+      dir.tiles[tile] = append_record(dir, s.record);
+    }
+  }
+  // Records that moved to the end left holes; when holes outweigh the records, copy the live ones
+  // into a fresh arena in tile order.
+  if (dir.arena.size() > 2 * dir.live_words + 1024) {
+    std::vector<std::uint32_t> compact;
+    compact.reserve(dir.live_words);
+    for (std::uint32_t& offset : dir.tiles) {
+      if (offset == kEmptyTile) continue;
+      const std::uint32_t* record = dir.arena.data() + offset;
+      const std::size_t words = record_words(record);
+      const auto moved = static_cast<std::uint32_t>(compact.size());
+      compact.insert(compact.end(), record, record + words);
+      compact[moved + 3] = static_cast<std::uint32_t>(words);
+      offset = moved;
+    }
+    dir.arena = std::move(compact);
+    dir.live_words = dir.arena.size();
+  }
+}
+
+}  // namespace
+
+void build_all_directions(BeamLayout& layout) {
+  layout.directions.assign(layout.lines.size(), {});
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 1), [&](const auto& range) {
+    for (std::size_t line = range.begin(); line != range.end(); ++line) {
+      check_interrupt();
+      build_direction(layout, line, layout.directions[line], scratch.local());
+    }
+  });
+}
+
+std::size_t count_tile_references(const BeamLayout& layout, std::size_t line, std::span<const std::array<Vec3f, 3>> triangles) {
+  const Rasterizer raster(layout, line);
+  std::vector<std::uint32_t> tiles;
+  std::size_t count = 0;
+  for (const auto& corners : triangles) raster.rasterize(corners, tiles, [&](std::uint32_t, DepthRange) { ++count; });
+  return count;
+}
+
+void update_directions(BeamLayout& layout, const SlotEdits& edits) {
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 1), [&](const auto& range) {
+    for (std::size_t line = range.begin(); line != range.end(); ++line)
+      update_direction(layout, edits, line, layout.directions[line], scratch.local());
+  });
+}
+
+}  // namespace vf::beam

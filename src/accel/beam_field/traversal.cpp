@@ -1,0 +1,277 @@
+// BeamField queries (VLF-RT §3.3–5). The ray looks up its nearest line, is clipped to the bounding
+// sphere, and its projection on the line's PSF base is walked tile by tile front to back (a 2D DDA);
+// in each tile the ray's depth interval there picks the first and last tile-BSP leaf, and the leaves
+// are visited linearly near to far. A ray along a stored direction stays in one tile: no walk.
+//
+// Why the answer is exact: a triangle the ray hits at parameter τ is referenced by the tile that
+// holds the projection of the hit point (tiles are rasterised with a slack far above every rounding
+// here), in the leaves of its depth range clipped to that beam (widened by the same slack); the walk
+// visits every tile the projected segment crosses, with the τ interval it spends there, and in it the
+// leaves of that interval. Each visited triangle gets the full watertight test (the same as brute
+// force), so every reported t is brute force's t. The walk stops only when every τ below the best
+// hit has been covered, with a margin for the rounding of the float t.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "beam_field/beam_layout.hpp"
+#include "beam_field/tile_geometry.hpp"
+#include "beam_field/tile_raster.hpp"
+#include "visfield/accel/beam_field.hpp"
+#include "visfield/core/triangle_intersect.hpp"
+
+namespace vf {
+namespace beam {
+namespace {
+
+/// Counting policies: NoCount compiles to nothing.
+struct NoCount {
+  void ray() {}
+  void single_tile() {}
+  void tile() {}
+  void leaf() {}
+  void test() {}
+};
+struct Count {
+  BeamQueryCounters& c;
+  void ray() { ++c.rays; }
+  void single_tile() { ++c.single_tile; }
+  void tile() { ++c.tiles; }
+  void leaf() { ++c.leaves; }
+  void test() { ++c.triangle_tests; }
+};
+
+// Relative error allowed for a float t from the watertight test when deciding that every τ below it
+// has been searched (the test's t is a convex combination of the corners' depths, accurate to a few
+// float ulps; 1e-5 is far above that and costs at most a leaf more).
+constexpr double kTRelativeMargin = 1e-5;
+
+// The float watertight test decides a hit as if the triangle's corners were moved by up to about
+// 1e-6 of their distance from the ray's origin (the shear and the edge products round relative to
+// the coordinates), so the ray point at a reported t lies within that distance of a point of the
+// triangle. 4e-6 (|o - c| + R) bounds it with room to spare; the build's slack covers it for
+// origins within 4 R of the centre, and a ray from farther widens its own walk by it.
+constexpr double kLateralError = 4e-6;
+
+/// The walk of one ray. kAny: stop at the first hit (occlusion).
+template <bool kAny, class Counter>
+class Walk {
+ public:
+  Walk(const BeamLayout& layout, const Ray& ray, Counter counter)
+      : layout_(layout), ray_(ray), wray_(ray), counter_(counter) {}
+
+  Hit run() {
+    counter_.ray();
+    if (!ray_.is_valid() || layout_.live_slots == 0) return {};
+    const TileGeometry& g = layout_.geometry;
+    const NearestLine nearest = layout_.lines.nearest(ray_.dir);
+    const FrameD& f = layout_.frames[nearest.line];
+    dir_ = &layout_.directions[nearest.line];
+
+    const double dx = ray_.dir.x, dy = ray_.dir.y, dz = ray_.dir.z;
+    const double ox = static_cast<double>(ray_.org.x) - g.center[0], oy = static_cast<double>(ray_.org.y) - g.center[1],
+                 oz = static_cast<double>(ray_.org.z) - g.center[2];
+    // The part of the ray inside the bounding sphere (a little wider, for rounding).
+    const double dd = dx * dx + dy * dy + dz * dz;
+    const double b = ox * dx + oy * dy + oz * dz;
+    const double oo = ox * ox + oy * oy + oz * oz;
+    const double r2 = g.radius * g.radius;
+    const double disc = b * b - dd * (oo - r2);
+    if (!(disc >= 0.0)) return {};
+    const double root = std::sqrt(disc);
+    const double pad = 1e-9 * (std::fabs(b) + root) / dd + g.slack / std::sqrt(dd);
+    const double t_in = (-b - root) / dd - pad, t_out = (-b + root) / dd + pad;
+    const double ta = std::max<double>(ray_.tmin, t_in), tb = std::min<double>(ray_.tmax, t_out);
+    if (!(ta <= tb)) return {};
+
+    s0_ = f.u[0] * ox + f.u[1] * oy + f.u[2] * oz + g.radius;
+    t0_ = f.v[0] * ox + f.v[1] * oy + f.v[2] * oz + g.radius;
+    w0_ = f.w[0] * ox + f.w[1] * oy + f.w[2] * oz;
+    ds_ = f.u[0] * dx + f.u[1] * dy + f.u[2] * dz;
+    dt_ = f.v[0] * dx + f.v[1] * dy + f.v[2] * dz;
+    dw_ = f.w[0] * dx + f.w[1] * dy + f.w[2] * dz;
+    forward_ = dw_ >= 0.0;
+    inv_dir_length_ = 1.0 / std::sqrt(dd);
+    const double lateral = kLateralError * (std::sqrt(oo) + g.radius);
+    if (lateral > g.slack) return run_wide(ta, tb, lateral);
+    margin_ = g.slack;
+    const double inv = g.inv_tile_size;
+    const double xa = (s0_ + ta * ds_) * inv, xb = (s0_ + tb * ds_) * inv;
+    const double ya = (t0_ + ta * dt_) * inv, yb = (t0_ + tb * dt_) * inv;
+    const int n = g.n;
+    int ix = clamp_cell(xa, n), iy = clamp_cell(ya, n);
+    if (ix == clamp_cell(xb, n) && iy == clamp_cell(yb, n)) {
+      counter_.single_tile();
+      visit_tile(static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix), ta, tb, 0.0, true);
+      return best_;
+    }
+
+    // 2D DDA over the tiles the projected segment crosses, with the τ interval spent in each.
+    const double x_rate = ds_ * inv, y_rate = dt_ * inv;
+    const int step_x = x_rate > 0.0 ? 1 : -1, step_y = y_rate > 0.0 ? 1 : -1;
+    const auto next_crossing = [&](int cell, int step, double origin, double rate) {
+      if (rate == 0.0) return std::numeric_limits<double>::infinity();
+      const double boundary = (cell + (step > 0 ? 1 : 0)) * g.tile_size;
+      return (boundary - origin) / (rate * g.tile_size);
+    };
+    double enter = ta;
+    double cross_x = next_crossing(ix, step_x, s0_, x_rate), cross_y = next_crossing(iy, step_y, t0_, y_rate);
+    for (;;) {
+      const double exit = std::max(enter, std::min({cross_x, cross_y, tb}));
+      if (visit_tile(static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix), enter, exit, 0.0, true))
+        return best_;
+      if (exit >= tb) return best_;
+      if (best_ && stop_t() <= exit) return best_;
+      if (cross_x <= cross_y) {
+        ix += step_x;
+        enter = cross_x;
+        cross_x = next_crossing(ix, step_x, s0_, x_rate);
+      } else {
+        iy += step_y;
+        enter = cross_y;
+        cross_y = next_crossing(iy, step_y, t0_, y_rate);
+      }
+      if (ix < 0 || ix >= n || iy < 0 || iy >= n) return best_;
+    }
+  }
+
+ private:
+  // The walk of a ray whose origin is too far for the build's slack: every tile within `lateral` of
+  // the projected segment, in the order the ray enters them (each with its τ interval in the tile
+  // widened by `lateral`), every leaf of that interval widened by `lateral` in depth. Rare (origins
+  // beyond 4 R of the centre), so plainness wins over speed here.
+  Hit run_wide(double ta, double tb, double lateral) {
+    const TileGeometry& g = layout_.geometry;
+    margin_ = lateral;
+    const double inv = g.inv_tile_size;
+    const double e = lateral * inv;  // in tiles
+    const double x0 = s0_ * inv, y0 = t0_ * inv, xr = ds_ * inv, yr = dt_ * inv;
+    std::vector<std::uint32_t> tiles;
+    const Point2 a{x0 + ta * xr, y0 + ta * yr}, b{x0 + tb * xr, y0 + tb * yr};
+    rasterize_triangle(TileGrid{0.0, 0.0, 1.0, g.n}, a, b, b, e, tiles);
+    struct Span {
+      double enter, exit;
+      std::uint32_t tile;
+    };
+    std::vector<Span> spans;
+    spans.reserve(tiles.size());
+    const auto slab = [&](double origin, double rate, double lo, double hi, double& enter, double& exit) {
+      if (rate == 0.0) return;
+      double t1 = (lo - origin) / rate, t2 = (hi - origin) / rate;
+      if (t1 > t2) std::swap(t1, t2);
+      enter = std::max(enter, t1), exit = std::min(exit, t2);
+    };
+    const auto n = static_cast<std::uint32_t>(g.n);
+    for (const std::uint32_t tile : tiles) {
+      const double x = tile % n, y = tile / n;
+      double enter = ta, exit = tb;
+      slab(x0, xr, x - 2.0 * e, x + 1.0 + 2.0 * e, enter, exit);
+      slab(y0, yr, y - 2.0 * e, y + 1.0 + 2.0 * e, enter, exit);
+      // The rasteriser found the tile within e of the segment; should rounding make the widened
+      // slabs miss it, the whole segment stands in (conservative).
+      if (!(enter <= exit)) enter = ta, exit = tb;
+      spans.push_back({enter, exit, tile});
+    }
+    std::sort(spans.begin(), spans.end(), [](const Span& p, const Span& q) { return p.enter < q.enter || (p.enter == q.enter && p.tile < q.tile); });
+    for (const Span& span : spans) {
+      if (best_ && stop_t() < span.enter) break;
+      if (visit_tile(span.tile, span.enter, span.exit, lateral, false)) return best_;
+    }
+    return best_;
+  }
+
+  static int clamp_cell(double x, int n) {
+    if (!(x > 0.0)) return 0;
+    if (x >= n - 1) return n - 1;
+    return static_cast<int>(x);
+  }
+
+  // A τ beyond which no hit can beat the best one, for the float rounding of best_.t.
+  double stop_t() const {
+    const double t = best_.t;
+    return t + kTRelativeMargin * std::fabs(t) + margin_ * inv_dir_length_;
+  }
+
+  // Tests the leaves of tile `tile` that the ray's τ interval [enter, exit] covers, widened by
+  // `depth_margin` in depth. Returns true when the walk is over: a hit for kAny, or (when `may_finish`,
+  // i.e. every earlier τ is searched) a closest hit no later leaf or tile can beat.
+  bool visit_tile(std::size_t tile, double enter, double exit, double depth_margin, bool may_finish) {
+    counter_.tile();
+    const std::uint32_t offset = dir_->tiles[tile];
+    if (offset == kEmptyTile) return false;
+    const std::uint32_t* record = dir_->arena.data() + offset;
+    const double lo = std::bit_cast<float>(record[0]);
+    const double scale = std::bit_cast<float>(record[1]);
+    const int last = (1 << record[2]) - 1;
+    const std::uint32_t* starts = record + kRecordHeaderWords;
+    const std::uint32_t* refs = starts + last + 2;
+    const double sign = forward_ ? 1.0 : -1.0;
+    const double w_enter = w0_ + enter * dw_ - sign * depth_margin, w_exit = w0_ + exit * dw_ + sign * depth_margin;
+    // Leaves in walk order, from the one holding the entry depth to the one holding the exit depth.
+    const int from = leaf_of(w_enter, lo, scale, last), to = leaf_of(w_exit, lo, scale, last);
+    const int step = from <= to ? 1 : -1;
+    for (int leaf = from;; leaf += step) {
+      counter_.leaf();
+
+      for (std::uint32_t r = starts[leaf]; r < starts[leaf + 1]; ++r)
+        if (test(refs[r]) && kAny) return true;
+      if (!kAny && may_finish && best_) {
+        // Every τ of this tile up to the end of this leaf is searched (and every τ before the tile):
+        // done when the best hit lies before both.
+        const double t_stop = stop_t();
+        const int stop_leaf = leaf_of(w0_ + t_stop * dw_, lo, scale, last);
+        if (t_stop <= exit && (forward_ ? stop_leaf <= leaf : stop_leaf >= leaf)) return true;
+      }
+      if (leaf == to) return false;
+    }
+  }
+
+  bool test(std::uint32_t slot) {
+    counter_.test();
+    const std::array<Vec3f, 3>& p = layout_.triangles[slot];
+    TriangleHit h;
+    const float tmax = best_ ? best_.t : ray_.tmax;
+    if (!intersect_triangle(wray_, p[0], p[1], p[2], ray_.tmin, tmax, h)) return false;
+    if constexpr (!kAny) {
+      const ObjectId id = layout_.instance[slot];
+      const std::uint32_t prim = layout_.prim[slot];
+      // Equal t: the lower (object, triangle) wins, as brute force over the flattened scene.
+      if (best_ && h.t == best_.t && (id > best_.instance || (id == best_.instance && prim >= best_.prim))) return true;
+      best_ = Hit::triangle(h.t, h.u, h.v, prim, id, cross(p[1] - p[0], p[2] - p[0]));
+    } else {
+      best_.found = true;
+    }
+    return true;
+  }
+
+  const BeamLayout& layout_;
+  const Ray& ray_;
+  WatertightRay wray_;
+  Counter counter_;
+  const DirectionTiles* dir_ = nullptr;
+  double s0_ = 0, t0_ = 0, w0_ = 0, ds_ = 0, dt_ = 0, dw_ = 0;
+  double inv_dir_length_ = 0;  // 1 / |dir|
+  double margin_ = 0;          // lateral margin of this walk (the build's slack, or the ray's own)
+  bool forward_ = true;
+  Hit best_;
+};
+
+}  // namespace
+}  // namespace beam
+
+Hit BeamField::intersect(const Ray& ray) const { return beam::Walk<false, beam::NoCount>(*layout_, ray, {}).run(); }
+
+bool BeamField::occluded(const Ray& ray) const {
+  return beam::Walk<true, beam::NoCount>(*layout_, ray, {}).run().found;
+}
+
+Hit BeamField::intersect(const Ray& ray, BeamQueryCounters& counters) const {
+  return beam::Walk<false, beam::Count>(*layout_, ray, beam::Count{counters}).run();
+}
+
+bool BeamField::occluded(const Ray& ray, BeamQueryCounters& counters) const {
+  return beam::Walk<true, beam::Count>(*layout_, ray, beam::Count{counters}).run().found;
+}
+
+}  // namespace vf
