@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
+#include "visfield/core/direction_lines.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/spec.hpp"
@@ -66,6 +67,11 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   app.add_option("--height", options.height, "Image height in pixels (default: the scene camera's)")
       ->check(CLI::Range(1, 32768));
   app.add_option("--ao-rays", options.ao_rays, "AO rays per primary hit")->check(CLI::Range(1, 1024));
+  std::string ao_directions = "random";
+  app.add_option("--ao-directions", ao_directions,
+                 "AO ray directions: random (--ao-rays per hit), or 33|129|513|2049|8193: one ray along each line of that "
+                 "octahedral set (VLF-RT's AO; beam:dirs= of the same count traces them on its fast path)")
+      ->check(CLI::IsMember({"random", "33", "129", "513", "2049", "8193"}));
   app.add_option("--max-distance", options.max_distance,
                  "AO ray length in scene units (default unlimited, as visfield render)");
   app.add_option("--seed", options.seed, "Seed of the AO, shadow and random rays");
@@ -86,6 +92,8 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
   }
   options.kind = *parse_ray_kind(kind_name);
+  for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
+    if (ao_directions == std::to_string(DirectionLines::count(level))) options.psf_level = level;
   options.accels = split_spec_list(accel_list);
   if (app.count("--count") > 0) options.count = static_cast<std::size_t>(count);
   if (!(options.max_distance > 0.0f))

@@ -24,6 +24,7 @@ struct RaySetRequest {
   RayKind kind = RayKind::primary;
   Camera camera;    ///< Base camera; its resolution sets the default ray count.
   int ao_rays = 4;  ///< AO rays per primary hit.
+  int psf_level = 0;  ///< 0: random AO directions; L: one AO ray along each line of the level-L set (VLF-RT).
   float max_distance = std::numeric_limits<float>::infinity();  ///< Length of AO rays, scene units.
   std::optional<std::size_t> count;  ///< Exact ray count; absent = whatever the camera's image gives.
   std::uint64_t seed = 1;
@@ -52,6 +53,8 @@ std::vector<Ray> make_bench_rays(const C& hits_from, const Scene& scene, const R
                             [&](const Camera& camera) { return make_primary_rays(scene, camera); });
     case RayKind::ao:
       return rays_for_count(request.camera, request.count, [&](const Camera& camera) {
+        if (request.psf_level > 0)
+          return make_psf_ao_rays(hits_from, scene, camera, DirectionLines(request.psf_level), request.max_distance);
         return make_ao_rays(hits_from, scene, camera, request.ao_rays, request.max_distance, request.seed);
       });
     case RayKind::shadow:

@@ -33,7 +33,8 @@ Camera bench_camera(const Scene& scene, const BenchOptions& options) {
 std::size_t estimated_ray_count(const BenchOptions& options, const Camera& camera) {
   if (options.count) return *options.count;
   const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
-  return options.kind == RayKind::ao ? pixels * static_cast<std::size_t>(options.ao_rays) : pixels;
+  if (options.kind != RayKind::ao) return pixels;
+  return pixels * (options.psf_level > 0 ? DirectionLines::count(options.psf_level) : static_cast<std::size_t>(options.ao_rays));
 }
 
 bool is_embree(const BuiltBenchAccel& a) { return a.resolved.starts_with(kEmbreeName); }
@@ -66,6 +67,7 @@ BenchReport run_bench(const BenchOptions& options) {
   request.kind = options.kind;
   request.camera = camera;
   request.ao_rays = options.ao_rays;
+  request.psf_level = options.psf_level;
   request.max_distance = options.max_distance;
   request.count = options.count;
   request.seed = options.seed;
@@ -92,7 +94,7 @@ BenchReport run_bench(const BenchOptions& options) {
   report.height = camera.height;
   report.reps = options.reps;
   report.warmup = options.warmup;
-  report.ao_rays = options.ao_rays;
+  report.ao_rays = options.psf_level > 0 ? static_cast<int>(DirectionLines::count(options.psf_level)) : options.ao_rays;
   report.max_distance = options.max_distance;
   report.reference = built[reference].resolved;
 #if VISFIELD_HAVE_EMBREE

@@ -24,6 +24,7 @@ struct RenderOptions {
   std::string out = "visfield-ao.png";
   int spp = 1;
   int ao_rays = 64;
+  std::string ao_directions = "random";  // "random", or a line count: one AO ray along each line
   double max_distance = std::numeric_limits<double>::infinity();
   int width = 0;
   int height = 0;
@@ -32,10 +33,23 @@ struct RenderOptions {
   bool no_progress = false;
 };
 
+// Level of the line set --ao-directions names (0 for random directions).
+int psf_level_of(const RenderOptions& o) {
+  for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
+    if (o.ao_directions == std::to_string(DirectionLines::count(level))) return level;
+  return 0;
+}
+
+// AO rays per camera sample that hits: --ao-rays, or about half the lines of the PSF set.
+std::uint64_t ao_rays_per_hit(const RenderOptions& o) {
+  const int level = psf_level_of(o);
+  return level == 0 ? static_cast<std::uint64_t>(o.ao_rays) : DirectionLines::count(level);
+}
+
 // Upper bound of the rays a render traces: every camera sample, and its AO rays when it hits.
 std::uint64_t rays_of_render(const Camera& camera, const RenderOptions& o) {
   return static_cast<std::uint64_t>(camera.width) * static_cast<std::uint64_t>(camera.height) *
-         static_cast<std::uint64_t>(o.spp) * (1u + static_cast<std::uint64_t>(o.ao_rays));
+         static_cast<std::uint64_t>(o.spp) * (1u + ao_rays_per_hit(o));
 }
 
 std::string structure_summary(const BuiltStructure& built) {
@@ -63,6 +77,7 @@ int run_render(const RenderOptions& o) {
   AoOptions ao;
   ao.spp = o.spp;
   ao.ao_rays = o.ao_rays;
+  ao.psf_level = psf_level_of(o);
   ao.max_distance = static_cast<float>(o.max_distance);
   ao.seed = o.seed;
   ao.progress = !o.no_progress;
@@ -77,8 +92,9 @@ int run_render(const RenderOptions& o) {
   std::cout << "wrote " << std::filesystem::absolute(o.out).string() << "\n";
   std::cout << "render: " << scene.instanced_triangle_count() - closest.degenerate_triangles << " triangles, accel "
             << structure_summary(closest) << (occluder ? ", occluder " + structure_summary(*occluder) : std::string())
-            << ", " << limit.threads() << " threads, spp " << o.spp << ", " << o.ao_rays
-            << " AO rays: " << stats.summary() << "\n";
+            << ", " << limit.threads() << " threads, spp " << o.spp << ", "
+            << (ao.psf_level ? "AO along " + o.ao_directions + " lines" : std::to_string(o.ao_rays) + " AO rays") << ": "
+            << stats.summary() << "\n";
   return 0;
 }
 
@@ -96,6 +112,12 @@ void register_render_command(CLI::App& app, Action& action) {
                        "Structure for the occlusion (AO) rays, NAME[:key=value,...] (default: the --accel one)");
   cmd->add_option("--spp", options->spp, "Camera samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--ao-rays", options->ao_rays, "AO rays per camera sample")->check(CLI::Range(1, 65536))->capture_default_str();
+  cmd->add_option("--ao-directions", options->ao_directions,
+                  "AO directions: random (--ao-rays cosine-weighted ones), or 33|129|513|2049|8193: one ray along each "
+                  "line of that octahedral set, cosine-weighted (VLF-RT's AO; a beam:dirs= of the same count traces "
+                  "them on its fast path)")
+      ->check(CLI::IsMember({"random", "33", "129", "513", "2049", "8193"}))
+      ->capture_default_str();
   cmd->add_option("--max-distance", options->max_distance, "AO ray length (world units; default unlimited)")
       ->check(positive_number(/*infinity_allowed=*/true));
   cmd->add_option("--width", options->width, "Image width in pixels (default: the scene camera's, else 512)")

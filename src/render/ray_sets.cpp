@@ -83,6 +83,22 @@ std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> prim
   return rays;
 }
 
+std::vector<Ray> psf_ao_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
+                                       const DirectionLines& lines, float max_distance) {
+  if (!(max_distance > 0.0f)) throw Error("ao rays: max_distance must be positive, got " + std::to_string(max_distance));
+  std::size_t total = 0;
+  const std::vector<std::size_t> offsets = hit_offsets(primary, hits, lines.size(), total);
+  check_fits_in_memory(total, "ao rays");
+  std::vector<Ray> rays(total);
+  for_each_surface_point(scene, primary, hits, 0, [&](std::size_t pixel, Rng&, const SurfacePoint& point) {
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      const Vec3f& w = lines.direction(k);
+      rays[offsets[pixel] + k] = Ray{point.position, dot(point.normal, w) >= 0.0f ? w : -w, 0.0f, max_distance};
+    }
+  });
+  return rays;
+}
+
 std::vector<Ray> shadow_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                                        std::uint64_t seed) {
   std::size_t total = 0;

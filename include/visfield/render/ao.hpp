@@ -4,10 +4,13 @@
 /// to one structure (the closest-hit role) and occlusion rays to another (the occlusion role), which
 /// may be the same object, an exact one or an approximate one.
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include "visfield/accel/query.hpp"
+#include "visfield/core/direction_lines.hpp"
 #include "visfield/core/image.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/render/camera.hpp"
@@ -25,6 +28,11 @@ struct AoOptions {
   std::uint64_t seed = 1;      ///< The image depends on this seed only, never on threads or tiles.
   int tile_size = 16;          ///< Tile edge in pixels (>= 1): the unit of parallel work and of progress.
   bool progress = true;        ///< Progress bar on stderr for renders that take over ~1 s.
+  /// 0: `ao_rays` random cosine-weighted directions per hit. L in [2, 6]: instead one ray along each
+  /// line of the level-L octahedral set (33, 129, 513, 2049, 8193 lines), turned into the normal's
+  /// hemisphere and weighted by the cosine (VLF-RT §7: a BeamField of the same level answers every
+  /// one of them on its single-tile fast path). Deterministic; no random numbers.
+  int psf_level = 0;
 };
 
 /// Value of a pixel sample whose primary ray misses everything: an unoccluded white sky.
@@ -42,6 +50,26 @@ float ambient_occlusion(const O& occluder, const SurfacePoint& point, Rng& rng, 
   return static_cast<float>(clear) / static_cast<float>(ao_rays);
 }
 
+/// Ambient occlusion of one primary hit along the lines of `lines`: every line not perpendicular to the
+/// normal gives one ray along its stored direction or its negation (whichever faces the normal's side),
+/// weighted by |cos| to the normal; the result is the weighted fraction that occluder.occluded()
+/// reports clear. Adds the rays traced to `rays`.
+template <OcclusionQuery O>
+float psf_ambient_occlusion(const O& occluder, const SurfacePoint& point, const DirectionLines& lines, float max_distance,
+                            std::uint64_t& rays) {
+  float clear = 0.0f, total = 0.0f;
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const Vec3f& w = lines.direction(k);
+    const float c = dot(point.normal, w);
+    if (c == 0.0f) continue;
+    const Ray ray{point.position, c > 0.0f ? w : -w, 0.0f, max_distance};
+    ++rays;
+    total += std::fabs(c);
+    if (!occluder.occluded(ray)) clear += std::fabs(c);
+  }
+  return total > 0.0f ? clear / total : 1.0f;
+}
+
 /// Renders `camera`'s view of `scene` with ambient occlusion, camera rays traced through `closest` and
 /// AO rays through `occluder` (both built over `scene`; they may be the same structure): per pixel and
 /// sample s, Rng(seed, pixel, s) draws the jitter and the AO directions; the pixel is the mean over
@@ -55,6 +83,8 @@ Image render_ao(const C& closest, const O& occluder, const Scene& scene, const C
   const PinholeCamera pinhole(camera);
   const SurfaceSpawner spawner(scene);
   Image image(pinhole.width(), pinhole.height());
+  const std::optional<DirectionLines> lines =
+      opt.psf_level > 0 ? std::optional<DirectionLines>(std::in_place, opt.psf_level) : std::nullopt;
   auto shade_tile = [&](const ImageTile& tile) -> std::uint64_t {
     std::uint64_t rays = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
@@ -71,8 +101,12 @@ Image render_ao(const C& closest, const O& occluder, const Scene& scene, const C
             continue;
           }
           const SurfacePoint point = spawner.surface_point(primary, hit);
-          sum += ambient_occlusion(occluder, point, rng, opt.ao_rays, opt.max_distance);
-          rays += static_cast<std::uint64_t>(opt.ao_rays);
+          if (lines) {
+            sum += psf_ambient_occlusion(occluder, point, *lines, opt.max_distance, rays);
+          } else {
+            sum += ambient_occlusion(occluder, point, rng, opt.ao_rays, opt.max_distance);
+            rays += static_cast<std::uint64_t>(opt.ao_rays);
+          }
         }
         image.at(x, y) = Vec3f(sum / static_cast<float>(opt.spp));
       }

@@ -10,6 +10,7 @@
 
 #include "visfield/accel/query.hpp"
 #include "visfield/accel/batch.hpp"
+#include "visfield/core/direction_lines.hpp"
 #include "visfield/core/bounds.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/scene.hpp"
@@ -28,6 +29,14 @@ std::vector<Ray> make_primary_rays(const Scene& scene, const Camera& camera);
 std::vector<Ray> ao_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
                                    int rays_per_hit, float max_distance, std::uint64_t seed);
 
+/// VLF-RT's AO rays of the primary hits: for each pixel whose ray hits (pixel order), one ray along each
+/// line of `lines` (its stored direction, or the negation on the normal's side), exactly the rays
+/// render_ao traces with psf_level = lines.level() and spp = 1 (a line perpendicular to the normal
+/// gives a ray along its stored direction, which render_ao skips). Throws vf::Error on max_distance
+/// <= 0 or a set that would not fit in memory.
+std::vector<Ray> psf_ao_rays_from_hits(const Scene& scene, std::span<const Ray> primary, std::span<const Hit> hits,
+                                       const DirectionLines& lines, float max_distance);
+
 /// One shadow ray per primary hit (pixel order), from the surface point towards a point on one of the
 /// scene's lights drawn from Rng(seed, pixel, 0) by LightTargets (above the scene when it has no light),
 /// stopping just short of the light.
@@ -43,6 +52,16 @@ std::vector<Ray> make_ao_rays(const C& closest, const Scene& scene, const Camera
   std::vector<Hit> hits(primary.size());
   intersect_batch(closest, std::span<const Ray>(primary), std::span<Hit>(hits));
   return ao_rays_from_hits(scene, primary, hits, rays_per_hit, max_distance, seed);
+}
+
+/// psf_ao_rays_from_hits for `camera`'s view, the primary hits found by `closest`.
+template <ClosestHitQuery C>
+std::vector<Ray> make_psf_ao_rays(const C& closest, const Scene& scene, const Camera& camera, const DirectionLines& lines,
+                                  float max_distance) {
+  const std::vector<Ray> primary = make_primary_rays(scene, camera);
+  std::vector<Hit> hits(primary.size());
+  intersect_batch(closest, std::span<const Ray>(primary), std::span<Hit>(hits));
+  return psf_ao_rays_from_hits(scene, primary, hits, lines, max_distance);
 }
 
 /// Shadow rays of `camera`'s view, the primary hits found by `closest`; see shadow_rays_from_hits.

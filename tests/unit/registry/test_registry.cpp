@@ -29,7 +29,7 @@ const Scene& small_scene() {
 }
 
 TEST(Registry, EveryEntryBuildsWithItsDefaultsAndNamesItself) {
-  EXPECT_EQ(structure_names(), (std::vector<std::string>{"bvh", "grid", "kdtree", "median-bsp", "brute", "auto"}));
+  EXPECT_EQ(structure_names(), (std::vector<std::string>{"bvh", "grid", "kdtree", "median-bsp", "brute", "beam", "auto"}));
   for (const StructureInfo& info : structure_table()) {
     SceneGeometry geometry(small_scene());
     const BuiltStructure built = build_structure(info.name, geometry);
@@ -61,6 +61,10 @@ TEST(Registry, DefaultsAreTheConfigDefaults) {
   EXPECT_EQ(default_of("kdtree", "depth"), KdTreeConfig{}.max_depth);
   EXPECT_EQ(default_of("median-bsp", "depth"), MedianBspConfig{}.max_depth);
   EXPECT_EQ(default_of("median-bsp", "leaf"), MedianBspConfig{}.max_leaf_size);
+  EXPECT_EQ(default_of("beam", "dirs"), static_cast<double>(BeamFieldConfig{}.direction_count()));
+  EXPECT_EQ(default_of("beam", "n"), BeamFieldConfig{}.resolution);
+  EXPECT_EQ(default_of("beam", "depth"), BeamFieldConfig{}.max_depth);
+  EXPECT_EQ(default_of("beam", "leaf"), BeamFieldConfig{}.leaf_size);
 }
 
 TEST(Registry, EveryRangeTheRegistryAcceptsTheStructureAccepts) {
@@ -91,11 +95,17 @@ TEST(Registry, ParametersReachTheStructure) {
   EXPECT_LE(shallow.max_depth, 3);
   const AccelStats bsp = structure_stats(build_structure("median-bsp:depth=3", geometry).structure);
   EXPECT_LE(bsp.max_depth, 4);
+  const AccelStats coarse = structure_stats(build_structure("beam:dirs=33,n=16", geometry).structure);
+  const AccelStats fine = structure_stats(build_structure("beam:dirs=129,n=32", geometry).structure);
+  EXPECT_GT(fine.memory_bytes, 4 * coarse.memory_bytes);
+  const AccelStats flat = structure_stats(build_structure("beam:dirs=33,depth=0", geometry).structure);
+  EXPECT_EQ(flat.max_depth, 0);
+  EXPECT_EQ(flat.leaf_count, flat.node_count);  // one leaf per non-empty tile
 }
 
 TEST(Registry, BadSpecsAreRefusedWithOneLineNamingTheProblem) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"octree", "--accel octree: unknown structure (valid: bvh, grid, kdtree, median-bsp, brute, auto)"},
+      {"octree", "--accel octree: unknown structure (valid: bvh, grid, kdtree, median-bsp, brute, beam, auto)"},
       {"bvh:leaves=4", "unknown key 'leaves' (valid keys: bins, leaf, kt, ki, levels)"},
       {"bvh:leaf=0", "leaf=0: expected a non-negative integer in 1..128"},
       {"bvh:leaf=many", "leaf=many"},
@@ -108,6 +118,10 @@ TEST(Registry, BadSpecsAreRefusedWithOneLineNamingTheProblem) {
       {":leaf=4", "no name"},
       {"auto:kind=diffuse", "kind=diffuse"},
       {"brute:leaf=2", "unknown key 'leaf' (valid keys: levels)"},
+      {"beam:n=0", "n=0: expected a non-negative integer in 16..1024"},
+      {"beam:dirs=500", "dirs=500: expected one of 33, 129, 513, 2049, 8193"},
+      {"beam:depth=13", "depth=13: expected a non-negative integer in 0..12"},
+      {"beam:levels=2", "unknown key 'levels' (valid keys: dirs, n, depth, leaf)"},
   };
   for (const auto& [spec, expected] : cases) {
     std::string message;
