@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "visfield/accel/query.hpp"
@@ -99,6 +100,12 @@ class BeamField {
   /// occluded() that also adds its work to `counters`.
   bool occluded(const Ray& ray, BeamQueryCounters& counters) const;
 
+  /// intersect() for a ray whose nearest line is known (`line` from lines().nearest(ray.dir)); the
+  /// same answer. For batch queries that group rays by line.
+  Hit intersect_on_line(const Ray& ray, std::uint32_t line) const;
+  /// occluded() for a ray whose nearest line is known; the same answer.
+  bool occluded_on_line(const Ray& ray, std::uint32_t line) const;
+
   /// Build statistics: node_count = non-empty tiles, leaf_count = leaves, reference_count, bytes, ms;
   /// max_depth = deepest tile-BSP.
   const AccelStats& stats() const;
@@ -128,9 +135,20 @@ class BeamField {
   /// True when edits are staged and not committed.
   bool has_staged_edits() const;
 
+  /// The storage (private to accel; for its batch queries).
+  const beam::BeamLayout& layout() const { return *layout_; }
+
  private:
   explicit BeamField(std::unique_ptr<beam::BeamLayout> layout);
   std::unique_ptr<beam::BeamLayout> layout_;
 };
+
+/// Batch closest hits through a BeamField: hits[i] is intersect(rays[i]), as intersect_batch() gives,
+/// but the rays are traced grouped by nearest line (and in their order within a line), so that
+/// consecutive queries read the same direction's tiles: the field is far larger than the caches, and
+/// AO rays from one point use hundreds of directions. Parallel; deterministic.
+void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::span<Hit> hits);
+/// Batch occlusion through a BeamField, grouped by line as intersect_batch() above.
+void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
 
 }  // namespace vf

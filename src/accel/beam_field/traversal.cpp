@@ -13,12 +13,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
+
+#include <tbb/blocked_range.h>
 
 #include "beam_field/beam_layout.hpp"
 #include "beam_field/tile_geometry.hpp"
 #include "beam_field/tile_raster.hpp"
 #include "visfield/accel/beam_field.hpp"
+#include "visfield/core/interrupt.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/core/triangle_intersect.hpp"
 
 namespace vf {
@@ -42,6 +47,8 @@ struct Count {
   void test() { ++c.triangle_tests; }
 };
 
+constexpr std::uint32_t kNoLine = 0xffffffffu;
+
 // Relative error allowed for a float t from the watertight test when deciding that every τ below it
 // has been searched (the test's t is a convex combination of the corners' depths, accurate to a few
 // float ulps; 1e-5 is far above that and costs at most a leaf more).
@@ -61,13 +68,14 @@ class Walk {
   Walk(const BeamLayout& layout, const Ray& ray, Counter counter)
       : layout_(layout), ray_(ray), wray_(ray), counter_(counter) {}
 
-  Hit run() {
+  /// The answer, with the ray's nearest line looked up here or given (any line gives the same answer).
+  Hit run(std::uint32_t given_line = kNoLine) {
     counter_.ray();
     if (!ray_.is_valid() || layout_.live_slots == 0) return {};
     const TileGeometry& g = layout_.geometry;
-    const NearestLine nearest = layout_.lines.nearest(ray_.dir);
-    const FrameD& f = layout_.frames[nearest.line];
-    dir_ = &layout_.directions[nearest.line];
+    const std::uint32_t line = given_line == kNoLine ? layout_.lines.nearest(ray_.dir).line : given_line;
+    const FrameD& f = layout_.frames[line];
+    dir_ = &layout_.directions[line];
 
     const double dx = ray_.dir.x, dy = ray_.dir.y, dz = ray_.dir.z;
     const double ox = static_cast<double>(ray_.org.x) - g.center[0], oy = static_cast<double>(ray_.org.y) - g.center[1],
@@ -257,6 +265,26 @@ class Walk {
   Hit best_;
 };
 
+/// Runs query(i, line) for every ray, grouped by nearest line: lines are found in parallel, the ray
+/// indices counting-sorted by line (stable), and the sorted order traced in parallel chunks.
+template <class Query>
+void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query&& query) {
+  std::vector<std::uint32_t> line_of(rays.size());
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      line_of[i] = rays[i].is_valid() ? layout.lines.nearest(rays[i].dir).line : 0;
+  });
+  std::vector<std::size_t> start(layout.lines.size() + 1, 0);
+  for (const std::uint32_t line : line_of) ++start[line + 1];
+  for (std::size_t k = 0; k < layout.lines.size(); ++k) start[k + 1] += start[k];
+  std::vector<std::uint32_t> order(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) order[start[line_of[i]]++] = static_cast<std::uint32_t>(i);
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 1024), [&](const auto& range) {
+    check_interrupt();
+    for (std::size_t j = range.begin(); j != range.end(); ++j) query(order[j], line_of[order[j]]);
+  });
+}
+
 }  // namespace
 }  // namespace beam
 
@@ -272,6 +300,26 @@ Hit BeamField::intersect(const Ray& ray, BeamQueryCounters& counters) const {
 
 bool BeamField::occluded(const Ray& ray, BeamQueryCounters& counters) const {
   return beam::Walk<true, beam::Count>(*layout_, ray, beam::Count{counters}).run().found;
+}
+
+Hit BeamField::intersect_on_line(const Ray& ray, std::uint32_t line) const {
+  return beam::Walk<false, beam::NoCount>(*layout_, ray, {}).run(line);
+}
+
+bool BeamField::occluded_on_line(const Ray& ray, std::uint32_t line) const {
+  return beam::Walk<true, beam::NoCount>(*layout_, ray, {}).run(line).found;
+}
+
+void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::span<Hit> hits) {
+  beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, std::uint32_t line) {
+    std::construct_at(&hits[i], field.intersect_on_line(rays[i], line));
+  });
+}
+
+void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, std::uint32_t line) {
+    occluded[i] = field.occluded_on_line(rays[i], line) ? 1 : 0;
+  });
 }
 
 }  // namespace vf
