@@ -7,7 +7,7 @@
 #include "differential/harness.hpp"
 #include "differential/ray_sets.hpp"
 #include "differential/test_scenes.hpp"
-#include "support/same_hit.hpp"
+#include "differential/update_probes.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/rng.hpp"
 
@@ -19,18 +19,7 @@ static_assert(UpdatableStructure<BeamField>);
 // Small fields keep the test fast; the update path does not depend on the sizes.
 const BeamFieldConfig kConfig{.level = 3, .resolution = 32, .max_depth = 3, .leaf_size = 4};
 
-std::vector<Ray> probe_rays(const TriangleSet& set, std::uint64_t seed) {
-  std::vector<Ray> rays = random_rays(set, seed, 1500);
-  const std::vector<Ray> surface = model_rays(set, seed + 1, 1500);
-  rays.insert(rays.end(), surface.begin(), surface.end());
-  return rays;
-}
-
-std::size_t differences(const BeamField& a, const BeamField& b, const std::vector<Ray>& rays) {
-  std::size_t n = 0;
-  for (const Ray& ray : rays) n += same_bits(a.intersect(ray), b.intersect(ray)) && a.occluded(ray) == b.occluded(ray) ? 0 : 1;
-  return n;
-}
+std::vector<Ray> probe_rays(const TriangleSet& set, std::uint64_t seed) { return test::probe_rays(set, seed, 1500); }
 
 Scene make_scene() {
   return scattered_copies({mesh_from_triangles(height_field(2, 10)), mesh_from_triangles(random_soup(4, 200, 0.05f, 0.2f))}, 10,

@@ -7,7 +7,7 @@
 #include "differential/ray_sets.hpp"
 #include "differential/structure_specs.hpp"
 #include "differential/test_scenes.hpp"
-#include "support/same_hit.hpp"
+#include "differential/update_probes.hpp"
 #include "visfield/core/error.hpp"
 
 namespace vf::test {
@@ -23,19 +23,7 @@ InstanceLayer build_layer(const std::string& spec, const Scene& scene) {
 }
 
 /// Rays of both scenes' kinds: random ones around `set` and AO-like ones from its surfaces.
-std::vector<Ray> probe_rays(const TriangleSet& set) {
-  std::vector<Ray> rays = random_rays(set, 3, 3000);
-  const std::vector<Ray> surface = model_rays(set, 4, 3000);
-  rays.insert(rays.end(), surface.begin(), surface.end());
-  return rays;
-}
-
-/// Number of rays on which `a` and `b` give different answers (closest hit bit for bit, occlusion).
-std::size_t differences(const InstanceLayer& a, const InstanceLayer& b, const std::vector<Ray>& rays) {
-  std::size_t n = 0;
-  for (const Ray& ray : rays) n += same_bits(a.intersect(ray), b.intersect(ray)) && a.occluded(ray) == b.occluded(ray) ? 0 : 1;
-  return n;
-}
+std::vector<Ray> probe_rays(const TriangleSet& set) { return test::probe_rays(set, 3, 3000); }
 
 class InstanceUpdates : public ::testing::TestWithParam<std::string> {
  protected:
