@@ -23,8 +23,16 @@ std::vector<Ray> take_evenly(const std::vector<Ray>& rays, std::size_t count) {
 }
 
 std::vector<Ray> rays_for_count(const Camera& camera, std::optional<std::size_t> count,
-                                const std::function<std::vector<Ray>(const Camera&)>& generate) {
+                                const std::function<std::vector<Ray>(const Camera&)>& generate, std::size_t rays_per_pixel) {
   Camera scaled = camera;
+  const double most = static_cast<double>(camera.width) * camera.height * static_cast<double>(std::max<std::size_t>(rays_per_pixel, 1));
+  if (count && most > 4.0 * static_cast<double>(*count)) {
+    // Far more rays than asked for: a smaller image (same aspect) whose every pixel could give its
+    // rays_per_pixel rays, so that AO rays come whole from each point and no huge set is made.
+    const double factor = std::sqrt(1.05 * static_cast<double>(*count) / most);
+    scaled.width = std::max(1, static_cast<int>(std::lround(camera.width * factor)));
+    scaled.height = std::max(1, static_cast<int>(std::lround(camera.height * factor)));
+  }
   std::vector<Ray> rays = generate(scaled);
   if (rays.empty()) {
     throw Error("no rays to trace: the camera at " + std::to_string(camera.width) + "x" +

@@ -34,12 +34,15 @@ struct RaySetRequest {
 /// order. Needs 1 <= count <= rays.size() and count < 2^32.
 std::vector<Ray> take_evenly(const std::vector<Ray>& rays, std::size_t count);
 
-/// Rays from `generate(camera)`, brought to exactly `count` rays when given: the camera's
-/// resolution is scaled up (same aspect) until the image yields at least `count` rays, then
-/// take_evenly picks `count`. Throws vf::Error when the image yields no ray at all (nothing seen)
-/// or when reaching `count` would need an image beyond 65536 pixels a side.
+/// Rays from `generate(camera)`, brought to exactly `count` rays when given: when the image could
+/// give over 4 count rays (at most `rays_per_pixel` per pixel) the camera is first scaled down to
+/// about count / rays_per_pixel pixels; then its resolution is scaled up (same aspect) until the
+/// image yields at least `count` rays, and take_evenly picks `count`. Throws vf::Error when the
+/// image yields no ray at all (nothing seen) or when reaching `count` would need an image beyond
+/// 65536 pixels a side.
 std::vector<Ray> rays_for_count(const Camera& camera, std::optional<std::size_t> count,
-                                const std::function<std::vector<Ray>(const Camera&)>& generate);
+                                const std::function<std::vector<Ray>(const Camera&)>& generate,
+                                std::size_t rays_per_pixel = 1);
 
 /// The benchmark's ray set. AO and shadow rays start at primary hits found with `hits_from` (any
 /// exact structure gives the same hits); random rays come from make_random_rays over the scene
@@ -52,11 +55,14 @@ std::vector<Ray> make_bench_rays(const C& hits_from, const Scene& scene, const R
       return rays_for_count(request.camera, request.count,
                             [&](const Camera& camera) { return make_primary_rays(scene, camera); });
     case RayKind::ao:
-      return rays_for_count(request.camera, request.count, [&](const Camera& camera) {
-        if (request.psf_level > 0)
-          return make_psf_ao_rays(hits_from, scene, camera, DirectionLines(request.psf_level), request.max_distance);
-        return make_ao_rays(hits_from, scene, camera, request.ao_rays, request.max_distance, request.seed);
-      });
+      return rays_for_count(
+          request.camera, request.count,
+          [&](const Camera& camera) {
+            if (request.psf_level > 0)
+              return make_psf_ao_rays(hits_from, scene, camera, DirectionLines(request.psf_level), request.max_distance);
+            return make_ao_rays(hits_from, scene, camera, request.ao_rays, request.max_distance, request.seed);
+          },
+          request.psf_level > 0 ? DirectionLines::count(request.psf_level) : static_cast<std::size_t>(request.ao_rays));
     case RayKind::shadow:
       return rays_for_count(request.camera, request.count, [&](const Camera& camera) {
         return make_shadow_rays(hits_from, scene, camera, request.seed);

@@ -110,6 +110,11 @@ BenchReport run_bench(const BenchOptions& options) {
     row.mrays_per_s = mrays_per_second(rays.size(), row.median_ms);
     if (embree != built.end() && embree_mrays > 0.0) row.ratio_to_embree = row.mrays_per_s / embree_mrays;
     row.mismatches = count_mismatches(measurements[i].results, measurements[reference].results, options.kind);
+    if (const auto counters = count_beam_work(built[i].accel, rays, options.kind); counters && counters->rays > 0) {
+      const double per_ray = 1.0 / static_cast<double>(counters->rays);
+      row.beam_work = BeamWork{counters->single_tile * per_ray, counters->tiles * per_ray, counters->leaves * per_ray,
+                               counters->triangle_tests * per_ray};
+    }
     report.rows.push_back(std::move(row));
   }
   return report;

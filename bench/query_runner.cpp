@@ -1,8 +1,13 @@
 #include "query_runner.hpp"
 
 #include <functional>
+#include <type_traits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 
 #include "visfield/accel/batch.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf::bench {
 
@@ -33,6 +38,29 @@ std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const>
   std::vector<Timings> timings = time_interleaved(plan, jobs);
   for (std::size_t i = 0; i < accels.size(); ++i) measurements[i].timings = std::move(timings[i]);
   return measurements;
+}
+
+std::optional<BeamQueryCounters> count_beam_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind) {
+  return visit_accel(accel, [&](const auto& structure) -> std::optional<BeamQueryCounters> {
+    if constexpr (std::is_same_v<std::decay_t<decltype(structure)>, BeamField>) {
+      tbb::combinable<BeamQueryCounters> per_thread;
+      vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
+        BeamQueryCounters& counters = per_thread.local();
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          if (is_occlusion_kind(kind)) {
+            structure.occluded(rays[i], counters);
+          } else {
+            structure.intersect(rays[i], counters);
+          }
+        }
+      });
+      BeamQueryCounters total;
+      per_thread.combine_each([&](const BeamQueryCounters& c) { total += c; });
+      return total;
+    } else {
+      return std::nullopt;
+    }
+  });
 }
 
 }  // namespace vf::bench

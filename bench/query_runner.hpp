@@ -2,11 +2,13 @@
 /// \file Tracing the ray set through the structures: the timed work of visfield-bench.
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "bench_accel.hpp"
 #include "timing.hpp"
+#include "visfield/accel/beam_field.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/render/ray_kind.hpp"
 
@@ -31,5 +33,9 @@ struct QueryMeasurement {
 /// repetitions interleaved across structures (time_interleaved). One measurement per structure.
 std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const> accels, std::span<const Ray> rays,
                                               RayKind kind, const TimingPlan& plan);
+
+/// BeamField's work on `rays` (the queries `kind` asks, with counters on; untimed), or nothing when
+/// `accel` is not a BeamField. Parallel; the sums do not depend on the thread count.
+std::optional<BeamQueryCounters> count_beam_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind);
 
 }  // namespace vf::bench

@@ -72,6 +72,13 @@ void print_table(std::ostream& out, const BenchReport& report) {
         << "  " << padded_left(ratio, 15) << "  " << padded_left(with_separators(row.mismatches), mismatch_title.size())
         << "\n";
   }
+  for (const ResultRow& row : report.rows) {
+    if (!row.beam_work) continue;
+    const BeamWork& w = *row.beam_work;
+    out << row.accel << " work per ray: " << formatted("%.1f%%", 100.0 * w.single_tile_fraction)
+        << " single-tile, " << formatted("%.2f", w.tiles) << " tiles, " << formatted("%.2f", w.leaves) << " leaves, "
+        << formatted("%.2f", w.triangle_tests) << " triangle tests\n";
+  }
 }
 
 nlohmann::ordered_json report_json(const BenchReport& report) {
@@ -101,6 +108,12 @@ nlohmann::ordered_json report_json(const BenchReport& report) {
                        {"mrays_per_s", row.mrays_per_s},
                        {"ratio_to_embree", or_null(row.ratio_to_embree)},
                        {"mismatches", row.mismatches}});
+    if (row.beam_work) {
+      results.back()["beam_work"] = {{"single_tile_fraction", row.beam_work->single_tile_fraction},
+                                     {"tiles", row.beam_work->tiles},
+                                     {"leaves", row.beam_work->leaves},
+                                     {"triangle_tests", row.beam_work->triangle_tests}};
+    }
   }
   return doc;
 }

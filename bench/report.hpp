@@ -14,6 +14,14 @@
 
 namespace vf::bench {
 
+/// A BeamField's work on the ray set (an untimed counting pass), per ray: for checking its cost model.
+struct BeamWork {
+  double single_tile_fraction = 0.0;  ///< Rays whose segment stayed in one tile (the fast path).
+  double tiles = 0.0;                 ///< Tiles visited per ray.
+  double leaves = 0.0;                ///< Tile-BSP leaves visited per ray.
+  double triangle_tests = 0.0;        ///< Ray–triangle tests per ray.
+};
+
 /// One structure's figures.
 struct ResultRow {
   std::string accel;                      ///< --accel spec as resolved (automatic choices made).
@@ -23,6 +31,7 @@ struct ResultRow {
   double mrays_per_s = 0.0;               ///< Rays / median time, in millions per second.
   std::optional<double> ratio_to_embree;  ///< mrays_per_s / Embree's (> 1 = faster); absent without Embree.
   std::size_t mismatches = 0;             ///< Rays answered differently from the reference structure.
+  std::optional<BeamWork> beam_work;      ///< BeamField rows only: its work per ray.
 };
 
 /// Everything one run reports.
@@ -44,12 +53,14 @@ struct BenchReport {
 /// Millions of rays per second for `rays` rays traced in `ms` milliseconds (0 when ms <= 0).
 double mrays_per_second(std::size_t rays, double ms);
 
-/// Prints the header line and the table (accel | build ms | bytes | Mrays/s | ratio to Embree | mismatches).
+/// Prints the header line and the table (accel | build ms | bytes | Mrays/s | ratio to Embree |
+/// mismatches), then one line of work per ray for each BeamField row.
 void print_table(std::ostream& out, const BenchReport& report);
 
 /// {"scene", "triangles", "rays", "kind", "threads", ..., ("ao_rays", "max_distance" (null = unlimited)
 /// for ao,) "results": [{"accel", "build_ms", "bytes",
-/// "mrays_per_s", "ratio_to_embree" (null without Embree), "mismatches", ...}]}.
+/// "mrays_per_s", "ratio_to_embree" (null without Embree), "mismatches", ("beam_work": {"single_tile_fraction",
+/// "tiles", "leaves", "triangle_tests"} per ray, BeamField rows only)}]}.
 nlohmann::ordered_json report_json(const BenchReport& report);
 
 }  // namespace vf::bench

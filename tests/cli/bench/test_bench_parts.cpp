@@ -142,6 +142,24 @@ TEST(BenchRays, CountScalesTheImageUpUntilThereAreEnoughRays) {
   for (std::size_t i = 0; i < many.size(); ++i) ASSERT_EQ(many[i].org.x, again[i].org.x);
 }
 
+TEST(BenchRays, CountScalesAnImageWithFarTooManyRaysDown) {
+  Camera camera;
+  camera.width = 64;
+  camera.height = 48;
+  std::vector<int> widths;
+  // Ten rays per pixel: 100 rays need about ten pixels, not 3072.
+  const auto generate = [&](const Camera& c) {
+    widths.push_back(c.width);
+    std::vector<Ray> rays;
+    for (const Ray& r : numbered_rays(c)) rays.insert(rays.end(), 10, r);
+    return rays;
+  };
+  EXPECT_EQ(rays_for_count(camera, 100, generate, 10).size(), 100u);
+  ASSERT_FALSE(widths.empty());
+  EXPECT_LE(widths.front(), 8);
+  EXPECT_LE(widths.back(), 8);
+}
+
 TEST(BenchRays, AnImageWithoutRaysIsAnError) {
   Camera camera;
   EXPECT_THROW(rays_for_count(camera, 10, [](const Camera&) { return std::vector<Ray>{}; }), Error);
@@ -211,8 +229,10 @@ BenchReport sample_report(bool with_embree) {
   report.threads = 2;
   report.reference = with_embree ? "embree" : "bvh";
   if (with_embree) report.embree = "Embree 3.13.5";
-  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3});
-  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0});
+  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3, {}});
+  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0, {}});
+  report.rows.push_back({"beam", 900.0, 1 << 20, 25.0, 40.0, with_embree ? std::optional<double>(2.0) : std::nullopt, 0,
+                         BeamWork{0.75, 1.5, 2.25, 4.5}});
   return report;
 }
 
@@ -223,7 +243,7 @@ TEST(BenchReport, JsonHasTheDocumentedFields) {
   EXPECT_EQ(doc.at("rays"), 1000000);
   EXPECT_EQ(doc.at("kind"), "ao");
   EXPECT_EQ(doc.at("threads"), 2);
-  ASSERT_EQ(doc.at("results").size(), 2u);
+  ASSERT_EQ(doc.at("results").size(), 3u);
   const nlohmann::ordered_json& bvh = doc.at("results")[0];
   EXPECT_EQ(bvh.at("accel"), "bvh");
   EXPECT_DOUBLE_EQ(bvh.at("build_ms").get<double>(), 12.5);
@@ -231,6 +251,12 @@ TEST(BenchReport, JsonHasTheDocumentedFields) {
   EXPECT_DOUBLE_EQ(bvh.at("mrays_per_s").get<double>(), 10.0);
   EXPECT_DOUBLE_EQ(bvh.at("ratio_to_embree").get<double>(), 0.5);
   EXPECT_EQ(bvh.at("mismatches"), 3);
+  EXPECT_FALSE(bvh.contains("beam_work"));
+  const nlohmann::ordered_json& work = doc.at("results")[2].at("beam_work");
+  EXPECT_DOUBLE_EQ(work.at("single_tile_fraction").get<double>(), 0.75);
+  EXPECT_DOUBLE_EQ(work.at("tiles").get<double>(), 1.5);
+  EXPECT_DOUBLE_EQ(work.at("leaves").get<double>(), 2.25);
+  EXPECT_DOUBLE_EQ(work.at("triangle_tests").get<double>(), 4.5);
   EXPECT_TRUE(report_json(sample_report(false)).at("results")[0].at("ratio_to_embree").is_null());
 }
 
@@ -242,6 +268,10 @@ TEST(BenchReport, TableHasOneRowPerStructure) {
   EXPECT_NE(text.find("0.50x"), std::string::npos) << text;
   EXPECT_NE(text.find("\nembree "), std::string::npos) << text;
   EXPECT_NE(text.find("mismatches vs embree"), std::string::npos) << text;
+  EXPECT_NE(text.find("beam work per ray: 75.0% single-tile, 1.50 tiles, 2.25 leaves, 4.50 triangle tests"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("bvh work per ray"), std::string::npos) << text;
 }
 
 TEST(BenchReport, MraysPerSecond) {
