@@ -1,6 +1,7 @@
 #include "visfield/core/direction_lines.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -45,6 +46,19 @@ PsfFrame frame_of(const Vec3d& w) {
   return {{f(1.0 - x * x * a), f(b), f(-x)}, {f(b), f(1.0 - y * y * a), f(-y)}, {f(x), f(y), f(z)}};
 }
 
+// Hash of a direction's bits for the stored-direction table.
+std::size_t direction_hash(const Vec3f& d) {
+  const auto bits = [](float x) { return static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(x)); };
+  const std::uint64_t h = bits(d.x) * 0x9E3779B97F4A7C15ull ^ bits(d.y) * 0xC2B2AE3D27D4EB4Full ^ bits(d.z) * 0x165667B19E3779F9ull;
+  return static_cast<std::size_t>(h ^ (h >> 29));
+}
+
+bool same_bits(const Vec3f& a, const Vec3f& b) {
+  return std::bit_cast<std::uint32_t>(a.x) == std::bit_cast<std::uint32_t>(b.x) &&
+         std::bit_cast<std::uint32_t>(a.y) == std::bit_cast<std::uint32_t>(b.y) &&
+         std::bit_cast<std::uint32_t>(a.z) == std::bit_cast<std::uint32_t>(b.z);
+}
+
 }  // namespace
 
 std::size_t DirectionLines::count(int level) {
@@ -77,11 +91,31 @@ DirectionLines::DirectionLines(int level) : level_(level) {
     directions_.push_back({static_cast<float>(w[0]), static_cast<float>(w[1]), static_cast<float>(w[2])});
     frames_.push_back(frame_of(w));
   }
+  // Load factor at most 1/4: a probe sequence is short.
+  std::size_t table_size = 1;
+  while (table_size < 4 * directions_.size()) table_size *= 2;
+  stored_table_.assign(table_size, -1);
+  for (std::size_t line = 0; line < directions_.size(); ++line) {
+    std::size_t slot = direction_hash(directions_[line]) & (table_size - 1);
+    while (stored_table_[slot] >= 0) slot = (slot + 1) & (table_size - 1);
+    stored_table_[slot] = static_cast<std::int32_t>(line);
+  }
+}
+
+std::int32_t DirectionLines::stored_line(const Vec3f& d) const {
+  const std::size_t mask = stored_table_.size() - 1;
+  for (std::size_t slot = direction_hash(d) & mask;; slot = (slot + 1) & mask) {
+    const std::int32_t line = stored_table_[slot];
+    if (line < 0 || same_bits(directions_[static_cast<std::size_t>(line)], d)) return line;
+  }
 }
 
 std::int32_t DirectionLines::line_at(int i, int j) const { return lattice_to_line_[lattice_index(i, j, n_)]; }
 
 NearestLine DirectionLines::nearest(const Vec3f& direction) const {
+  // A stored direction is its own nearest line (AO along the lines asks for nothing else).
+  if (const std::int32_t line = stored_line(direction); line >= 0) return {static_cast<std::uint32_t>(line), 1};
+  if (const std::int32_t line = stored_line(-direction); line >= 0) return {static_cast<std::uint32_t>(line), -1};
   const int n = n_;
   Vec3d d{direction.x, direction.y, direction.z};
   const double norm = std::sqrt(dot3(d, d));

@@ -59,8 +59,9 @@ class DirectionLines {
   const PsfFrame& frame(std::size_t line) const { return frames_[line]; }
 
   /// The line nearest to `d` (any non-zero length; the larger |cos| wins) and the orientation of `d`
-  /// along it. O(1): a few arithmetic operations and three dot products. `d` must be finite and
-  /// non-zero.
+  /// along it. O(1): a few arithmetic operations and three dot products, or, when `d` is a stored
+  /// direction or its negation bit for bit (AO along the lines), one hash probe or two. `d` must be
+  /// finite and non-zero.
   NearestLine nearest(const Vec3f& d) const;
 
   /// Number of lines of `level` without building the set: 2·4^level + 1.
@@ -69,6 +70,8 @@ class DirectionLines {
  private:
   // Line index of lattice point (i, j), or -1 for a dropped equator point.
   std::int32_t line_at(int i, int j) const;
+  // The line whose stored direction is bit for bit `d`, or -1.
+  std::int32_t stored_line(const Vec3f& d) const;
 
   int level_ = 0;
   int n_ = 0;
@@ -76,6 +79,7 @@ class DirectionLines {
   std::vector<std::array<double, 3>> precise_;
   std::vector<Vec3f> directions_;
   std::vector<PsfFrame> frames_;
+  std::vector<std::int32_t> stored_table_;  // open addressing over the stored directions' bits: line, or -1
 };
 
 }  // namespace vf
