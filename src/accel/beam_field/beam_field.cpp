@@ -117,12 +117,11 @@ void BeamLayout::recount() {
     bytes += (d.tiles.capacity() + d.arena.capacity()) * sizeof(std::uint32_t);
     for (const std::uint32_t offset : d.tiles) {
       if (offset == kEmptyTile) continue;
-      const std::uint32_t* record = d.arena.data() + offset;
-      const int depth = static_cast<int>(record[2]);
+      const RecordView record(d.arena.data() + offset);
       ++non_empty;
-      leaves += std::size_t{1} << depth;
-      refs += record[kRecordHeaderWords + (1u << depth)];
-      deepest = std::max(deepest, depth);
+      leaves += static_cast<std::size_t>(record.last_leaf()) + 1;
+      refs += record.references();
+      deepest = std::max(deepest, record.depth());
     }
   }
   bytes += triangles.capacity() * sizeof(triangles[0]) + (prim.capacity() + instance.capacity()) * sizeof(std::uint32_t) +
@@ -142,7 +141,7 @@ void BeamField::validate(const BeamFieldConfig& c) {
   if (c.level < DirectionLines::kMinLevel || c.level > DirectionLines::kMaxLevel)
     throw Error("beam: dirs must be one of 33, 129, 513, 2049, 8193 (level " + std::to_string(c.level) + " is not in [2, 6])");
   if (c.resolution < 16 || c.resolution > 1024) throw Error(beam::out_of_range("n", c.resolution, 16, 1024));
-  if (c.max_depth < 0 || c.max_depth > 12) throw Error(beam::out_of_range("depth", c.max_depth, 0, 12));
+  if (c.max_depth < 0 || c.max_depth > beam::kMaxTileDepth) throw Error(beam::out_of_range("depth", c.max_depth, 0, beam::kMaxTileDepth));
   if (c.leaf_size < 1 || c.leaf_size > 4096) throw Error(beam::out_of_range("leaf", c.leaf_size, 1, 4096));
 }
 
@@ -225,9 +224,10 @@ double BeamField::estimate_build_bytes(const Scene& scene, const BeamFieldConfig
   constexpr double kLeafDuplication = 1.5;
   const double non_empty = std::min(n2, references);
   const double leaf_words = std::min(static_cast<double>(1 << config.max_depth), references / std::max(1.0, non_empty) / config.leaf_size + 1.0) + 1.0;
-  const double per_direction = 4.0 * (n2 + non_empty * (beam::kRecordHeaderWords + leaf_words) + references * kLeafDuplication);
-  // Build buffers per thread: one direction's entries (24 bytes), sorted twice.
-  const double scratch = 48.0 * references * std::max(1, threads_in_force());
+  // Two words per reference: the triangle slot and its footprint.
+  const double per_direction = 4.0 * (n2 + non_empty * (beam::kRecordHeaderWords + leaf_words) + 2.0 * references * kLeafDuplication);
+  // Build buffers per thread: one direction's entries (32 bytes), sorted twice.
+  const double scratch = 64.0 * references * std::max(1, threads_in_force());
   const double triangles = 45.0 * static_cast<double>(total);
   return lines * per_direction + scratch + triangles;
 }

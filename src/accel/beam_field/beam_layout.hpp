@@ -8,14 +8,19 @@
 //   word 1       scale: leaves per unit depth, float bits (leaf of depth w = floor((w - lo) * scale))
 //   word 2       D: the tile-BSP depth, 2^D leaves
 //   word 3       capacity: words the record may grow to in place (an update rewrites it there if it fits)
-//   words 4..    2^D + 1 leaf starts, relative to the first reference
-//   then         the references (triangle slots), leaf after leaf; a triangle spanning leaves is in each
+//   words 4..    2^D + 1 leaf starts: reference counts before each leaf (the last is the total)
+//   then         leaf after leaf: the leaf's footprints (tile_footprint.hpp), then its references
+//                (triangle slots) in the same order; a triangle spanning leaves is in each
+//
+// A leaf's footprints and references are adjacent, and the leaves follow each other in walk order,
+// so a ray's leaf walk reads one contiguous run of memory.
 //
 // Triangles live in slots (world-space corners, mesh triangle, object); an object's triangles occupy a
 // contiguous run of slots, which a move rewrites in place. Removed objects leave dead slots until a
 // rebuild reclaims them.
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -28,6 +33,33 @@ namespace vf::beam {
 
 inline constexpr std::uint32_t kEmptyTile = 0xffffffffu;
 inline constexpr std::uint32_t kRecordHeaderWords = 4;
+/// The deepest tile-BSP (BeamFieldConfig::max_depth's upper bound): 4096 leaves.
+inline constexpr int kMaxTileDepth = 12;
+
+/// Read access to one tile record (layout above). O(1) per call; a view, owns nothing.
+class RecordView {
+ public:
+  explicit RecordView(const std::uint32_t* record) : record_(record) {}
+
+  float lo() const { return std::bit_cast<float>(record_[0]); }       ///< Depth where leaf 0 starts.
+  float scale() const { return std::bit_cast<float>(record_[1]); }    ///< Leaves per unit depth.
+  int depth() const { return static_cast<int>(record_[2]); }          ///< D: 2^D leaves.
+  int last_leaf() const { return (1 << record_[2]) - 1; }             ///< 2^D - 1.
+  std::uint32_t capacity() const { return record_[3]; }              ///< Words it may grow to in place.
+  const std::uint32_t* starts() const { return record_ + kRecordHeaderWords; }  ///< 2^D + 1 leaf starts.
+  std::uint32_t references() const { return starts()[last_leaf() + 1]; }      ///< All leaves' references.
+  std::uint32_t leaf_size(int leaf) const { return starts()[leaf + 1] - starts()[leaf]; }  ///< References of `leaf`.
+  /// The footprints of `leaf`'s references; its slots follow them.
+  const std::uint32_t* leaf_footprints(int leaf) const { return data() + 2 * static_cast<std::size_t>(starts()[leaf]); }
+  /// The triangle slots of `leaf`, in the order of its footprints.
+  const std::uint32_t* leaf_slots(int leaf) const { return leaf_footprints(leaf) + leaf_size(leaf); }
+  /// Words of the record.
+  std::size_t words() const { return static_cast<std::size_t>(data() - record_) + 2 * static_cast<std::size_t>(references()); }
+
+ private:
+  const std::uint32_t* data() const { return record_ + kRecordHeaderWords + last_leaf() + 2; }
+  const std::uint32_t* record_;
+};
 
 /// A PSF frame in double precision (converted from the float frame the direction set stores).
 struct FrameD {

@@ -15,6 +15,7 @@
 
 #include "beam_field/beam_layout.hpp"
 #include "beam_field/tile_clip.hpp"
+#include "beam_field/tile_footprint.hpp"
 #include "beam_field/tile_geometry.hpp"
 #include "beam_field/tile_raster.hpp"
 #include "visfield/core/error.hpp"
@@ -24,11 +25,18 @@
 namespace vf::beam {
 namespace {
 
-/// One reference before it is stored: a triangle slot in a tile, with its depth range there.
+/// Where a triangle lies in one tile: its depth range there (widened by the slack) and its footprint.
+struct Placement {
+  double lo, hi;
+  std::uint32_t footprint;
+};
+
+/// One reference before it is stored: a triangle slot in a tile, with its placement there.
 struct Entry {
   std::uint32_t tile;
   std::uint32_t slot;
   double lo, hi;
+  std::uint32_t footprint;
 };
 
 /// Per-thread buffers, reused across directions.
@@ -51,7 +59,7 @@ class Rasterizer {
         grid_{-layout.geometry.radius, -layout.geometry.radius, layout.geometry.tile_size, layout.geometry.n},
         flat_area_(1e-12 * layout.geometry.radius * layout.geometry.radius) {}
 
-  /// Calls visit(tile, depth range) for every tile triangle `corners` comes within slack of.
+  /// Calls visit(tile, placement) for every tile triangle `corners` comes within slack of.
   template <class Visit>
   void rasterize(const std::array<Vec3f, 3>& corners, std::vector<std::uint32_t>& tiles, Visit&& visit) const {
     const std::array<double, 3>& c = geometry_.center;
@@ -66,7 +74,7 @@ class Rasterizer {
     // whose box spans two tiles in a row or column meets both (it is connected); others are tested
     // tile by tile.
     if (x0 == x1 && y0 == y1) {
-      visit(index(x0, y0), DepthRange{std::min({p[0].w, p[1].w, p[2].w}) - e, std::max({p[0].w, p[1].w, p[2].w}) + e});
+      visit(index(x0, y0), place(whole_box(p[0], p[1], p[2]), x0, y0));
       return;
     }
     tiles.clear();
@@ -81,12 +89,21 @@ class Rasterizer {
       const int x = static_cast<int>(tile % static_cast<std::uint32_t>(n)), y = static_cast<int>(tile / static_cast<std::uint32_t>(n));
       const double s0 = -geometry_.radius + x * geometry_.tile_size - e, s1 = -geometry_.radius + (x + 1) * geometry_.tile_size + e;
       const double t0 = -geometry_.radius + y * geometry_.tile_size - e, t1 = -geometry_.radius + (y + 1) * geometry_.tile_size + e;
-      const DepthRange r = clipped_depth_range(p[0], p[1], p[2], s0, s1, t0, t1, flat_area_);
-      visit(tile, DepthRange{r.lo - e, r.hi + e});
+      visit(tile, place(clip_to_beam(p[0], p[1], p[2], s0, s1, t0, t1, flat_area_), x, y));
     }
   }
 
  private:
+  // The placement in tile (x, y) of a triangle part whose box is `b`, widened by the slack: the ray
+  // point at a hit lies within the slack of the triangle (see traversal.cpp).
+  Placement place(const BeamBox& b, int x, int y) const {
+    const double e = geometry_.slack, inv = geometry_.inv_tile_size;
+    const double s_base = -geometry_.radius + x * geometry_.tile_size, t_base = -geometry_.radius + y * geometry_.tile_size;
+    return {b.lo - e, b.hi + e,
+            footprint((b.s_lo - e - s_base) * inv, (b.s_hi + e - s_base) * inv, (b.t_lo - e - t_base) * inv,
+                      (b.t_hi + e - t_base) * inv)};
+  }
+
   const FrameD& frame_;
   const TileGeometry& geometry_;
   TileGrid grid_;
@@ -98,7 +115,7 @@ class Rasterizer {
 // triangle of the tile (triangles lying along the beam) is made shallower.
 constexpr double kMaxDuplication = 3.0;
 
-/// Writes the record of one tile (entries sorted by slot) into `words`.
+/// Writes the record of one tile (entries sorted by slot) into `words` (layout in beam_layout.hpp).
 void make_record(std::span<const Entry> entries, const BeamFieldConfig& config, std::vector<std::uint32_t>& words) {
   double lo = entries[0].lo, hi = entries[0].hi;
   for (const Entry& e : entries) lo = std::min(lo, e.lo), hi = std::max(hi, e.hi);
@@ -133,11 +150,20 @@ void make_record(std::span<const Entry> entries, const BeamFieldConfig& config, 
     for (int l = a; l <= b; ++l) ++starts[l + 1];
   }
   for (int l = 0; l < leaves; ++l) starts[l + 1] += starts[l];
-  std::vector<std::uint32_t> fill(starts, starts + leaves);
-  words.resize(first_ref + words[kRecordHeaderWords + static_cast<std::size_t>(leaves)]);
+  const std::uint32_t references = starts[leaves];
+  words.resize(first_ref + 2 * static_cast<std::size_t>(references));
+  starts = words.data() + kRecordHeaderWords;
+  std::uint32_t* data = words.data() + first_ref;
+  // Leaf l's footprints begin at 2 starts[l], its slots after them; filled in entry (slot) order.
+  std::uint32_t filled[1 << kMaxTileDepth];
+  std::fill_n(filled, leaves, 0u);
   for (const Entry& e : entries) {
     const int a = leaf_of(e.lo, lo_f, scale_f, leaves - 1), b = leaf_of(e.hi, lo_f, scale_f, leaves - 1);
-    for (int l = a; l <= b; ++l) words[first_ref + fill[static_cast<std::size_t>(l)]++] = e.slot;
+    for (int l = a; l <= b; ++l) {
+      const std::size_t footprint_at = 2 * static_cast<std::size_t>(starts[l]) + filled[l]++;
+      data[footprint_at] = e.footprint;
+      data[footprint_at + (starts[l + 1] - starts[l])] = e.slot;
+    }
   }
   words[3] = static_cast<std::uint32_t>(words.size());  // capacity: exactly its size when written
 }
@@ -169,7 +195,7 @@ void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles&
   std::vector<std::uint32_t> tiles;
   for (std::uint32_t slot = 0; slot < layout.triangles.size(); ++slot) {
     if (!layout.alive[slot]) continue;
-    raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, DepthRange r) { s.entries.push_back({tile, slot, r.lo, r.hi}); });
+    raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, Placement p) { s.entries.push_back({tile, slot, p.lo, p.hi, p.footprint}); });
   }
   sort_by_tile(s.entries, tile_count, s);
   dir.tiles.assign(tile_count, kEmptyTile);
@@ -187,18 +213,14 @@ void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles&
 
 /// The distinct slots of a record (its references without the straddlers' repeats), ascending.
 void record_slots(const std::uint32_t* record, std::vector<std::uint32_t>& slots) {
-  const int leaves = 1 << record[2];
-  const std::uint32_t* refs = record + kRecordHeaderWords + leaves + 1;
-  const std::uint32_t count = record[kRecordHeaderWords + leaves];
-  slots.assign(refs, refs + count);
+  const RecordView view(record);
+  slots.clear();
+  for (int leaf = 0; leaf <= view.last_leaf(); ++leaf)
+    slots.insert(slots.end(), view.leaf_slots(leaf), view.leaf_slots(leaf) + view.leaf_size(leaf));
   std::sort(slots.begin(), slots.end());
   slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
 }
 
-std::size_t record_words(const std::uint32_t* record) {
-  const int leaves = 1 << record[2];
-  return kRecordHeaderWords + static_cast<std::size_t>(leaves) + 1 + record[kRecordHeaderWords + leaves];
-}
 
 void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::size_t line, DirectionTiles& dir, Scratch& s) {
   const Rasterizer raster(layout, line);
@@ -210,12 +232,12 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
     if (!s.marked[tile]) s.marked[tile] = 1, s.affected.push_back(tile);
   };
   std::vector<std::uint32_t> tiles;
-  for (const auto& corners : edits.old_corners) raster.rasterize(corners, tiles, [&](std::uint32_t tile, DepthRange) { mark(tile); });
+  for (const auto& corners : edits.old_corners) raster.rasterize(corners, tiles, [&](std::uint32_t tile, Placement) { mark(tile); });
   s.entries.clear();
   for (const std::uint32_t slot : edits.add)
-    raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, DepthRange r) {
+    raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, Placement p) {
       mark(tile);
-      s.entries.push_back({tile, slot, r.lo, r.hi});
+      s.entries.push_back({tile, slot, p.lo, p.hi, p.footprint});
     });
   std::sort(s.affected.begin(), s.affected.end());
   std::stable_sort(s.entries.begin(), s.entries.end(), [](const Entry& a, const Entry& b) { return a.tile < b.tile; });
@@ -230,8 +252,8 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
       for (const std::uint32_t slot : survivors) {
         if (edits.dropped[slot]) continue;
         // A surviving reference's depth range is recomputed, as the record's leaves are redrawn.
-        raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t t, DepthRange r) {
-          if (t == tile) s.tile_entries.push_back({tile, slot, r.lo, r.hi});
+        raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t t, Placement p) {
+          if (t == tile) s.tile_entries.push_back({tile, slot, p.lo, p.hi, p.footprint});
         });
       }
     }
@@ -239,7 +261,7 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
     for (; next_new < s.entries.size() && s.entries[next_new].tile == tile; ++next_new) s.tile_entries.push_back(s.entries[next_new]);
     std::sort(s.tile_entries.begin(), s.tile_entries.end(), [](const Entry& a, const Entry& b) { return a.slot < b.slot; });
 
-    const std::size_t old_words = offset == kEmptyTile ? 0 : record_words(dir.arena.data() + offset);
+    const std::size_t old_words = offset == kEmptyTile ? 0 : RecordView(dir.arena.data() + offset).words();
     dir.live_words -= old_words;
     if (s.tile_entries.empty()) {
       dir.tiles[tile] = kEmptyTile;
@@ -263,7 +285,7 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
     for (std::uint32_t& offset : dir.tiles) {
       if (offset == kEmptyTile) continue;
       const std::uint32_t* record = dir.arena.data() + offset;
-      const std::size_t words = record_words(record);
+      const std::size_t words = RecordView(record).words();
       const auto moved = static_cast<std::uint32_t>(compact.size());
       compact.insert(compact.end(), record, record + words);
       compact[moved + 3] = static_cast<std::uint32_t>(words);
@@ -291,7 +313,7 @@ std::size_t count_tile_references(const BeamLayout& layout, std::size_t line, st
   const Rasterizer raster(layout, line);
   std::vector<std::uint32_t> tiles;
   std::size_t count = 0;
-  for (const auto& corners : triangles) raster.rasterize(corners, tiles, [&](std::uint32_t, DepthRange) { ++count; });
+  for (const auto& corners : triangles) raster.rasterize(corners, tiles, [&](std::uint32_t, Placement) { ++count; });
   return count;
 }
 

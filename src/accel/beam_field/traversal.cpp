@@ -7,8 +7,10 @@
 // holds the projection of the hit point (tiles are rasterised with a slack far above every rounding
 // here), in the leaves of its depth range clipped to that beam (widened by the same slack); the walk
 // visits every tile the projected segment crosses, with the τ interval it spends there, and in it the
-// leaves of that interval. Each visited triangle gets the full watertight test (the same as brute
-// force), so every reported t is brute force's t. The walk stops only when every τ below the best
+// leaves of that interval. There the ray point at τ lies within the slack of the triangle, so inside
+// the reference's footprint (its clipped box widened by the slack), and the footprint filter keeps
+// it. Each kept triangle gets the full watertight test (the same as brute force), so every reported
+// t is brute force's t. The walk stops only when every τ below the best
 // hit has been covered, with a margin for the rounding of the float t.
 
 #include <algorithm>
@@ -19,6 +21,7 @@
 #include <tbb/blocked_range.h>
 
 #include "beam_field/beam_layout.hpp"
+#include "beam_field/tile_footprint.hpp"
 #include "beam_field/tile_geometry.hpp"
 #include "beam_field/tile_raster.hpp"
 #include "visfield/accel/beam_field.hpp"
@@ -111,7 +114,7 @@ class Walk {
     int ix = clamp_cell(xa, n), iy = clamp_cell(ya, n);
     if (ix == clamp_cell(xb, n) && iy == clamp_cell(yb, n)) {
       counter_.single_tile();
-      visit_tile(static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix), ta, tb, 0.0, true);
+      visit_tile(ix, iy, ta, tb, 0.0, true);
       return best_;
     }
 
@@ -127,7 +130,7 @@ class Walk {
     double cross_x = next_crossing(ix, step_x, s0_, x_rate), cross_y = next_crossing(iy, step_y, t0_, y_rate);
     for (;;) {
       const double exit = std::max(enter, std::min({cross_x, cross_y, tb}));
-      if (visit_tile(static_cast<std::size_t>(iy) * static_cast<std::size_t>(n) + static_cast<std::size_t>(ix), enter, exit, 0.0, true))
+      if (visit_tile(ix, iy, enter, exit, 0.0, true))
         return best_;
       if (exit >= tb) return best_;
       if (best_ && stop_t() <= exit) return best_;
@@ -184,7 +187,8 @@ class Walk {
     std::sort(spans.begin(), spans.end(), [](const Span& p, const Span& q) { return p.enter < q.enter || (p.enter == q.enter && p.tile < q.tile); });
     for (const Span& span : spans) {
       if (best_ && stop_t() < span.enter) break;
-      if (visit_tile(span.tile, span.enter, span.exit, lateral, false)) return best_;
+      if (visit_tile(static_cast<int>(span.tile % n), static_cast<int>(span.tile / n), span.enter, span.exit, lateral, false))
+        return best_;
     }
     return best_;
   }
@@ -201,19 +205,17 @@ class Walk {
     return t + kTRelativeMargin * std::fabs(t) + margin_ * inv_dir_length_;
   }
 
-  // Tests the leaves of tile `tile` that the ray's τ interval [enter, exit] covers, widened by
+  // Tests the leaves of tile (ix, iy) that the ray's τ interval [enter, exit] covers, widened by
   // `depth_margin` in depth. Returns true when the walk is over: a hit for kAny, or (when `may_finish`,
   // i.e. every earlier τ is searched) a closest hit no later leaf or tile can beat.
-  bool visit_tile(std::size_t tile, double enter, double exit, double depth_margin, bool may_finish) {
+  bool visit_tile(int ix, int iy, double enter, double exit, double depth_margin, bool may_finish) {
     counter_.tile();
-    const std::uint32_t offset = dir_->tiles[tile];
+    const std::uint32_t offset = dir_->tiles[static_cast<std::size_t>(iy) * static_cast<std::size_t>(layout_.geometry.n) + static_cast<std::size_t>(ix)];
     if (offset == kEmptyTile) return false;
-    const std::uint32_t* record = dir_->arena.data() + offset;
-    const double lo = std::bit_cast<float>(record[0]);
-    const double scale = std::bit_cast<float>(record[1]);
-    const int last = (1 << record[2]) - 1;
-    const std::uint32_t* starts = record + kRecordHeaderWords;
-    const std::uint32_t* refs = starts + last + 2;
+    const RecordView record(dir_->arena.data() + offset);
+    const double lo = record.lo(), scale = record.scale();
+    const int last = record.last_leaf();
+    const std::uint32_t key = segment_key(ix, iy, enter, exit);
     const double sign = forward_ ? 1.0 : -1.0;
     const double w_enter = w0_ + enter * dw_ - sign * depth_margin, w_exit = w0_ + exit * dw_ + sign * depth_margin;
     // Leaves in walk order, from the one holding the entry depth to the one holding the exit depth.
@@ -221,9 +223,7 @@ class Walk {
     const int step = from <= to ? 1 : -1;
     for (int leaf = from;; leaf += step) {
       counter_.leaf();
-
-      for (std::uint32_t r = starts[leaf]; r < starts[leaf + 1]; ++r)
-        if (test(refs[r]) && kAny) return true;
+      if (record.leaf_size(leaf) != 0 && test_leaf(record, leaf, key)) return true;
       if (!kAny && may_finish && best_) {
         // Every τ of this tile up to the end of this leaf is searched (and every τ before the tile):
         // done when the best hit lies before both.
@@ -233,6 +233,39 @@ class Walk {
       }
       if (leaf == to) return false;
     }
+  }
+
+  // The footprint key of the ray's points over τ in [enter, exit] in tile `tile`, widened by the
+  // walk's lateral margin (a hit point lies within it of the triangle) and a rounding allowance.
+  std::uint32_t segment_key(int ix, int iy, double enter, double exit) const {
+    const TileGeometry& g = layout_.geometry;
+    const double x = ix, y = iy;
+    const double inv = g.inv_tile_size, e = margin_ * inv + 1e-9;
+    const double sa = (s0_ + enter * ds_) * inv - x, sb = (s0_ + exit * ds_) * inv - x;
+    const double ta = (t0_ + enter * dt_) * inv - y, tb = (t0_ + exit * dt_) * inv - y;
+    return footprint_key(std::min(sa, sb) - e, std::max(sa, sb) + e, std::min(ta, tb) - e, std::max(ta, tb) + e);
+  }
+
+  // Tests the references of `leaf` whose footprint overlaps `key`: their triangles are fetched
+  // together first (they are scattered over the triangle array), then tested in reference order.
+  // Returns true when kAny and one is hit.
+  bool test_leaf(const RecordView& record, int leaf, std::uint32_t key) {
+    const std::uint32_t* slots = record.leaf_slots(leaf);
+    const std::uint32_t size = record.leaf_size(leaf);
+    const std::uint32_t* footprints = record.leaf_footprints(leaf);
+    constexpr std::uint32_t kBatch = 16;
+    std::uint32_t batch[kBatch];
+    for (std::uint32_t begin = 0; begin < size; begin += kBatch) {
+      std::uint32_t count = 0;
+      for_each_overlapping(footprints, begin, std::min(size, begin + kBatch), key, [&](std::uint32_t r) {
+        batch[count++] = slots[r];
+        __builtin_prefetch(&layout_.triangles[slots[r]]);
+        return false;
+      });
+      for (std::uint32_t k = 0; k < count; ++k)
+        if (test(batch[k]) && kAny) return true;
+    }
+    return false;
   }
 
   bool test(std::uint32_t slot) {
@@ -265,23 +298,91 @@ class Walk {
   Hit best_;
 };
 
-/// Runs query(i, line) for every ray, grouped by nearest line: lines are found in parallel, the ray
-/// indices counting-sorted by line (stable), and the sorted order traced in parallel chunks.
+/// The tile of line `line` that holds the projection of `origin` (clamped to the grid): where a ray
+/// from there along the line is traced. Only an ordering key: any value gives the same answers.
+std::uint32_t origin_tile(const BeamLayout& layout, const Vec3f& origin, std::uint32_t line) {
+  const TileGeometry& g = layout.geometry;
+  const PsfPoint p = project(layout.frames[line], g.center, origin);
+  return static_cast<std::uint32_t>(g.cell(p.t)) * static_cast<std::uint32_t>(g.n) + static_cast<std::uint32_t>(g.cell(p.s));
+}
+
+/// Starts loading the header of tile `tile`'s record in direction `line`.
+void prefetch_record(const BeamLayout& layout, std::uint32_t line, std::uint32_t tile) {
+  const DirectionTiles& dir = layout.directions[line];
+  const std::uint32_t offset = dir.tiles[tile];
+  if (offset == kEmptyTile) return;
+  const std::uint32_t* record = dir.arena.data() + offset;
+  __builtin_prefetch(record);
+  __builtin_prefetch(record + 16);  // the leaf starts of a deeper tile-BSP
+}
+
+/// Starts loading the references and footprints of the leaf of tile `tile` (direction `line`) that
+/// holds `origin`'s depth: the first leaf a ray from there along the line tests.
+void prefetch_origin_leaf(const BeamLayout& layout, const Ray& ray, std::uint32_t line, std::uint32_t tile) {
+  const DirectionTiles& dir = layout.directions[line];
+  const std::uint32_t offset = dir.tiles[tile];
+  if (offset == kEmptyTile) return;
+  const RecordView record(dir.arena.data() + offset);
+  const FrameD& f = layout.frames[line];
+  const PsfPoint p = project(f, layout.geometry.center, ray.org);
+  const int leaf = leaf_of(p.w, record.lo(), record.scale(), record.last_leaf());
+  // The walk reads from this leaf on, towards higher leaves for a ray along the line, lower ones
+  // for a ray against it: four lines that way.
+  const bool forward = f.w[0] * ray.dir.x + f.w[1] * ray.dir.y + f.w[2] * ray.dir.z >= 0.0;
+  const auto* at = reinterpret_cast<const char*>(record.leaf_footprints(leaf));
+  for (int k = 0; k < 4; ++k) __builtin_prefetch(at + (forward ? 64 : -64) * k);
+}
+
+/// Runs query(i, line) for every ray, grouped by nearest line and, within a line, by the tile of the
+/// origin: lines and tiles are found in parallel, the ray indices counting-sorted by line (stable),
+/// each line's rays sorted by tile (stable, in parallel), and the sorted order traced in parallel
+/// chunks. The field is far larger than the caches: this order reads each direction's tile records
+/// once, front to back, instead of once per ray (AO rays from one point use every direction).
 template <class Query>
 void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query&& query) {
-  std::vector<std::uint32_t> line_of(rays.size());
+  std::vector<std::uint32_t> line_of(rays.size()), tile_of(rays.size());
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i)
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
       line_of[i] = rays[i].is_valid() ? layout.lines.nearest(rays[i].dir).line : 0;
+      tile_of[i] = rays[i].is_valid() ? origin_tile(layout, rays[i].org, line_of[i]) : 0;
+    }
   });
   std::vector<std::size_t> start(layout.lines.size() + 1, 0);
   for (const std::uint32_t line : line_of) ++start[line + 1];
   for (std::size_t k = 0; k < layout.lines.size(); ++k) start[k + 1] += start[k];
   std::vector<std::uint32_t> order(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) order[start[line_of[i]]++] = static_cast<std::uint32_t>(i);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < rays.size(); ++i) order[fill[line_of[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 8), [&](const auto& range) {
+    for (std::size_t line = range.begin(); line != range.end(); ++line)
+      std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(start[line]), order.begin() + static_cast<std::ptrdiff_t>(start[line + 1]),
+                       [&](std::uint32_t a, std::uint32_t b) { return tile_of[a] < tile_of[b]; });
+  });
+  // Each ray's tile record and first leaf are far from the caches: they are prefetched a few rays
+  // ahead (the record kRecordAhead rays ahead, its origin leaf kLeafAhead rays ahead, by when the
+  // record has arrived), so that the misses of consecutive rays overlap instead of queueing.
+  constexpr std::size_t kRayAhead = 48, kRecordAhead = 32, kLeafAhead = 16;
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 1024), [&](const auto& range) {
     check_interrupt();
-    for (std::size_t j = range.begin(); j != range.end(); ++j) query(order[j], line_of[order[j]]);
+    for (std::size_t j = range.begin(); j != range.end(); ++j) {
+      if (j + kRayAhead < range.end()) {
+        const std::uint32_t i = order[j + kRayAhead];
+        __builtin_prefetch(&rays[i]);
+        __builtin_prefetch(&line_of[i]);
+        __builtin_prefetch(&tile_of[i]);
+      }
+      if (j + kRecordAhead < range.end()) {
+        const std::uint32_t i = order[j + kRecordAhead];
+        prefetch_record(layout, line_of[i], tile_of[i]);
+      }
+      if (j + kLeafAhead < range.end()) {
+        const std::uint32_t i = order[j + kLeafAhead];
+        prefetch_origin_leaf(layout, rays[i], line_of[i], tile_of[i]);
+      }
+      query(order[j], line_of[order[j]]);
+    }
   });
 }
 
