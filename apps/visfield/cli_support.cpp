@@ -6,6 +6,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <variant>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
@@ -129,6 +130,14 @@ void print_structure(std::ostream& out, const std::string& option, const BuiltSt
       << "  leaves:           " << s.leaf_count << "\n"
       << "  references:       " << s.reference_count << "\n"
       << "  max depth:        " << s.max_depth << "\n";
+  if (const auto* field = std::get_if<BeamField>(&built.structure)) {
+    const BeamFieldStats b = field->beam_stats();
+    out << "  directions:       " << b.directions << " lines x " << b.resolution << "x" << b.resolution << " tiles\n"
+        << "  per direction:    " << format_bytes(static_cast<double>(b.bytes_per_direction)) << "\n"
+        << "  refs/triangle:    " << b.references_per_triangle << " (over all directions; "
+        << b.references_per_triangle / static_cast<double>(std::max<std::size_t>(b.directions, 1)) << " per direction)\n"
+        << "  empty tiles:      " << 100.0 * b.empty_tile_fraction << "% of " << b.tiles << "\n";
+  }
 }
 
 void check_image_extension(const std::string& path) {

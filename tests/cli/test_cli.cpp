@@ -92,6 +92,14 @@ TEST_F(Cli, InfoPrintsCountsAndStructureMemory) {
   EXPECT_NE(r.out.find("degenerate:"), std::string::npos);
 }
 
+TEST_F(Cli, InfoPrintsBeamFieldStatistics) {
+  const auto r = visfield("info builtin:soup:size=500,seed=3 --accel beam:dirs=33,n=16");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* needle : {"33 lines x 16x16 tiles", "per direction:", "refs/triangle:", "empty tiles:"})
+    EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
+  EXPECT_EQ(visfield("info builtin:soup:size=500,seed=3 --accel bvh").out.find("refs/triangle:"), std::string::npos);
+}
+
 TEST_F(Cli, WarnsAboutDegenerateTriangles) {
   write("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
   const auto r = visfield("info flat.obj");
