@@ -77,6 +77,14 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   app.add_option("--seed", options.seed, "Seed of the AO, shadow and random rays");
   app.add_option("--reps", options.reps, "Timed repetitions (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--warmup", options.warmup, "Untimed runs before the timed ones")->check(CLI::Range(0, 100));
+  app.add_option("--dynamic", options.dynamic_frames,
+                 "Moving-object mode: for FRAMES frames move one object, update each structure (remove and insert; "
+                 "a full rebuild where it cannot update) and trace the ray set; reports update, rebuild and trace times")
+      ->check(CLI::Range(1, 100000));
+  std::int64_t move_object = -1;
+  app.add_option("--move-object", move_object,
+                 "Object id moved by --dynamic (default: the object nearest to 5% of the scene's triangles)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{0xfffffffe}));
 
   try {
     app.parse(argc, argv);
@@ -96,6 +104,10 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     if (ao_directions == std::to_string(DirectionLines::count(level))) options.psf_level = level;
   options.accels = split_spec_list(accel_list);
   if (app.count("--count") > 0) options.count = static_cast<std::size_t>(count);
+  if (app.count("--move-object") > 0) {
+    if (options.dynamic_frames == 0) throw UsageError("--move-object: only with --dynamic");
+    options.move_object = static_cast<std::uint32_t>(move_object);
+  }
   if (!(options.max_distance > 0.0f))
     throw UsageError("--max-distance: must be positive, got " + app["--max-distance"]->as<std::string>());
   check_accel_specs(options.accels);

@@ -35,6 +35,8 @@ struct BenchOptions {
   std::uint64_t seed = 1;                                       ///< --seed: seeds the AO, shadow and random rays.
   int reps = 5;                                                 ///< --reps: timed repetitions; the median is reported.
   int warmup = 1;                                               ///< --warmup: untimed runs before the timed ones.
+  int dynamic_frames = 0;                 ///< --dynamic: frames of the moving-object mode; 0 = the static benchmark.
+  std::optional<std::uint32_t> move_object;  ///< --move-object: the object id moved in --dynamic (default: chosen).
 };
 
 /// Largest --count accepted (the rays alone would take 32 GB).

@@ -21,22 +21,6 @@ namespace vf::bench {
 namespace {
 
 
-// The camera at the requested resolution; a side left at 0 keeps the scene camera's.
-Camera bench_camera(const Scene& scene, const BenchOptions& options) {
-  Camera camera = scene.camera_or_default(0, 0);
-  if (options.width > 0) camera.width = options.width;
-  if (options.height > 0) camera.height = options.height;
-  return camera;
-}
-
-// An upper bound of the rays the request makes, for the memory check before generating them.
-std::size_t estimated_ray_count(const BenchOptions& options, const Camera& camera) {
-  if (options.count) return *options.count;
-  const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
-  if (options.kind != RayKind::ao) return pixels;
-  return pixels * (options.psf_level > 0 ? DirectionLines::count(options.psf_level) : static_cast<std::size_t>(options.ao_rays));
-}
-
 bool is_embree(const BuiltBenchAccel& a) { return a.resolved.starts_with(kEmbreeName); }
 
 // AO and shadow rays start from the hits of one of our exact structures when one is listed (they
@@ -47,6 +31,34 @@ const BuiltBenchAccel& ray_source(const std::vector<BuiltBenchAccel>& built) {
 }
 
 }  // namespace
+
+Camera bench_camera(const Scene& scene, const BenchOptions& options) {
+  Camera camera = scene.camera_or_default(0, 0);
+  if (options.width > 0) camera.width = options.width;
+  if (options.height > 0) camera.height = options.height;
+  return camera;
+}
+
+std::size_t estimated_ray_count(const BenchOptions& options, const Camera& camera) {
+  if (options.count) return *options.count;
+  const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
+  if (options.kind != RayKind::ao) return pixels;
+  return pixels * (options.psf_level > 0 ? DirectionLines::count(options.psf_level) : static_cast<std::size_t>(options.ao_rays));
+}
+
+std::vector<Ray> bench_ray_set(const BenchOptions& options, const Scene& scene, const Camera& camera,
+                               const std::vector<BuiltBenchAccel>& built) {
+  RaySetRequest request;
+  request.kind = options.kind;
+  request.camera = camera;
+  request.ao_rays = options.ao_rays;
+  request.psf_level = options.psf_level;
+  request.max_distance = options.max_distance;
+  request.count = options.count;
+  request.seed = options.seed;
+  return visit_accel(ray_source(built).accel,
+                     [&](const auto& structure) { return make_bench_rays(structure, scene, request); });
+}
 
 BenchReport run_bench(const BenchOptions& options) {
   const ThreadLimit thread_limit(options.threads);
@@ -63,16 +75,7 @@ BenchReport run_bench(const BenchOptions& options) {
   for (const std::string& spec : options.accels)
     built.push_back(build_bench_accel(spec, geometry, context, thread_limit.threads()));
 
-  RaySetRequest request;
-  request.kind = options.kind;
-  request.camera = camera;
-  request.ao_rays = options.ao_rays;
-  request.psf_level = options.psf_level;
-  request.max_distance = options.max_distance;
-  request.count = options.count;
-  request.seed = options.seed;
-  const std::vector<Ray> rays = visit_accel(
-      ray_source(built).accel, [&](const auto& structure) { return make_bench_rays(structure, scene, request); });
+  const std::vector<Ray> rays = bench_ray_set(options, scene, camera, built);
 
   const TimingPlan plan{options.warmup, options.reps};
   std::vector<const BenchAccel*> accels;

@@ -6,6 +6,7 @@
 
 #include "bench_options.hpp"
 #include "bench_run.hpp"
+#include "dynamic_run.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
 
@@ -29,6 +30,15 @@ int main(int argc, char** argv) {
   try {
     const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
     if (!options) return 0;
+    if (options->dynamic_frames > 0) {
+      const vf::bench::DynamicReport report = vf::bench::run_dynamic_bench(*options);
+      if (options->json) {
+        std::cout << vf::bench::dynamic_report_json(report).dump(2) << "\n";
+      } else {
+        vf::bench::print_dynamic_table(std::cout, report);
+      }
+      return 0;
+    }
     const vf::bench::BenchReport report = vf::bench::run_bench(*options);
     vf::bench::print_report(std::cout, report, options->json);
     return 0;

@@ -6,15 +6,12 @@
 
 namespace vf::bench {
 
-namespace {
-
 std::string formatted(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, value);
   return buffer;
 }
 
-// 12345678 -> "12,345,678".
 std::string with_separators(std::size_t value) {
   const std::string digits = std::to_string(value);
   std::string out;
@@ -32,6 +29,8 @@ std::string padded_left(const std::string& text, std::size_t width) {
 std::string padded_right(const std::string& text, std::size_t width) {
   return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
 }
+
+namespace {
 
 // " (4 per hit, length 2.5)" for AO rays, nothing for the other kinds.
 std::string ao_details(const BenchReport& report) {

@@ -50,6 +50,15 @@ struct BenchReport {
   std::vector<ResultRow> rows;                                  ///< In --accel order.
 };
 
+/// `value` printed with a printf `format` for one double, e.g. formatted("%.2f", x).
+std::string formatted(const char* format, double value);
+/// 12345678 -> "12,345,678".
+std::string with_separators(std::size_t value);
+/// `text` right-aligned in `width` columns (never cut).
+std::string padded_left(const std::string& text, std::size_t width);
+/// `text` left-aligned in `width` columns (never cut).
+std::string padded_right(const std::string& text, std::size_t width);
+
 /// Millions of rays per second for `rays` rays traced in `ms` milliseconds (0 when ms <= 0).
 double mrays_per_second(std::size_t rays, double ms);
 

@@ -62,38 +62,59 @@ class Rasterizer {
   /// Calls visit(tile, placement) for every tile triangle `corners` comes within slack of.
   template <class Visit>
   void rasterize(const std::array<Vec3f, 3>& corners, std::vector<std::uint32_t>& tiles, Visit&& visit) const {
-    const std::array<double, 3>& c = geometry_.center;
-    const PsfPoint p[3] = {project(frame_, c, corners[0]), project(frame_, c, corners[1]), project(frame_, c, corners[2])};
-    const double e = geometry_.slack;
-    const double s_lo = std::min({p[0].s, p[1].s, p[2].s}) - e, s_hi = std::max({p[0].s, p[1].s, p[2].s}) + e;
-    const double t_lo = std::min({p[0].t, p[1].t, p[2].t}) - e, t_hi = std::max({p[0].t, p[1].t, p[2].t}) + e;
-    const int x0 = geometry_.cell(s_lo), x1 = geometry_.cell(s_hi);
-    const int y0 = geometry_.cell(t_lo), y1 = geometry_.cell(t_hi);
+    const Projected p = project_corners(corners);
     const auto index = [&](int x, int y) { return static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(geometry_.n) + static_cast<std::uint32_t>(x); };
     // A triangle inside one tile (the common case for fine meshes) keeps its whole depth range; one
     // whose box spans two tiles in a row or column meets both (it is connected); others are tested
     // tile by tile.
-    if (x0 == x1 && y0 == y1) {
-      visit(index(x0, y0), place(whole_box(p[0], p[1], p[2]), x0, y0));
+    if (p.x0 == p.x1 && p.y0 == p.y1) {
+      visit(index(p.x0, p.y0), place(whole_box(p.c[0], p.c[1], p.c[2]), p.x0, p.y0));
       return;
     }
     tiles.clear();
-    if ((x1 - x0) + (y1 - y0) == 1) {
-      tiles.push_back(index(x0, y0));
-      tiles.push_back(index(x1, y1));
+    if ((p.x1 - p.x0) + (p.y1 - p.y0) == 1) {
+      tiles.push_back(index(p.x0, p.y0));
+      tiles.push_back(index(p.x1, p.y1));
     } else {
-      rasterize_triangle(grid_, {p[0].s, p[0].t}, {p[1].s, p[1].t}, {p[2].s, p[2].t}, e, tiles);
+      rasterize_triangle(grid_, {p.c[0].s, p.c[0].t}, {p.c[1].s, p.c[1].t}, {p.c[2].s, p.c[2].t}, geometry_.slack, tiles);
     }
-    const int n = geometry_.n;
-    for (const std::uint32_t tile : tiles) {
-      const int x = static_cast<int>(tile % static_cast<std::uint32_t>(n)), y = static_cast<int>(tile / static_cast<std::uint32_t>(n));
-      const double s0 = -geometry_.radius + x * geometry_.tile_size - e, s1 = -geometry_.radius + (x + 1) * geometry_.tile_size + e;
-      const double t0 = -geometry_.radius + y * geometry_.tile_size - e, t1 = -geometry_.radius + (y + 1) * geometry_.tile_size + e;
-      visit(tile, place(clip_to_beam(p[0], p[1], p[2], s0, s1, t0, t1, flat_area_), x, y));
-    }
+    const auto n = static_cast<std::uint32_t>(geometry_.n);
+    for (const std::uint32_t tile : tiles) visit(tile, clipped(p, static_cast<int>(tile % n), static_cast<int>(tile / n)));
+  }
+
+  /// The placement rasterize() gives triangle `corners` in tile `tile`, which it must reach. O(1).
+  Placement place_in(const std::array<Vec3f, 3>& corners, std::uint32_t tile) const {
+    const Projected p = project_corners(corners);
+    const auto n = static_cast<std::uint32_t>(geometry_.n);
+    const int x = static_cast<int>(tile % n), y = static_cast<int>(tile / n);
+    if (p.x0 == p.x1 && p.y0 == p.y1) return place(whole_box(p.c[0], p.c[1], p.c[2]), x, y);
+    return clipped(p, x, y);
   }
 
  private:
+  // A triangle in PSF coordinates and the tiles its box (widened by the slack) spans.
+  struct Projected {
+    PsfPoint c[3];
+    int x0, x1, y0, y1;
+  };
+
+  Projected project_corners(const std::array<Vec3f, 3>& corners) const {
+    const std::array<double, 3>& c = geometry_.center;
+    Projected p{{project(frame_, c, corners[0]), project(frame_, c, corners[1]), project(frame_, c, corners[2])}, 0, 0, 0, 0};
+    const double e = geometry_.slack;
+    p.x0 = geometry_.cell(std::min({p.c[0].s, p.c[1].s, p.c[2].s}) - e), p.x1 = geometry_.cell(std::max({p.c[0].s, p.c[1].s, p.c[2].s}) + e);
+    p.y0 = geometry_.cell(std::min({p.c[0].t, p.c[1].t, p.c[2].t}) - e), p.y1 = geometry_.cell(std::max({p.c[0].t, p.c[1].t, p.c[2].t}) + e);
+    return p;
+  }
+
+  // The placement of a triangle spanning several tiles in tile (x, y): clipped to its beam.
+  Placement clipped(const Projected& p, int x, int y) const {
+    const double e = geometry_.slack;
+    const double s0 = -geometry_.radius + x * geometry_.tile_size - e, s1 = -geometry_.radius + (x + 1) * geometry_.tile_size + e;
+    const double t0 = -geometry_.radius + y * geometry_.tile_size - e, t1 = -geometry_.radius + (y + 1) * geometry_.tile_size + e;
+    return place(clip_to_beam(p.c[0], p.c[1], p.c[2], s0, s1, t0, t1, flat_area_), x, y);
+  }
+
   // The placement in tile (x, y) of a triangle part whose box is `b`, widened by the slack: the ray
   // point at a hit lies within the slack of the triangle (see traversal.cpp).
   Placement place(const BeamBox& b, int x, int y) const {
@@ -251,10 +272,9 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
       record_slots(dir.arena.data() + offset, survivors);
       for (const std::uint32_t slot : survivors) {
         if (edits.dropped[slot]) continue;
-        // A surviving reference's depth range is recomputed, as the record's leaves are redrawn.
-        raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t t, Placement p) {
-          if (t == tile) s.tile_entries.push_back({tile, slot, p.lo, p.hi, p.footprint});
-        });
+        // A surviving reference's placement is recomputed, as the record's leaves are redrawn.
+        const Placement p = raster.place_in(layout.triangles[slot], tile);
+        s.tile_entries.push_back({tile, slot, p.lo, p.hi, p.footprint});
       }
     }
     while (next_new < s.entries.size() && s.entries[next_new].tile < tile) ++next_new;

@@ -163,6 +163,38 @@ TEST_F(BenchCli, BadCommandLineValuesExitWithStatus2AndOneLine) {
   expect_refused(kScene + "--rays primary", 2, "--accel");
 }
 
+// --dynamic: an updatable structure is edited in place, the others rebuilt, and after the frames both
+// answer exactly as a fresh build of the moved scene.
+TEST_F(BenchCli, DynamicMovesAnObjectAndUpdatesOrRebuilds) {
+  const json doc = bench_json(
+      "--scene builtin:boxes:size=12 --rays primary --accel beam:dirs=33,n=16,bvh:levels=1,bvh:levels=2 --count 3000 "
+      "--threads 2 --dynamic 3");
+  EXPECT_EQ(doc.at("frames"), 3);
+  EXPECT_EQ(doc.at("rays"), 3000);
+  EXPECT_GT(doc.at("moved_triangles").get<int>(), 0);
+  const json& results = doc.at("results");
+  ASSERT_EQ(results.size(), 3u);
+  EXPECT_TRUE(results[0].at("incremental").get<bool>());   // beam
+  EXPECT_FALSE(results[1].at("incremental").get<bool>());  // bvh:levels=1 is rebuilt
+  EXPECT_TRUE(results[2].at("incremental").get<bool>());   // bvh:levels=2 updates its top level
+  for (const json& row : results) {
+    EXPECT_EQ(row.at("mismatches"), 0) << row.dump();
+    EXPECT_GT(row.at("rebuild_ms").get<double>(), 0.0) << row.dump();
+    EXPECT_GT(row.at("trace_ms").get<double>(), 0.0) << row.dump();
+  }
+  const auto table = bench("--scene builtin:boxes:size=12 --rays primary --accel beam:dirs=33,n=16 --count 1000 --dynamic 2");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("update/rebuild"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("moves"), std::string::npos) << table.out;
+}
+
+TEST_F(BenchCli, DynamicRefusesBadObjectsAndFrames) {
+  const std::string base = "--scene builtin:boxes:size=12 --rays primary --accel bvh --count 100 ";
+  expect_refused(base + "--dynamic 0", 2, "--dynamic");
+  expect_refused(base + "--move-object 3", 2, "--move-object");
+  expect_refused(base + "--dynamic 2 --move-object 100000", 1, "no object 100000");
+}
+
 TEST_F(BenchCli, EmbreeWithoutEmbreeIsAUsageError) {
   if (kHaveEmbree) GTEST_SKIP() << "this build links Embree";
   expect_refused(kScene + "--rays primary --accel bvh,embree", 2, "Embree");
