@@ -333,11 +333,12 @@ void prefetch_origin_leaf(const BeamLayout& layout, const Ray& ray, std::uint32_
   for (int k = 0; k < 4; ++k) __builtin_prefetch(at + (forward ? 64 : -64) * k);
 }
 
-/// Runs query(i, line) for every ray, grouped by nearest line and, within a line, by the tile of the
-/// origin: lines and tiles are found in parallel, the ray indices counting-sorted by line (stable),
-/// each line's rays sorted by tile (stable, in parallel), and the sorted order traced in parallel
-/// chunks. The field is far larger than the caches: this order reads each direction's tile records
-/// once, front to back, instead of once per ray (AO rays from one point use every direction).
+/// Runs query(i, rays[i], line) for every ray, grouped by nearest line and, within a line, by the
+/// tile of the origin: lines and tiles are found in parallel, the ray indices counting-sorted by line,
+/// each line's indices stable-sorted by tile (in parallel; a merge sort, fast on the long sorted runs
+/// that neighbouring points give), and the sorted order traced in parallel chunks. The field is far
+/// larger than the caches: this order reads each direction's tile records once, front to back,
+/// instead of once per ray (AO rays from one point use every direction).
 template <class Query>
 void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query&& query) {
   std::vector<std::uint32_t> line_of(rays.size()), tile_of(rays.size());
@@ -360,28 +361,29 @@ void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query
       std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(start[line]), order.begin() + static_cast<std::ptrdiff_t>(start[line + 1]),
                        [&](std::uint32_t a, std::uint32_t b) { return tile_of[a] < tile_of[b]; });
   });
-  // Each ray's tile record and first leaf are far from the caches: they are prefetched a few rays
-  // ahead (the record kRecordAhead rays ahead, its origin leaf kLeafAhead rays ahead, by when the
-  // record has arrived), so that the misses of consecutive rays overlap instead of queueing.
-  constexpr std::size_t kRayAhead = 48, kRecordAhead = 32, kLeafAhead = 16;
+  // The sorted rays are traced in blocks: a block's rays, lines and tiles are first gathered into
+  // local arrays (independent loads, which the memory system overlaps), then traced in order with
+  // each ray's tile record prefetched kRecordAhead rays ahead and its origin leaf kLeafAhead rays
+  // ahead (by when the record has arrived), so that the misses of consecutive rays overlap too.
+  constexpr std::size_t kBlock = 256, kRecordAhead = 16, kLeafAhead = 8;
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 1024), [&](const auto& range) {
     check_interrupt();
-    for (std::size_t j = range.begin(); j != range.end(); ++j) {
-      if (j + kRayAhead < range.end()) {
-        const std::uint32_t i = order[j + kRayAhead];
-        __builtin_prefetch(&rays[i]);
-        __builtin_prefetch(&line_of[i]);
-        __builtin_prefetch(&tile_of[i]);
+    Ray block_rays[kBlock];
+    std::uint32_t block_lines[kBlock], block_tiles[kBlock];
+    for (std::size_t first = range.begin(); first < range.end(); first += kBlock) {
+      const std::size_t count = std::min(kBlock, range.end() - first);
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t i = order[first + k];
+        block_rays[k] = rays[i];
+        block_lines[k] = line_of[i];
+        block_tiles[k] = tile_of[i];
       }
-      if (j + kRecordAhead < range.end()) {
-        const std::uint32_t i = order[j + kRecordAhead];
-        prefetch_record(layout, line_of[i], tile_of[i]);
+      for (std::size_t k = 0; k < count; ++k) {
+        if (k + kRecordAhead < count) prefetch_record(layout, block_lines[k + kRecordAhead], block_tiles[k + kRecordAhead]);
+        if (k + kLeafAhead < count)
+          prefetch_origin_leaf(layout, block_rays[k + kLeafAhead], block_lines[k + kLeafAhead], block_tiles[k + kLeafAhead]);
+        query(order[first + k], block_rays[k], block_lines[k]);
       }
-      if (j + kLeafAhead < range.end()) {
-        const std::uint32_t i = order[j + kLeafAhead];
-        prefetch_origin_leaf(layout, rays[i], line_of[i], tile_of[i]);
-      }
-      query(order[j], line_of[order[j]]);
     }
   });
 }
@@ -412,14 +414,14 @@ bool BeamField::occluded_on_line(const Ray& ray, std::uint32_t line) const {
 }
 
 void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::span<Hit> hits) {
-  beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, std::uint32_t line) {
-    std::construct_at(&hits[i], field.intersect_on_line(rays[i], line));
+  beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, const Ray& ray, std::uint32_t line) {
+    std::construct_at(&hits[i], field.intersect_on_line(ray, line));
   });
 }
 
 void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
-  beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, std::uint32_t line) {
-    occluded[i] = field.occluded_on_line(rays[i], line) ? 1 : 0;
+  beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, const Ray& ray, std::uint32_t line) {
+    occluded[i] = field.occluded_on_line(ray, line) ? 1 : 0;
   });
 }
 

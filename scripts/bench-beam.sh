@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# The BeamField measurements of the README: VLF-RT's Table 1 (AO along the 513 stored lines), its
+# Figure 5 (primary rays into random soups of 1K to 1M triangles, with a PNG plot) and the parameter
+# sweeps the defaults come from. Each run's JSON goes to OUTDIR; a markdown summary to stdout.
+#
+# Usage: scripts/bench-beam.sh table1 MODELS_DIR OUTDIR   (cow.obj bun_zipper.ply dragon_vrip_res2.ply
+#                                                          igea-triangles.ply sponza.obj in MODELS_DIR)
+#        scripts/bench-beam.sh sweeps MODEL OUTDIR         (one mesh; dirs, n and depth, one at a time)
+#        scripts/bench-beam.sh scaling OUTDIR              (soups; needs gnuplot for the plot:
+#                                                          apt-get install gnuplot-nox)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+bench=$root/build/bin/visfield-bench
+[ -x "$bench" ] || { echo "bench-beam: error: $bench not built (run the README's build first)" >&2; exit 1; }
+py=/usr/bin/python3
+
+summarise() {  # summarise FILE...: one markdown row per structure of each JSON report
+  "$py" - "$@" <<'EOF'
+import json, sys
+for path in sys.argv[1:]:
+    try:
+        r = json.load(open(path))
+    except (OSError, ValueError):
+        print("| %s | failed or refused (see %s.err) |" % (path, path))
+        continue
+    for row in r["results"]:
+        ratio = row.get("ratio_to_embree")
+        work = row.get("beam_work")
+        print("| %s | %d | %d | %s | %.2f | %s | %.0f | %.0f | %d | %s |" % (
+            r["scene"], r["triangles"], r["rays"], row["accel"], row["mrays_per_s"],
+            "%.2f×" % ratio if ratio is not None else "-", row["build_ms"], row["bytes"] / 2**20, row["mismatches"],
+            "%.1f tests, %.1f leaves" % (work["triangle_tests"], work["leaves"]) if work else ""))
+EOF
+}
+
+header='| scene | triangles | rays | accel | Mrays/s | × Embree | build ms | MiB | mismatches | work per ray |
+|---|---:|---:|---|---:|---:|---:|---:|---:|---|'
+
+run() {  # run OUT ARGS...: one visfield-bench run, JSON to OUT, errors to OUT.err
+  local out=$1
+  shift
+  "$bench" --threads 2 --json "$@" > "$out" 2> "$out.err" || true
+}
+
+mode=${1:-}
+case "$mode" in
+  table1)
+    models=$2 out=$3
+    mkdir -p "$out"
+    for m in cow.obj bun_zipper.ply dragon_vrip_res2.ply igea-triangles.ply sponza.obj; do
+      run "$out/table1-${m%.*}.json" --scene "$models/$m" --rays ao --ao-directions 513 --width 256 --height 256 \
+        --accel beam,median-bsp,kdtree,bvh,embree --reps 1 --warmup 1
+    done
+    echo "$header"
+    summarise "$out"/table1-*.json
+    ;;
+  sweeps)
+    model=$2 out=$3
+    name=$(basename "${model%.*}")
+    mkdir -p "$out"
+    for dirs in 129 513 2049; do
+      run "$out/sweep-$name-dirs$dirs.json" --scene "$model" --rays ao --ao-directions "$dirs" --count 1000000 \
+        --accel "beam:dirs=$dirs,embree" --reps 3
+    done
+    for n in 32 64 128 256 512; do
+      run "$out/sweep-$name-n$n.json" --scene "$model" --rays ao --ao-directions 513 --count 1000000 \
+        --accel "beam:n=$n,embree" --reps 3
+    done
+    for depth in 0 1 2 3 4 5 6 7 8; do
+      run "$out/sweep-$name-depth$depth.json" --scene "$model" --rays ao --ao-directions 513 --count 1000000 \
+        --accel "beam:depth=$depth,embree" --reps 3
+    done
+    echo "$header"
+    summarise "$out"/sweep-"$name"-*.json
+    ;;
+  scaling)
+    out=$2
+    mkdir -p "$out"
+    for size in 1000 4000 16000 64000 256000 1000000; do
+      run "$out/scaling-$size.json" --scene "builtin:soup:size=$size" --rays primary --width 512 --height 512 \
+        --accel beam,median-bsp,kdtree,bvh,embree --reps 3
+    done
+    echo "$header"
+    summarise "$out"/scaling-*.json
+    # Frame time (ms for the 512x512 image) against triangles, one line per structure.
+    "$py" - "$out" <<'EOF' > "$out/scaling.dat"
+import json, sys, glob, os
+rows = {}
+for path in sorted(glob.glob(os.path.join(sys.argv[1], "scaling-*.json")), key=lambda p: int(p.split("-")[-1][:-5])):
+    try:
+        r = json.load(open(path))
+    except (OSError, ValueError):
+        continue
+    for row in r["results"]:
+        rows.setdefault(row["accel"].split(":")[0], []).append((r["triangles"], row["median_ms"]))
+for accel, points in rows.items():
+    print('"%s"' % accel)
+    for tris, ms in points:
+        print(tris, ms)
+    print()
+    print()
+EOF
+    if command -v gnuplot > /dev/null; then
+      gnuplot <<EOF
+set terminal png size 900,600
+set output "$out/scaling.png"
+set title "512x512 primary rays into random triangle soups (2 threads)"
+set logscale xy
+set xlabel "triangles"
+set ylabel "frame time (ms)"
+set key top left
+set grid
+stats "$out/scaling.dat" nooutput
+plot for [i=0:STATS_blocks-1] "$out/scaling.dat" index i with linespoints lw 2 title columnheader(1)
+EOF
+      echo "plot: $out/scaling.png"
+    else
+      echo "bench-beam: gnuplot not found (apt-get install gnuplot-nox): no plot" >&2
+    fi
+    ;;
+  *)
+    sed -n 2,10p "$0" >&2
+    exit 2
+    ;;
+esac
