@@ -226,8 +226,8 @@ double BeamField::estimate_build_bytes(const Scene& scene, const BeamFieldConfig
   const double leaf_words = std::min(static_cast<double>(1 << config.max_depth), references / std::max(1.0, non_empty) / config.leaf_size + 1.0) + 1.0;
   // Two words per reference: the triangle slot and its footprint.
   const double per_direction = 4.0 * (n2 + non_empty * (beam::kRecordHeaderWords + leaf_words) + 2.0 * references * kLeafDuplication);
-  // Build buffers per thread: one direction's entries (32 bytes), sorted twice.
-  const double scratch = 64.0 * references * std::max(1, threads_in_force());
+  // Build buffers per thread: one direction's entries (32 bytes), sorted twice, and its records.
+  const double scratch = (64.0 + 8.0 * kLeafDuplication) * references * std::max(1, threads_in_force());
   const double triangles = 45.0 * static_cast<double>(total);
   return lines * per_direction + scratch + triangles;
 }

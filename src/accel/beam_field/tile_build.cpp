@@ -48,6 +48,7 @@ struct Scratch {
   std::vector<std::uint8_t> marked;
   std::vector<std::uint32_t> affected;
   std::vector<std::uint32_t> record;
+  std::vector<std::uint32_t> arena;
   std::vector<Entry> tile_entries;
 };
 
@@ -79,16 +80,14 @@ class Rasterizer {
       rasterize_triangle(grid_, {p.c[0].s, p.c[0].t}, {p.c[1].s, p.c[1].t}, {p.c[2].s, p.c[2].t}, geometry_.slack, tiles);
     }
     const auto n = static_cast<std::uint32_t>(geometry_.n);
-    for (const std::uint32_t tile : tiles) visit(tile, clipped(p, static_cast<int>(tile % n), static_cast<int>(tile / n)));
+    for (const std::uint32_t tile : tiles) visit(tile, placement(p, static_cast<int>(tile % n), static_cast<int>(tile / n)));
   }
 
   /// The placement rasterize() gives triangle `corners` in tile `tile`, which it must reach. O(1).
   Placement place_in(const std::array<Vec3f, 3>& corners, std::uint32_t tile) const {
     const Projected p = project_corners(corners);
     const auto n = static_cast<std::uint32_t>(geometry_.n);
-    const int x = static_cast<int>(tile % n), y = static_cast<int>(tile / n);
-    if (p.x0 == p.x1 && p.y0 == p.y1) return place(whole_box(p.c[0], p.c[1], p.c[2]), x, y);
-    return clipped(p, x, y);
+    return placement(p, static_cast<int>(tile % n), static_cast<int>(tile / n));
   }
 
  private:
@@ -107,8 +106,11 @@ class Rasterizer {
     return p;
   }
 
-  // The placement of a triangle spanning several tiles in tile (x, y): clipped to its beam.
-  Placement clipped(const Projected& p, int x, int y) const {
+  // The placement of a triangle in tile (x, y), one of those it reaches. A triangle within a 2×2
+  // block of tiles keeps its whole box (the footprint is clamped to the tile anyway, and clipping
+  // such a small triangle narrows its depth range little); a larger one is clipped to the beam.
+  Placement placement(const Projected& p, int x, int y) const {
+    if (p.x1 - p.x0 <= 1 && p.y1 - p.y0 <= 1) return place(whole_box(p.c[0], p.c[1], p.c[2]), x, y);
     const double e = geometry_.slack;
     const double s0 = -geometry_.radius + x * geometry_.tile_size - e, s1 = -geometry_.radius + (x + 1) * geometry_.tile_size + e;
     const double t0 = -geometry_.radius + y * geometry_.tile_size - e, t1 = -geometry_.radius + (y + 1) * geometry_.tile_size + e;
@@ -136,8 +138,9 @@ class Rasterizer {
 // triangle of the tile (triangles lying along the beam) is made shallower.
 constexpr double kMaxDuplication = 3.0;
 
-/// Writes the record of one tile (entries sorted by slot) into `words` (layout in beam_layout.hpp).
-void make_record(std::span<const Entry> entries, const BeamFieldConfig& config, std::vector<std::uint32_t>& words) {
+/// Appends the record of one tile (entries sorted by slot) to `out` (layout in beam_layout.hpp);
+/// returns its offset there. Throws vf::Error past 32-bit offsets.
+std::uint32_t make_record(std::span<const Entry> entries, const BeamFieldConfig& config, std::vector<std::uint32_t>& out) {
   double lo = entries[0].lo, hi = entries[0].hi;
   for (const Entry& e : entries) lo = std::min(lo, e.lo), hi = std::max(hi, e.hi);
   const std::size_t count = entries.size();
@@ -161,20 +164,25 @@ void make_record(std::span<const Entry> entries, const BeamFieldConfig& config, 
   const int leaves = 1 << depth;
   const float scale_f = depth == 0 ? 0.0f : scale_for(depth);
   const std::size_t first_ref = kRecordHeaderWords + static_cast<std::size_t>(leaves) + 1;
-  words.assign(first_ref, 0);
+  const std::size_t base = out.size();
+  out.resize(base + first_ref, 0);
+  std::uint32_t* words = out.data() + base;
   words[0] = std::bit_cast<std::uint32_t>(lo_f);
   words[1] = std::bit_cast<std::uint32_t>(scale_f);
   words[2] = static_cast<std::uint32_t>(depth);
-  std::uint32_t* starts = words.data() + kRecordHeaderWords;
+  std::uint32_t* starts = words + kRecordHeaderWords;
   for (const Entry& e : entries) {
     const int a = leaf_of(e.lo, lo_f, scale_f, leaves - 1), b = leaf_of(e.hi, lo_f, scale_f, leaves - 1);
     for (int l = a; l <= b; ++l) ++starts[l + 1];
   }
   for (int l = 0; l < leaves; ++l) starts[l + 1] += starts[l];
   const std::uint32_t references = starts[leaves];
-  words.resize(first_ref + 2 * static_cast<std::size_t>(references));
-  starts = words.data() + kRecordHeaderWords;
-  std::uint32_t* data = words.data() + first_ref;
+  const std::size_t size = first_ref + 2 * static_cast<std::size_t>(references);
+  if (base + size >= kEmptyTile) throw Error("beam: a direction's tile records exceed 2^32 words (lower n, dirs or depth)");
+  out.resize(base + size);
+  words = out.data() + base;
+  starts = words + kRecordHeaderWords;
+  std::uint32_t* data = words + first_ref;
   // Leaf l's footprints begin at 2 starts[l], its slots after them; filled in entry (slot) order.
   std::uint32_t filled[1 << kMaxTileDepth];
   std::fill_n(filled, leaves, 0u);
@@ -186,7 +194,8 @@ void make_record(std::span<const Entry> entries, const BeamFieldConfig& config, 
       data[footprint_at + (starts[l + 1] - starts[l])] = e.slot;
     }
   }
-  words[3] = static_cast<std::uint32_t>(words.size());  // capacity: exactly its size when written
+  words[3] = static_cast<std::uint32_t>(size);  // capacity: exactly its size when written
+  return static_cast<std::uint32_t>(base);
 }
 
 /// Appends `record` to the direction's arena and returns its offset; throws past 32-bit offsets.
@@ -220,16 +229,16 @@ void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles&
   }
   sort_by_tile(s.entries, tile_count, s);
   dir.tiles.assign(tile_count, kEmptyTile);
-  dir.arena.clear();
-  dir.arena.reserve(s.sorted.size() * 5 / 4 + 64);
+  // Records go to the thread's scratch arena (whose memory is reused from direction to direction),
+  // then into the direction's own, allocated once at its exact size.
+  s.arena.clear();
   for (std::size_t tile = 0; tile < tile_count; ++tile) {
     const std::uint32_t begin = s.counts[tile], end = s.counts[tile + 1];
     if (begin == end) continue;
-    make_record(std::span<const Entry>(s.sorted.data() + begin, end - begin), layout.config, s.record);
-    dir.tiles[tile] = append_record(dir, s.record);
+    dir.tiles[tile] = make_record(std::span<const Entry>(s.sorted.data() + begin, end - begin), layout.config, s.arena);
   }
+  dir.arena.assign(s.arena.begin(), s.arena.end());
   dir.live_words = dir.arena.size();
-  dir.arena.shrink_to_fit();
 }
 
 /// The distinct slots of a record (its references without the straddlers' repeats), ascending.
@@ -287,6 +296,7 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
       dir.tiles[tile] = kEmptyTile;
       continue;
     }
+    s.record.clear();
     make_record(s.tile_entries, layout.config, s.record);
     dir.live_words += s.record.size();
     if (offset != kEmptyTile && s.record.size() <= dir.arena[offset + 3]) {
