@@ -80,6 +80,40 @@ TEST(BeamUpdates, RandomEditSequencesAnswerAsAFreshBuildAndAsBruteForce) {
   EXPECT_TRUE(some_in_place);  // the sequence exercised the per-tile update, not only rebuilds
 }
 
+// An animation: every object drifts a little each frame (the tiles' leaf planes are mostly kept
+// and only the edited references change); every few frames the field still answers as a fresh
+// build and as brute force, and its references match a fresh build's within the end-leaf slack.
+TEST(BeamUpdates, SmallMovesFrameAfterFrameStayExact) {
+  Scene scene = make_scene();
+  const float extent = max_component(scene.bounds().extent());
+  BeamField field = BeamField::build(scene, kConfig);
+  Rng rng(11, 0xd1f7);
+  for (int frame = 0; frame < 30; ++frame) {
+    for (const Instance& object : std::vector<Instance>(scene.instances())) {
+      if (rng.uniform() < 0.5f) continue;
+      Transform t = object.transform;
+      t.translation += Vec3f{rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f} * (0.01f * extent);
+      scene.set_transform(object.id, t);
+      field.move(object.id, t);
+    }
+    field.commit();
+    ASSERT_FALSE(field.beam_stats().last_commit_rebuilt) << "frame " << frame;
+    if (frame % 10 != 9) continue;
+    const TriangleSet set = flatten(scene);
+    const std::vector<Ray> rays = probe_rays(set, 300 + static_cast<std::uint64_t>(frame));
+    const BeamField fresh = BeamField::build(scene, set, kConfig);
+    EXPECT_EQ(differences(field, fresh, rays), 0u) << "frame " << frame;
+    const OracleAnswers answers = oracle_answers(BruteForce::build(set), rays, false);
+    const DiffReport r = compare_answers(field, "beam after small moves", rays, answers, {.label = "animated scene"});
+    EXPECT_EQ(r.closest_mismatches, 0u) << "frame " << frame;
+    EXPECT_EQ(r.occluded_mismatches, 0u) << "frame " << frame;
+    // Kept leaves may hold a straddler in one more leaf than a fresh build would: a few percent.
+    const double refs = static_cast<double>(field.stats().reference_count), fresh_refs = static_cast<double>(fresh.stats().reference_count);
+    EXPECT_LT(refs, 1.1 * fresh_refs) << "frame " << frame;
+    EXPECT_GT(refs, 0.9 * fresh_refs) << "frame " << frame;
+  }
+}
+
 TEST(BeamUpdates, AnObjectLeavingTheSphereRebuildsAndStaysExact) {
   Scene scene = make_scene();
   BeamField field = BeamField::build(scene, kConfig);

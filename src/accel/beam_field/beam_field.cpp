@@ -115,14 +115,11 @@ void BeamLayout::recount() {
   int deepest = 0;
   for (const DirectionTiles& d : directions) {
     bytes += (d.tiles.capacity() + d.arena.capacity()) * sizeof(std::uint32_t);
-    for (const std::uint32_t offset : d.tiles) {
-      if (offset == kEmptyTile) continue;
-      const RecordView record(d.arena.data() + offset);
-      ++non_empty;
-      leaves += static_cast<std::size_t>(record.last_leaf()) + 1;
-      refs += record.references();
-      deepest = std::max(deepest, record.depth());
-    }
+    non_empty += d.records;
+    leaves += d.leaves;
+    refs += d.references;
+    for (int depth = kMaxTileDepth; depth > deepest; --depth)
+      if (d.depths[static_cast<std::size_t>(depth)] != 0) deepest = depth;
   }
   bytes += triangles.capacity() * sizeof(triangles[0]) + (prim.capacity() + instance.capacity()) * sizeof(std::uint32_t) +
            alive.capacity() + frames.capacity() * sizeof(FrameD) + lines.size() * 80 + objects.capacity() * sizeof(ObjectSlots);

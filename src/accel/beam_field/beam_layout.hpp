@@ -71,7 +71,24 @@ struct DirectionTiles {
   std::vector<std::uint32_t> tiles;  ///< n² record offsets into arena, or kEmptyTile.
   std::vector<std::uint32_t> arena;  ///< Records, back to back (holes after updates).
   std::size_t live_words = 0;        ///< Words of the records tiles point at (arena.size() minus holes).
+  // Counts over the live records, kept by build and update so that statistics need no scan.
+  std::size_t records = 0;                                    ///< Non-empty tiles.
+  std::size_t leaves = 0;                                     ///< Leaves of all records.
+  std::size_t references = 0;                                 ///< References of all records.
+  std::array<std::uint32_t, kMaxTileDepth + 1> depths{};     ///< Records of each tile-BSP depth.
+
+  /// Adds (sign = +1) or removes (-1) the record at `offset` to or from the counts.
+  void count(std::uint32_t offset, int sign);
 };
+
+inline void DirectionTiles::count(std::uint32_t offset, int sign) {
+  const RecordView r(arena.data() + offset);
+  const auto n = static_cast<std::size_t>(sign > 0 ? 1 : -1);  // wraps for -1: unsigned sums stay exact
+  records += n;
+  leaves += n * (static_cast<std::size_t>(r.last_leaf()) + 1);
+  references += n * r.references();
+  depths[static_cast<std::size_t>(r.depth())] += static_cast<std::uint32_t>(n);
+}
 
 /// Where the tiles lie: the bounding sphere (centre c, radius R) and n tiles of side 2R/n per axis.
 struct TileGeometry {
@@ -127,7 +144,7 @@ struct BeamLayout {
   double last_commit_ms = 0.0;
   bool last_commit_rebuilt = false;
 
-  /// Recounts stats (memory, references, leaves, tiles) from the arrays. O(tiles + records).
+  /// Recounts stats (memory, references, leaves, tiles) from the directions' counts. O(directions).
   void recount();
 };
 

@@ -83,6 +83,15 @@ class Rasterizer {
     for (const std::uint32_t tile : tiles) visit(tile, placement(p, static_cast<int>(tile % n), static_cast<int>(tile / n)));
   }
 
+  /// Calls visit(tile) for every tile of the bounding box of `corners`' projection (widened by the
+  /// slack): every tile rasterize() would visit, and for a large triangle a few more. O(box tiles).
+  template <class Visit>
+  void for_each_box_tile(const std::array<Vec3f, 3>& corners, Visit&& visit) const {
+    const Projected p = project_corners(corners);
+    for (int y = p.y0; y <= p.y1; ++y)
+      for (int x = p.x0; x <= p.x1; ++x) visit(static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(geometry_.n) + static_cast<std::uint32_t>(x));
+  }
+
   /// The placement rasterize() gives triangle `corners` in tile `tile`, which it must reach. O(1).
   Placement place_in(const std::array<Vec3f, 3>& corners, std::uint32_t tile) const {
     const Projected p = project_corners(corners);
@@ -239,6 +248,10 @@ void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles&
   }
   dir.arena.assign(s.arena.begin(), s.arena.end());
   dir.live_words = dir.arena.size();
+  dir.records = dir.leaves = dir.references = 0;
+  dir.depths.fill(0);
+  for (const std::uint32_t offset : dir.tiles)
+    if (offset != kEmptyTile) dir.count(offset, +1);
 }
 
 /// The distinct slots of a record (its references without the straddlers' repeats), ascending.
@@ -252,6 +265,66 @@ void record_slots(const std::uint32_t* record, std::vector<std::uint32_t>& slots
 }
 
 
+/// Writes to `out` the record `old` edited: without the references of dropped slots, with `added`
+/// (sorted by slot) put in the leaves of their depth ranges under `old`'s leaf planes. The survivors
+/// keep their leaves and footprints: nothing of theirs is recomputed. False (and `out` untouched)
+/// when an added reference reaches more than a leaf beyond the depth span of `old`'s leaves: the
+/// leaves are then redrawn from scratch. (Depths past the span fall in the end leaves, which is
+/// exact, as queries clamp alike; it only unbalances the leaves.)
+bool edit_record(const RecordView& old, const std::vector<std::uint8_t>& dropped, std::span<const Entry> added,
+                 std::vector<std::uint32_t>& out) {
+  const int last = old.last_leaf();
+  const double lo = old.lo(), scale = old.scale();
+  if (last > 0) {
+    // Up to one leaf past either end is let in (clamped into the end leaf); the span itself never
+    // moves, so that is all the imbalance edits can accumulate.
+    const double width = 1.0 / scale, hi = lo + static_cast<double>(last + 1) * width;
+    for (const Entry& e : added)
+      if (e.lo < lo - width || e.hi > hi + width) return false;
+  }
+  const std::size_t leaves = static_cast<std::size_t>(last) + 1;
+  const std::size_t first_ref = kRecordHeaderWords + leaves + 1;
+  out.assign(first_ref, 0);
+  out[0] = std::bit_cast<std::uint32_t>(old.lo());
+  out[1] = std::bit_cast<std::uint32_t>(old.scale());
+  out[2] = static_cast<std::uint32_t>(old.depth());
+  const auto kept = [&](int leaf, std::uint32_t k) { return !dropped[old.leaf_slots(leaf)[k]]; };
+  const auto range_of = [&](const Entry& e) {
+    return std::pair{leaf_of(e.lo, lo, scale, last), leaf_of(e.hi, lo, scale, last)};
+  };
+  std::uint32_t* starts = out.data() + kRecordHeaderWords;
+  for (int leaf = 0; leaf <= last; ++leaf)
+    for (std::uint32_t k = 0; k < old.leaf_size(leaf); ++k) starts[leaf + 1] += kept(leaf, k) ? 1u : 0u;
+  for (const Entry& e : added) {
+    const auto [a, b] = range_of(e);
+    for (int l = a; l <= b; ++l) ++starts[l + 1];
+  }
+  for (std::size_t l = 0; l < leaves; ++l) starts[l + 1] += starts[l];
+  const std::size_t size = first_ref + 2 * static_cast<std::size_t>(starts[leaves]);
+  out.resize(size);
+  starts = out.data() + kRecordHeaderWords;
+  std::uint32_t* data = out.data() + first_ref;
+  for (int leaf = 0; leaf <= last; ++leaf) {
+    const std::uint32_t count = starts[leaf + 1] - starts[leaf];
+    std::uint32_t* footprints = data + 2 * static_cast<std::size_t>(starts[leaf]);
+    std::uint32_t* slots = footprints + count;
+    std::uint32_t filled = 0;
+    for (std::uint32_t k = 0; k < old.leaf_size(leaf); ++k) {
+      if (!kept(leaf, k)) continue;
+      footprints[filled] = old.leaf_footprints(leaf)[k];
+      slots[filled++] = old.leaf_slots(leaf)[k];
+    }
+    for (const Entry& e : added) {
+      const auto [a, b] = range_of(e);
+      if (leaf < a || leaf > b) continue;
+      footprints[filled] = e.footprint;
+      slots[filled++] = e.slot;
+    }
+  }
+  out[3] = static_cast<std::uint32_t>(size);
+  return true;
+}
+
 void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::size_t line, DirectionTiles& dir, Scratch& s) {
   const Rasterizer raster(layout, line);
   const int n = layout.geometry.n;
@@ -262,7 +335,9 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
     if (!s.marked[tile]) s.marked[tile] = 1, s.affected.push_back(tile);
   };
   std::vector<std::uint32_t> tiles;
-  for (const auto& corners : edits.old_corners) raster.rasterize(corners, tiles, [&](std::uint32_t tile, Placement) { mark(tile); });
+  // The tiles the old triangles left: their boxes' tiles (a superset; a tile marked in vain is only
+  // rebuilt as it was), found without clipping or footprints.
+  for (const auto& corners : edits.old_corners) raster.for_each_box_tile(corners, mark);
   s.entries.clear();
   for (const std::uint32_t slot : edits.add)
     raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, Placement p) {
@@ -275,37 +350,49 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
   std::vector<std::uint32_t> survivors;
   std::size_t next_new = 0;
   for (const std::uint32_t tile : s.affected) {
-    s.tile_entries.clear();
-    const std::uint32_t offset = dir.tiles[tile];
-    if (offset != kEmptyTile) {
-      record_slots(dir.arena.data() + offset, survivors);
-      for (const std::uint32_t slot : survivors) {
-        if (edits.dropped[slot]) continue;
-        // A surviving reference's placement is recomputed, as the record's leaves are redrawn.
-        const Placement p = raster.place_in(layout.triangles[slot], tile);
-        s.tile_entries.push_back({tile, slot, p.lo, p.hi, p.footprint});
-      }
-    }
     while (next_new < s.entries.size() && s.entries[next_new].tile < tile) ++next_new;
-    for (; next_new < s.entries.size() && s.entries[next_new].tile == tile; ++next_new) s.tile_entries.push_back(s.entries[next_new]);
-    std::sort(s.tile_entries.begin(), s.tile_entries.end(), [](const Entry& a, const Entry& b) { return a.slot < b.slot; });
+    const std::size_t first_new = next_new;
+    while (next_new < s.entries.size() && s.entries[next_new].tile == tile) ++next_new;
+    const std::span<const Entry> added(s.entries.data() + first_new, next_new - first_new);
+    const std::uint32_t offset = dir.tiles[tile];
+    s.record.clear();
+    // Usually the tile's leaves stay and only the edited references change; otherwise the record is
+    // redrawn with every surviving reference placed anew.
+    if (offset == kEmptyTile || !edit_record(RecordView(dir.arena.data() + offset), edits.dropped, added, s.record)) {
+      s.tile_entries.assign(added.begin(), added.end());
+      if (offset != kEmptyTile) {
+        record_slots(dir.arena.data() + offset, survivors);
+        for (const std::uint32_t slot : survivors) {
+          if (edits.dropped[slot]) continue;
+          const Placement p = raster.place_in(layout.triangles[slot], tile);
+          s.tile_entries.push_back({tile, slot, p.lo, p.hi, p.footprint});
+        }
+      }
+      std::sort(s.tile_entries.begin(), s.tile_entries.end(), [](const Entry& a, const Entry& b) { return a.slot < b.slot; });
+      if (!s.tile_entries.empty()) make_record(s.tile_entries, layout.config, s.record);
+    }
 
     const std::size_t old_words = offset == kEmptyTile ? 0 : RecordView(dir.arena.data() + offset).words();
     dir.live_words -= old_words;
-    if (s.tile_entries.empty()) {
+    if (offset != kEmptyTile) dir.count(offset, -1);
+    if (s.record.empty() || RecordView(s.record.data()).references() == 0) {
       dir.tiles[tile] = kEmptyTile;
       continue;
     }
-    s.record.clear();
-    make_record(s.tile_entries, layout.config, s.record);
     dir.live_words += s.record.size();
     if (offset != kEmptyTile && s.record.size() <= dir.arena[offset + 3]) {
       const std::uint32_t capacity = dir.arena[offset + 3];
       std::copy(s.record.begin(), s.record.end(), dir.arena.begin() + offset);
       dir.arena[offset + 3] = capacity;
     } else {
+      // A tile an object moves through is likely to change again next frame: its record gets a
+      // quarter of room to grow in place, so that the arena does not grow (and move) every frame.
+      const std::size_t capacity = s.record.size() + s.record.size() / 4 + 4;
+      s.record[3] = static_cast<std::uint32_t>(capacity);
+      s.record.resize(capacity, 0);
       dir.tiles[tile] = append_record(dir, s.record);
     }
+    dir.count(dir.tiles[tile], +1);
   }
   // Records that moved to the end left holes; when holes outweigh the records, copy the live ones
   // into a fresh arena in tile order.
