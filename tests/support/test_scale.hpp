@@ -9,12 +9,16 @@
 
 namespace vf::test {
 
-/// `n` scaled by the environment's VISFIELD_TEST_SCALE (ignored unless a number in (0, 1]), at least 1.
-inline std::size_t scaled_count(std::size_t n) {
+/// The environment's VISFIELD_TEST_SCALE when it is a number in (0, 1], else 1.
+inline double test_scale() {
   const char* text = std::getenv("VISFIELD_TEST_SCALE");
   const double scale = text ? std::atof(text) : 1.0;
-  if (!(scale > 0.0 && scale <= 1.0)) return n;
-  return std::max<std::size_t>(1, static_cast<std::size_t>(static_cast<double>(n) * scale));
+  return scale > 0.0 && scale <= 1.0 ? scale : 1.0;
+}
+
+/// `n` scaled by test_scale(), at least 1.
+inline std::size_t scaled_count(std::size_t n) {
+  return std::max<std::size_t>(1, static_cast<std::size_t>(static_cast<double>(n) * test_scale()));
 }
 
 }  // namespace vf::test
