@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "differential/harness.hpp"
 #include "differential/ray_sets.hpp"
 #include "differential/test_scenes.hpp"
@@ -36,6 +38,22 @@ Transform random_placement(Rng& rng, float extent) {
   return t;
 }
 
+// Probe rays through the edited `field` answer as a fresh build over `scene` and as brute force;
+// the field holds the scene's triangles. Returns the fresh build.
+BeamField expect_fresh_and_oracle_answers(const BeamField& field, const Scene& scene, std::uint64_t seed) {
+  const TriangleSet set = flatten(scene);
+  const std::vector<Ray> rays = probe_rays(set, seed);
+  BeamField fresh = BeamField::build(scene, set, kConfig);
+  EXPECT_EQ(differences(field, fresh, rays), 0u);
+  const OracleAnswers answers = oracle_answers(BruteForce::build(set), rays, false);
+  const DiffReport r = compare_answers(field, "beam after edits", rays, answers, {.label = "edited scene"});
+  EXPECT_GT(r.oracle_hits, rays.size() / 20);
+  EXPECT_EQ(r.closest_mismatches, 0u);
+  EXPECT_EQ(r.occluded_mismatches, 0u);
+  EXPECT_EQ(field.beam_stats().triangles, set.size());
+  return fresh;
+}
+
 TEST(BeamUpdates, RandomEditSequencesAnswerAsAFreshBuildAndAsBruteForce) {
   Scene scene = make_scene();
   const float extent = max_component(scene.bounds().extent());
@@ -66,16 +84,8 @@ TEST(BeamUpdates, RandomEditSequencesAnswerAsAFreshBuildAndAsBruteForce) {
     some_rebuilt = some_rebuilt || field.beam_stats().last_commit_rebuilt;
     some_in_place = some_in_place || !field.beam_stats().last_commit_rebuilt;
     if (round % 6 != 5) continue;
-    const TriangleSet set = flatten(scene);
-    const std::vector<Ray> rays = probe_rays(set, 100 + static_cast<std::uint64_t>(round));
-    const BeamField fresh = BeamField::build(scene, set, kConfig);
-    EXPECT_EQ(differences(field, fresh, rays), 0u) << "round " << round;
-    const OracleAnswers answers = oracle_answers(BruteForce::build(set), rays, false);
-    const DiffReport r = compare_answers(field, "beam after edits", rays, answers, {.label = "edited scene"});
-    EXPECT_GT(r.oracle_hits, rays.size() / 20);
-    EXPECT_EQ(r.closest_mismatches, 0u) << "round " << round;
-    EXPECT_EQ(r.occluded_mismatches, 0u) << "round " << round;
-    EXPECT_EQ(field.beam_stats().triangles, set.size());
+    SCOPED_TRACE("round " + std::to_string(round));
+    expect_fresh_and_oracle_answers(field, scene, 100 + static_cast<std::uint64_t>(round));
   }
   EXPECT_TRUE(some_in_place);  // the sequence exercised the per-tile update, not only rebuilds
 }
@@ -99,18 +109,12 @@ TEST(BeamUpdates, SmallMovesFrameAfterFrameStayExact) {
     field.commit();
     ASSERT_FALSE(field.beam_stats().last_commit_rebuilt) << "frame " << frame;
     if (frame % 10 != 9) continue;
-    const TriangleSet set = flatten(scene);
-    const std::vector<Ray> rays = probe_rays(set, 300 + static_cast<std::uint64_t>(frame));
-    const BeamField fresh = BeamField::build(scene, set, kConfig);
-    EXPECT_EQ(differences(field, fresh, rays), 0u) << "frame " << frame;
-    const OracleAnswers answers = oracle_answers(BruteForce::build(set), rays, false);
-    const DiffReport r = compare_answers(field, "beam after small moves", rays, answers, {.label = "animated scene"});
-    EXPECT_EQ(r.closest_mismatches, 0u) << "frame " << frame;
-    EXPECT_EQ(r.occluded_mismatches, 0u) << "frame " << frame;
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    const BeamField fresh = expect_fresh_and_oracle_answers(field, scene, 300 + static_cast<std::uint64_t>(frame));
     // Kept leaves may hold a straddler in one more leaf than a fresh build would: a few percent.
     const double refs = static_cast<double>(field.stats().reference_count), fresh_refs = static_cast<double>(fresh.stats().reference_count);
-    EXPECT_LT(refs, 1.1 * fresh_refs) << "frame " << frame;
-    EXPECT_GT(refs, 0.9 * fresh_refs) << "frame " << frame;
+    EXPECT_LT(refs, 1.1 * fresh_refs);
+    EXPECT_GT(refs, 0.9 * fresh_refs);
   }
 }
 

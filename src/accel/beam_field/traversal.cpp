@@ -316,8 +316,8 @@ void prefetch_record(const BeamLayout& layout, std::uint32_t line, std::uint32_t
   __builtin_prefetch(record + 16);  // the leaf starts of a deeper tile-BSP
 }
 
-/// Starts loading the references and footprints of the leaf of tile `tile` (direction `line`) that
-/// holds `origin`'s depth: the first leaf a ray from there along the line tests.
+/// Starts loading the footprints and references of the leaf of tile `tile` (direction `line`) that
+/// holds the depth of `ray`'s origin: the first leaf the ray tests when it runs along the line.
 void prefetch_origin_leaf(const BeamLayout& layout, const Ray& ray, std::uint32_t line, std::uint32_t tile) {
   const DirectionTiles& dir = layout.directions[line];
   const std::uint32_t offset = dir.tiles[tile];
