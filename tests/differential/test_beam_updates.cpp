@@ -5,14 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <string>
-#include <utility>
 
 #include "differential/harness.hpp"
 #include "differential/ray_sets.hpp"
 #include "differential/test_scenes.hpp"
 #include "differential/update_probes.hpp"
 #include "visfield/core/error.hpp"
-#include "visfield/core/parallel.hpp"
 #include "visfield/core/rng.hpp"
 
 namespace vf::test {
@@ -118,45 +116,6 @@ TEST(BeamUpdates, SmallMovesFrameAfterFrameStayExact) {
     EXPECT_LT(refs, 1.1 * fresh_refs);
     EXPECT_GT(refs, 0.9 * fresh_refs);
   }
-}
-
-// Build, commit and the line-grouped batch queries run in parallel (TBB); with 1 or 2 threads they
-// give the same field and bit-identical answers. (Run under ThreadSanitizer by .ci/run.)
-TEST(BeamThreads, BuildUpdatesAndBatchQueriesDoNotDependOnTheThreadCount) {
-  const auto run = [](int threads, AccelStats& stats) {
-    const ThreadLimit limit(threads);
-    Scene scene = make_scene();
-    BeamField field = BeamField::build(scene, kConfig);
-    Rng rng(5, 0x7a);
-    const float extent = max_component(scene.bounds().extent());
-    for (const Instance& object : std::vector<Instance>(scene.instances())) {
-      Transform t = object.transform;
-      t.translation += Vec3f{rng.uniform(), rng.uniform(), rng.uniform()} * (0.02f * extent);
-      scene.set_transform(object.id, t);
-      field.move(object.id, t);
-    }
-    field.commit();
-    stats = field.stats();
-    const std::vector<Ray> rays = probe_rays(flatten(scene), 77);
-    std::vector<Hit> hits(rays.size());
-    std::vector<std::uint8_t> occluded(rays.size());
-    intersect_batch(field, rays, hits);
-    occluded_batch(field, rays, occluded);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      EXPECT_TRUE(same_bits(hits[i], field.intersect(rays[i]))) << "ray " << i;
-      EXPECT_EQ(occluded[i] != 0, field.occluded(rays[i])) << "ray " << i;
-    }
-    return std::pair{hits, occluded};
-  };
-  AccelStats one{}, two{};
-  const auto [hits_one, occluded_one] = run(1, one);
-  const auto [hits_two, occluded_two] = run(2, two);
-  EXPECT_EQ(one.node_count, two.node_count);
-  EXPECT_EQ(one.leaf_count, two.leaf_count);
-  EXPECT_EQ(one.reference_count, two.reference_count);
-  ASSERT_EQ(hits_one.size(), hits_two.size());
-  for (std::size_t i = 0; i < hits_one.size(); ++i) ASSERT_TRUE(same_bits(hits_one[i], hits_two[i])) << "ray " << i;
-  EXPECT_EQ(occluded_one, occluded_two);
 }
 
 TEST(BeamUpdates, AnObjectLeavingTheSphereRebuildsAndStaysExact) {
