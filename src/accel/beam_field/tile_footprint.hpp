@@ -65,8 +65,9 @@ inline bool for_each_overlapping(const std::uint32_t* boxes, std::uint32_t begin
     for (std::uint32_t pass = _mm512_mask_cmpeq_epi32_mask(valid, _mm512_max_epu8(b, k), k); pass != 0; pass &= pass - 1)
       if (visit(r + static_cast<std::uint32_t>(std::countr_zero(pass)))) return true;
   }
-  return false;
-#elif defined(__AVX2__)
+  return false;  // the masked loads covered the tail
+#else
+#if defined(__AVX2__)
   const __m256i k = _mm256_set1_epi32(static_cast<int>(key));
   for (; r + 8 <= end; r += 8) {
     const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(boxes + r));
@@ -78,6 +79,7 @@ inline bool for_each_overlapping(const std::uint32_t* boxes, std::uint32_t begin
   for (; r < end; ++r)
     if (footprint_overlaps(boxes[r], key) && visit(r)) return true;
   return false;
+#endif
 }
 
 }  // namespace vf::beam
