@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
 
 namespace vf {
 
@@ -29,7 +30,7 @@ std::size_t TriangleMesh::count_degenerate() const {
 std::size_t TriangleMesh::count_duplicates() const {
   std::vector<TriangleIndices> keys(triangles);
   for (TriangleIndices& k : keys) std::sort(k.begin(), k.end());
-  std::sort(keys.begin(), keys.end());
+  vf::parallel_sort(keys.begin(), keys.end());
   std::size_t count = 0;
   for (std::size_t i = 1; i < keys.size(); ++i) count += keys[i] == keys[i - 1];
   return count;

@@ -28,7 +28,7 @@ struct TriangleMesh {
   std::size_t count_degenerate() const;
   /// Number of triangles with the same three vertex indices (in any order) as an earlier triangle.
   /// They are kept: the surface is the same, and an exact query returns one of the copies. O(T log T)
-  /// time, 12 bytes per triangle of scratch.
+  /// time (parallel), 24 bytes per triangle of scratch; polls check_interrupt().
   std::size_t count_duplicates() const;
   /// Bytes held by the arrays.
   std::size_t memory_bytes() const;

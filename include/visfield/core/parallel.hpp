@@ -4,13 +4,14 @@
 /// instrumented, so TSan would report TBB's own task hand-offs as races).
 
 #include <algorithm>
+#include <iterator>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #if defined(__SANITIZE_THREAD__)
 #define VISFIELD_TSAN 1
@@ -20,6 +21,7 @@
 #endif
 #endif
 
+#include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel_threads.hpp"
 
 #if defined(VISFIELD_TSAN)
@@ -88,14 +90,45 @@ void parallel_reduce(const Range& range, Body& body) {
   parallel_backend::parallel_reduce(range, body);
 }
 
-/// Sorts [first, last) by operator<, in parallel (serially under TSan: std::sort).
+/// Sorts [first, last) by operator<, in parallel, polling check_interrupt() every few milliseconds
+/// of work (a signal throws vf::Interrupted and leaves the range in some permutation). The order of
+/// equal elements depends only on the input, never on the thread count. O(n log n) work and one
+/// temporary copy of the range.
 template <class Iterator>
 void parallel_sort(Iterator first, Iterator last) {
-#if defined(VISFIELD_TSAN)
-  std::sort(first, last);
-#else
-  tbb::parallel_sort(first, last);
-#endif
+  using Value = typename std::iterator_traits<Iterator>::value_type;
+  const std::size_t n = static_cast<std::size_t>(last - first);
+  // Runs of a fixed length (not one per thread) keep the result independent of the thread count;
+  // each is short enough to sort between two interrupt checks.
+  constexpr std::size_t kRun = std::size_t{1} << 16;
+  if (n <= kRun) {
+    std::sort(first, last);
+    return;
+  }
+  const std::size_t runs = (n + kRun - 1) / kRun;
+  parallel_for(std::size_t{0}, runs, [&](std::size_t r) {
+    check_interrupt();
+    std::sort(first + r * kRun, first + std::min(n, (r + 1) * kRun));
+  });
+  std::vector<Value> buffer(n);
+  bool in_buffer = false;
+  for (std::size_t width = kRun; width < n; width *= 2) {
+    const std::size_t pairs = (n + 2 * width - 1) / (2 * width);
+    const auto merge_pairs = [&](auto from, auto to) {
+      parallel_for(std::size_t{0}, pairs, [&](std::size_t p) {
+        check_interrupt();
+        const std::size_t lo = p * 2 * width, mid = std::min(n, lo + width), hi = std::min(n, lo + 2 * width);
+        std::merge(std::make_move_iterator(from + lo), std::make_move_iterator(from + mid), std::make_move_iterator(from + mid),
+                   std::make_move_iterator(from + hi), to + lo);
+      });
+    };
+    if (in_buffer)
+      merge_pairs(buffer.begin(), first);
+    else
+      merge_pairs(first, buffer.begin());
+    in_buffer = !in_buffer;
+  }
+  if (in_buffer) std::move(buffer.begin(), buffer.end(), first);
 }
 
 }  // namespace vf

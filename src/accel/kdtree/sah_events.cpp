@@ -6,6 +6,7 @@
 
 #include "kdtree/flat_tree.hpp"
 #include "kdtree/kd_nodes.hpp"
+#include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
 
 namespace vf::kd {
@@ -20,6 +21,12 @@ void for_each_axis(std::size_t node_size, F&& f) {
     for (int axis = 0; axis < 3; ++axis) f(axis);
 }
 
+/// check_interrupt() on every 65536th `i`: the loops over a large node's events run for a good
+/// part of a second at the root of a big scene, too long to leave a signal unanswered.
+inline void poll_interrupt(std::size_t i) {
+  if ((i & 0xFFFF) == 0) check_interrupt();
+}
+
 /// The cheapest plane on one axis (sweep of Wald & Havran, section 4.2).
 SplitPlane sweep_axis(const SahNode& node, int axis, const KdTreeConfig& config) {
   const std::vector<Event>& events = node.events[axis];
@@ -27,7 +34,8 @@ SplitPlane sweep_axis(const SahNode& node, int axis, const KdTreeConfig& config)
   std::size_t below = 0, above = total;
   const SplitCost cost_of(node.box, axis, total, config);
   SplitPlane best;
-  for (std::size_t i = 0; i < events.size();) {
+  for (std::size_t i = 0, planes = 0; i < events.size(); ++planes) {
+    poll_interrupt(planes);
     const float p = events[i].position;
     std::size_t ends = 0, planars = 0, starts = 0;
     for (; i < events.size() && events[i].position == p && events[i].type() == EventType::end; ++i) ++ends;
@@ -121,6 +129,7 @@ std::pair<SahNode, SahNode> split_node(SahNode&& node, const SplitPlane& plane, 
   {
     std::vector<float> lo(n), hi(n);  // bounds along the split axis, from its events
     for (const Event& e : node.events[plane.axis]) {
+      poll_interrupt(e.triangle());
       if (e.type() != EventType::end) lo[e.triangle()] = e.position;
       if (e.type() != EventType::start) hi[e.triangle()] = e.position;
     }
@@ -136,6 +145,7 @@ std::pair<SahNode, SahNode> split_node(SahNode&& node, const SplitPlane& plane, 
   std::vector<std::uint32_t> below_index(n), above_index(n), cut_slot(n);
   std::vector<std::uint32_t> cut;  // node-local indices of the triangles cut by the plane
   for (std::size_t t = 0; t < n; ++t) {
+    poll_interrupt(t);
     if (side[t] != Side::above) {
       below_index[t] = static_cast<std::uint32_t>(below.triangles.size());
       below.triangles.push_back(node.triangles[t]);
@@ -165,6 +175,7 @@ std::pair<SahNode, SahNode> split_node(SahNode&& node, const SplitPlane& plane, 
     above_kept[axis].reserve(above_count);
     for (const Event& e : events) {
       const std::uint32_t t = e.triangle();
+      poll_interrupt(t);
       if (side[t] == Side::below) {
         below_kept[axis].push_back(Event::make(e.position, e.type(), below_index[t]));
       } else if (side[t] == Side::above) {

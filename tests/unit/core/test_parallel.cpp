@@ -1,7 +1,9 @@
 // The parallel loops: TBB's through vf::, and the std::thread backend that replaces them under
 // ThreadSanitizer, held to the same contract (every index once, ordered reduction, exceptions).
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <mutex>
 #include <numeric>
 #include <set>
@@ -13,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <tbb/blocked_range.h>
 
+#include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/parallel_threads.hpp"
 
@@ -119,6 +122,51 @@ TEST(ParallelLoops, ThreadBackendUsesTheThreadLimit) {
     seen.insert(std::this_thread::get_id());
   });
   EXPECT_LE(seen.size(), 3u);
+}
+
+/// Ordered by key only, so that elements with equal keys but different payloads tie.
+struct Keyed {
+  std::uint32_t key, payload;
+  bool operator<(const Keyed& o) const { return key < o.key; }
+  bool operator==(const Keyed& o) const = default;
+};
+
+// Many ties: the sort may order equal keys any way it likes, but the same way for every thread
+// count. Sizes straddle the run length and give odd numbers of merge rounds.
+TEST(ParallelSort, SortsAPermutationTheSameWayForAnyThreadCount) {
+  for (const std::size_t n : {std::size_t{0}, std::size_t{1000}, std::size_t{65536}, std::size_t{65537}, std::size_t{300001}}) {
+    std::vector<Keyed> input(n);
+    std::uint64_t state = 12345;
+    for (std::size_t i = 0; i < n; ++i) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      input[i] = {static_cast<std::uint32_t>(state >> 52), static_cast<std::uint32_t>(i)};  // 4096 keys
+    }
+    std::vector<std::vector<Keyed>> results;
+    for (const int threads : {1, 2, 5}) {
+      ThreadLimit limit(threads);
+      auto v = input;
+      vf::parallel_sort(v.begin(), v.end());
+      results.push_back(v);
+    }
+    EXPECT_TRUE(std::is_sorted(results[0].begin(), results[0].end())) << n;
+    EXPECT_EQ(results[1], results[0]) << n;
+    EXPECT_EQ(results[2], results[0]) << n;
+    const auto full = [](const Keyed& a, const Keyed& b) { return a.key < b.key || (a.key == b.key && a.payload < b.payload); };
+    auto permutation = results[0];
+    std::sort(permutation.begin(), permutation.end(), full);
+    std::sort(input.begin(), input.end(), full);
+    EXPECT_EQ(permutation, input) << n;
+  }
+}
+
+TEST(ParallelSort, ARecordedSignalStopsALargeSort) {
+  std::vector<std::uint32_t> v(1 << 20);
+  std::iota(v.rbegin(), v.rend(), 0u);
+  request_interrupt(15);
+  EXPECT_THROW(vf::parallel_sort(v.begin(), v.end()), Interrupted);
+  clear_interrupt();
+  vf::parallel_sort(v.begin(), v.end());
+  EXPECT_TRUE(std::is_sorted(v.begin(), v.end()));
 }
 
 }  // namespace
