@@ -3,47 +3,32 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <numbers>
 #include <string>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/octahedral_lattice.hpp"
+#include "visfield/core/orthonormal_basis.hpp"
 
 namespace vf {
 namespace {
 
 using Vec3d = std::array<double, 3>;
 
-double sign_of(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }
-
 double dot3(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-// The equal-area diamond map of lattice point (i, j) of half-width n. Exact zeros where a
-// coordinate is zero (cos(π/2) is not 0 in floating point) and on the equator (z = 1 − 1).
 Vec3d lattice_direction(int i, int j, int n) {
-  const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
-  const double r = std::fabs(u) + std::fabs(v);
-  if (r == 0.0) return {0.0, 0.0, 1.0};
-  const double phi = (std::numbers::pi / 2.0) * std::fabs(v) / r;
-  const double radial = r * std::sqrt(2.0 - r * r);
-  return {i == 0 ? 0.0 : sign_of(u) * std::cos(phi) * radial, j == 0 ? 0.0 : sign_of(v) * std::sin(phi) * radial,
-          1.0 - r * r};
-}
-
-// Dense index of lattice point (i, j), |i| + |j| <= n, over 0 .. 2n² + 2n (rows of constant i).
-std::size_t lattice_index(int i, int j, int n) {
-  const long long row_start = i <= 0 ? static_cast<long long>(i + n) * (i + n)
-                                     : static_cast<long long>(n) * n + static_cast<long long>(2 * n + 2) * i -
-                                           static_cast<long long>(i) * i;
-  return static_cast<std::size_t>(row_start + j + n - std::abs(i));
+  const hd::Vec3<double> w = octa::point_direction<double>(i, j, n);
+  return {w.x, w.y, w.z};
 }
 
 // The PSF frame of unit direction w (w.z >= 0): the minimal rotation taking +z to w applied to +x
 // and +y (the branchless basis of Duff et al. 2017), computed in double and rounded once.
 PsfFrame frame_of(const Vec3d& w) {
-  const double x = w[0], y = w[1], z = w[2];
-  const double a = 1.0 / (1.0 + z), b = -x * y * a;
-  const auto f = [](double c) { return static_cast<float>(c); };
-  return {{f(1.0 - x * x * a), f(b), f(-x)}, {f(b), f(1.0 - y * y * a), f(-y)}, {f(x), f(y), f(z)}};
+  const OrthonormalBasis<double> basis = orthonormal_basis(hd::Vec3<double>{w[0], w[1], w[2]});
+  const auto f = [](const hd::Vec3<double>& c) {
+    return Vec3f{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+  };
+  return {f(basis.u), f(basis.v), f(basis.w)};
 }
 
 // Hash of a direction's bits for the stored-direction table.
@@ -73,7 +58,7 @@ DirectionLines::DirectionLines(int level) : level_(level) {
                 std::to_string(count(kMaxLevel)) + " lines)");
   n_ = 1 << level;
   const int n = n_;
-  lattice_to_line_.assign(static_cast<std::size_t>(2 * n * n + 2 * n + 1), -1);
+  lattice_to_line_.assign(static_cast<std::size_t>(octa::point_count(n)), -1);
   precise_.reserve(count(level));
   for (int i = -n; i <= n; ++i) {
     const int span = n - std::abs(i);
@@ -81,7 +66,7 @@ DirectionLines::DirectionLines(int level) : level_(level) {
       // On the equator keep one point of each antipodal pair: j > 0, or (n, 0).
       const bool equator = std::abs(i) + std::abs(j) == n;
       if (equator && !(j > 0 || (i == n && j == 0))) continue;
-      lattice_to_line_[lattice_index(i, j, n)] = static_cast<std::int32_t>(precise_.size());
+      lattice_to_line_[static_cast<std::size_t>(octa::point_index(i, j, n))] = static_cast<std::int32_t>(precise_.size());
       precise_.push_back(lattice_direction(i, j, n));
     }
   }
@@ -110,7 +95,7 @@ std::int32_t DirectionLines::stored_line(const Vec3f& d) const {
   }
 }
 
-std::int32_t DirectionLines::line_at(int i, int j) const { return lattice_to_line_[lattice_index(i, j, n_)]; }
+std::int32_t DirectionLines::line_at(int i, int j) const { return lattice_to_line_[static_cast<std::size_t>(octa::point_index(i, j, n_))]; }
 
 NearestLine DirectionLines::nearest(const Vec3f& direction) const {
   // A stored direction is its own nearest line (AO along the lines asks for nothing else).
@@ -125,30 +110,16 @@ NearestLine DirectionLines::nearest(const Vec3f& direction) const {
   const double s0 = upper ? 1.0 : -1.0;
   for (double& c : d) c *= s0;
 
-  // Invert the equal-area map: lattice coordinates (a, b) of d.
-  const double r = std::sqrt(std::max(0.0, 1.0 - d[2]));
-  const double phi = std::atan2(std::fabs(d[1]), std::fabs(d[0]));
-  const double v = r * phi / (std::numbers::pi / 2.0), u = r - v;
-  const double a = n * sign_of(d[0]) * u, b = n * sign_of(d[1]) * v;
-
-  // The lattice triangle containing (a, b); its diagonal runs i + j = c in quadrants I/III and
-  // i − j = c in II/IV.
-  const int i0 = std::clamp(static_cast<int>(std::floor(a)), -n, n - 1);
-  const int j0 = std::clamp(static_cast<int>(std::floor(b)), -n, n - 1);
-  const double f = a - i0, g = b - j0;
-  std::array<std::array<int, 2>, 3> corners;
-  if ((i0 >= 0) == (j0 >= 0))
-    corners = f + g <= 1.0 ? std::array<std::array<int, 2>, 3>{{{i0, j0}, {i0 + 1, j0}, {i0, j0 + 1}}}
-                           : std::array<std::array<int, 2>, 3>{{{i0 + 1, j0 + 1}, {i0 + 1, j0}, {i0, j0 + 1}}};
-  else
-    corners = g <= f ? std::array<std::array<int, 2>, 3>{{{i0, j0}, {i0 + 1, j0}, {i0 + 1, j0 + 1}}}
-                     : std::array<std::array<int, 2>, 3>{{{i0, j0}, {i0, j0 + 1}, {i0 + 1, j0 + 1}}};
+  double a, b;
+  octa::coordinates(hd::Vec3<double>{d[0], d[1], d[2]}, n, a, b);
+  const octa::Triangle<double> triangle = octa::containing_triangle(a, b, n);
 
   // The corner nearest to d (outside the diamond only at the rim: skipped). A dropped equator
   // point stands for its antipode, the line's other end.
   double best = -2.0;
   NearestLine result;
-  for (const auto& [i, j] : corners) {
+  for (int k = 0; k < 3; ++k) {
+    const int i = triangle.i[k], j = triangle.j[k];
     if (std::abs(i) + std::abs(j) > n) continue;
     std::int32_t line = line_at(i, j);
     double sign = s0;
