@@ -30,4 +30,29 @@ std::size_t count_mismatches(const QueryResults& a, const QueryResults& b, RayKi
                                  : count_hit_mismatches(a.hits, b.hits);
 }
 
+ApproximateAgreement measure_agreement(const QueryResults& approximate, const QueryResults& exact, RayKind kind,
+                                       std::span<const Ray> rays) {
+  ApproximateAgreement agreement;
+  const double n = static_cast<double>(std::max<std::size_t>(rays.size(), 1));
+  if (is_occlusion_kind(kind)) {
+    agreement.differing_fraction = static_cast<double>(count_occlusion_mismatches(approximate.occluded, exact.occluded)) / n;
+    return agreement;
+  }
+  std::size_t differing = 0, both = 0;
+  double error_sum = 0.0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit& a = approximate.hits[i];
+    const Hit& e = exact.hits[i];
+    if (a.found != e.found) {
+      ++differing;
+    } else if (a.found) {
+      ++both;
+      error_sum += std::fabs(static_cast<double>(a.t) - e.t) * length(rays[i].dir);
+    }
+  }
+  agreement.differing_fraction = static_cast<double>(differing) / n;
+  agreement.mean_distance_error = both > 0 ? error_sum / static_cast<double>(both) : 0.0;
+  return agreement;
+}
+
 }  // namespace vf::bench

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "query_runner.hpp"
@@ -28,5 +29,16 @@ std::size_t count_occlusion_mismatches(std::span<const std::uint8_t> a, std::spa
 
 /// Mismatches between two structures' answers for the same rays and kind.
 std::size_t count_mismatches(const QueryResults& a, const QueryResults& b, RayKind kind);
+
+/// How far an approximate structure's answers are from an exact one's on the same rays.
+struct ApproximateAgreement {
+  double differing_fraction = 0.0;  ///< Rays whose occluded() answers (occlusion kinds) or hit/miss (others) differ.
+  std::optional<double> mean_distance_error;  ///< Closest-hit kinds: mean |t - t_exact| |dir| over rays both hit.
+};
+
+/// The agreement of `approximate`'s answers with `exact`'s for the same rays and kind; `rays` gives
+/// the direction lengths for the distance error.
+ApproximateAgreement measure_agreement(const QueryResults& approximate, const QueryResults& exact, RayKind kind,
+                                       std::span<const Ray> rays);
 
 }  // namespace vf::bench

@@ -59,4 +59,10 @@ AccelStats bench_accel_stats(const BenchAccel& accel) {
   return visit_accel(accel, [](const auto& structure) -> AccelStats { return structure.stats(); });
 }
 
+bool bench_accel_is_exact(const BenchAccel& accel) {
+  return visit_accel(accel, [](const auto& structure) {
+    return std::decay_t<decltype(structure)>::exactness == Exactness::exact;
+  });
+}
+
 }  // namespace vf::bench

@@ -64,4 +64,7 @@ decltype(auto) visit_accel(const BenchAccel& accel, F&& f) {
 /// Build statistics of whichever structure `accel` holds.
 AccelStats bench_accel_stats(const BenchAccel& accel);
 
+/// Whether the structure `accel` holds answers exactly (Embree does) or approximately (fields).
+bool bench_accel_is_exact(const BenchAccel& accel);
+
 }  // namespace vf::bench

@@ -30,6 +30,14 @@ void check_accel_specs(const std::vector<std::string>& requested) {
       throw UsageError("--accel: '" + spec + "' is listed twice");
     }
   }
+  // An approximate structure's error is measured against exact answers of the same rays.
+  const auto is_exact = [](const std::string& spec) {
+    const std::string name = spec.substr(0, spec.find(':'));
+    return name == kEmbreeName || find_structure(name).exactness == Exactness::exact;
+  };
+  if (std::none_of(requested.begin(), requested.end(), is_exact))
+    throw UsageError("--accel: list an exact structure (bvh, embree, ...) beside " + requested.front() +
+                     " to measure its error against");
 }
 
 }  // namespace

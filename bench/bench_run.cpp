@@ -24,10 +24,12 @@ namespace {
 bool is_embree(const BuiltBenchAccel& a) { return a.resolved.starts_with(kEmbreeName); }
 
 // AO and shadow rays start from the hits of one of our exact structures when one is listed (they
-// are watertight and agree with brute force), otherwise from Embree's.
+// are watertight and agree with brute force), otherwise from Embree's. The options guarantee an
+// exact structure: approximate hits have no triangle to spawn from.
 const BuiltBenchAccel& ray_source(const std::vector<BuiltBenchAccel>& built) {
-  const auto ours = std::find_if(built.begin(), built.end(), [](const BuiltBenchAccel& a) { return !is_embree(a); });
-  return ours != built.end() ? *ours : built.front();
+  const auto exact = [](const BuiltBenchAccel& a) { return bench_accel_is_exact(a.accel); };
+  const auto ours = std::find_if(built.begin(), built.end(), [&](const BuiltBenchAccel& a) { return exact(a) && !is_embree(a); });
+  return ours != built.end() ? *ours : *std::find_if(built.begin(), built.end(), exact);
 }
 
 }  // namespace
@@ -83,7 +85,10 @@ BenchReport run_bench(const BenchOptions& options) {
   const std::vector<QueryMeasurement> measurements = measure_queries(accels, rays, options.kind, plan);
 
   const auto embree = std::find_if(built.begin(), built.end(), is_embree);
-  const std::size_t reference = embree != built.end() ? static_cast<std::size_t>(embree - built.begin()) : 0;
+  // The reference answers are exact ones: Embree's, else the first exact structure's.
+  const auto first_exact =
+      std::find_if(built.begin(), built.end(), [](const BuiltBenchAccel& b) { return bench_accel_is_exact(b.accel); });
+  const std::size_t reference = static_cast<std::size_t>((embree != built.end() ? embree : first_exact) - built.begin());
   const double embree_mrays =
       embree != built.end() ? mrays_per_second(rays.size(), measurements[reference].timings.median_ms()) : 0.0;
 
@@ -112,7 +117,10 @@ BenchReport run_bench(const BenchOptions& options) {
     row.median_ms = measurements[i].timings.median_ms();
     row.mrays_per_s = mrays_per_second(rays.size(), row.median_ms);
     if (embree != built.end() && embree_mrays > 0.0) row.ratio_to_embree = row.mrays_per_s / embree_mrays;
-    row.mismatches = count_mismatches(measurements[i].results, measurements[reference].results, options.kind);
+    if (bench_accel_is_exact(built[i].accel))
+      row.mismatches = count_mismatches(measurements[i].results, measurements[reference].results, options.kind);
+    else
+      row.approximate = measure_agreement(measurements[i].results, measurements[reference].results, options.kind, rays);
     if (const auto counters = count_beam_work(built[i].accel, rays, options.kind); counters && counters->rays > 0) {
       const double per_ray = 1.0 / static_cast<double>(counters->rays);
       row.beam_work = BeamWork{counters->single_tile * per_ray, counters->tiles * per_ray, counters->leaves * per_ray,

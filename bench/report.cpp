@@ -46,6 +46,14 @@ nlohmann::ordered_json or_null(const std::optional<T>& value) {
   return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
 }
 
+// An exact row's mismatch count; an approximate row's differing fraction (and distance error).
+std::string mismatch_cell(const ResultRow& row) {
+  if (!row.approximate) return with_separators(row.mismatches);
+  std::string cell = formatted("approx: %.2f%% differ", 100.0 * row.approximate->differing_fraction);
+  if (row.approximate->mean_distance_error) cell += formatted(", mean |dt| %.4g", *row.approximate->mean_distance_error);
+  return cell;
+}
+
 }  // namespace
 
 double mrays_per_second(std::size_t rays, double ms) {
@@ -68,8 +76,7 @@ void print_table(std::ostream& out, const BenchReport& report) {
     const std::string ratio = row.ratio_to_embree ? formatted("%.2fx", *row.ratio_to_embree) : std::string("-");
     out << padded_right(row.accel, name_width) << "  " << padded_left(formatted("%.1f", row.build_ms), 10) << "  "
         << padded_left(with_separators(row.bytes), 15) << "  " << padded_left(formatted("%.2f", row.mrays_per_s), 9)
-        << "  " << padded_left(ratio, 15) << "  " << padded_left(with_separators(row.mismatches), mismatch_title.size())
-        << "\n";
+        << "  " << padded_left(ratio, 15) << "  " << padded_left(mismatch_cell(row), mismatch_title.size()) << "\n";
   }
   for (const ResultRow& row : report.rows) {
     if (!row.beam_work) continue;
@@ -107,6 +114,11 @@ nlohmann::ordered_json report_json(const BenchReport& report) {
                        {"mrays_per_s", row.mrays_per_s},
                        {"ratio_to_embree", or_null(row.ratio_to_embree)},
                        {"mismatches", row.mismatches}});
+    if (row.approximate) {
+      results.back()["mismatches"] = nullptr;
+      results.back()["differing_fraction"] = row.approximate->differing_fraction;
+      results.back()["mean_distance_error"] = or_null(row.approximate->mean_distance_error);
+    }
     if (row.beam_work) {
       results.back()["beam_work"] = {{"single_tile_fraction", row.beam_work->single_tile_fraction},
                                      {"tiles", row.beam_work->tiles},

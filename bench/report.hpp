@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "agreement.hpp"
 #include "visfield/render/ray_kind.hpp"
 
 namespace vf::bench {
@@ -30,7 +31,8 @@ struct ResultRow {
   double median_ms = 0.0;                 ///< Median time to trace the whole ray set.
   double mrays_per_s = 0.0;               ///< Rays / median time, in millions per second.
   std::optional<double> ratio_to_embree;  ///< mrays_per_s / Embree's (> 1 = faster); absent without Embree.
-  std::size_t mismatches = 0;             ///< Rays answered differently from the reference structure.
+  std::size_t mismatches = 0;             ///< Rays answered differently from the reference structure (exact rows).
+  std::optional<ApproximateAgreement> approximate;  ///< Approximate rows (fields): their error against the reference.
   std::optional<BeamWork> beam_work;      ///< BeamField rows only: its work per ray.
 };
 

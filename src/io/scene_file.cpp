@@ -14,7 +14,7 @@ namespace {
 void load_meshes(const json::JsonField& meshes, const std::filesystem::path& folder, Scene& scene,
                  io_detail::SceneNames& names) {
   for (const json::JsonField& entry : meshes.elements(1)) {
-    entry.require_object({"name", "path"});
+    entry.require_object({"name", "path", "occluder"});
     const json::JsonField path_field = entry.member("path");
     const std::filesystem::path path = folder / path_field.as_string();
     const std::optional<json::JsonField> name_field = entry.optional_member("name");
@@ -28,6 +28,15 @@ void load_meshes(const json::JsonField& meshes, const std::filesystem::path& fol
       path_field.fail(e.what());
     }
     loaded.mesh.name = name;
+    if (const std::optional<json::JsonField> occluder = entry.optional_member("occluder")) {
+      const std::string kind = occluder->as_string();
+      if (kind == "exact")
+        loaded.mesh.occluder = MeshOccluder::exact;
+      else if (kind == "field")
+        loaded.mesh.occluder = MeshOccluder::field;
+      else
+        occluder->fail("expected \"exact\" or \"field\"");
+    }
     names.meshes.emplace(name, add_mesh(scene, std::move(loaded)));
   }
 }

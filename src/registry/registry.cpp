@@ -11,6 +11,7 @@
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/render/progress.hpp"
 #include "visfield/select/calibration.hpp"
 #include "visfield/select/decision.hpp"
 
@@ -245,6 +246,42 @@ double estimate_beam(const ParamValues& p, const SceneGeometry& geometry) {
   return flattening_bytes(geometry) + BeamField::estimate_build_bytes(geometry.scene(), beam_config(p));
 }
 
+constexpr ParamSpec kFieldParams[] = {
+    {"positions", ParamType::choice, "4226", "positional samples on each mesh's bounding sphere", 0, 0, "290|1090|4226|16642"},
+    {"directions", ParamType::whole, "32", "N: each positional sample holds an NxN table of directions", 8, 256},
+    {"mapping", ParamType::choice, "concentric", "how a table covers the hemisphere (concentric: + Malley, the paper's)", 0, 0,
+     "polar|rejection|concentric|equal-area"},
+    {"storage", ParamType::choice, "u8", "bits of a distance: u8, u16, f32, or bit (visibility + mean distance)", 0, 0,
+     "u8|u16|f32|bit"},
+    {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0},
+    {"blend", ParamType::boolean, "0", "blend the three positional samples around the entry point", 0, 0},
+};
+
+field::ObjectFieldConfig field_config(const ParamValues& p) {
+  field::ObjectFieldConfig c;
+  c.positions = static_cast<int>(std::stoul(p.text("positions")));
+  c.directions = static_cast<int>(p.whole("directions"));
+  for (int m = 0; m < field::kMappingCount; ++m)
+    if (field::mapping_name(static_cast<field::HemisphereMapping>(m)) == p.text("mapping")) c.mapping = static_cast<field::HemisphereMapping>(m);
+  for (int s = 0; s < field::kStorageCount; ++s)
+    if (field::storage_name(static_cast<field::CellStorage>(s)) == p.text("storage")) c.storage = static_cast<field::CellStorage>(s);
+  c.direction_lookup = p.boolean("bilinear") ? field::DirectionLookup::bilinear : field::DirectionLookup::nearest;
+  c.position_lookup = p.boolean("blend") ? field::PositionLookup::blend : field::PositionLookup::nearest;
+  return c;
+}
+
+BuiltStructure build_field(const ParamValues& p, SceneGeometry& geometry, const BuildContext& context) {
+  const field::ObjectFieldConfig config = field_config(p);
+  ProgressBar bar("field", field::FieldScene::progress_total(geometry.scene(), config), context.progress);
+  field::FieldScene fields = field::FieldScene::build(geometry.scene(), config, [&](std::size_t n) { bar.tick(n); });
+  bar.finish();
+  return {std::move(fields), with_params("field", p.canonical()), object_degenerate_count(geometry.scene())};
+}
+
+double estimate_field(const ParamValues& p, const SceneGeometry& geometry) {
+  return field::FieldScene::estimate_build_bytes(geometry.scene(), field_config(p));
+}
+
 constexpr ParamSpec kAutoParams[] = {
     {"rays", ParamType::whole, "", "R, the rays the workload traces (default: the command's own count)", 1, 1e15},
     {"kind", ParamType::choice, "path", "kind of the workload's rays", 0, 0, "random|path"},
@@ -288,6 +325,9 @@ const StructureInfo kTable[] = {
      kBruteParams, build_brute, estimate_brute},
     {"beam", "BeamField (VLF-RT): directions x n*n parallel beams x tile-BSP, exact; fast along its directions",
      Exactness::exact, "always", kBeamParams, build_beam, estimate_beam},
+    {"field", "ObjectFields: per-mesh 4D distance fields on the bounding sphere, shared by instances; approximate, "
+              "constant time per object (meshes marked exact stay exact)",
+     Exactness::approximate, "", kFieldParams, build_field, estimate_field},
     {"auto", "grid or kdtree, whichever the calibrated selection (Hapala et al.) expects to finish first",
      Exactness::exact, "", kAutoParams, build_auto, estimate_auto},
 };

@@ -37,6 +37,7 @@ Scene make_cornell_scene(std::size_t sphere_triangles) {
   add_quad_frame(room, square_facing_down(kLightHalf, 2.0f), square_facing_down(1.0f, 2.0f), white);  // ceiling
   add_quad(room, square_facing_down(kLightHalf, 2.0f), light);   // the light fills the ceiling's hole
 
+  room.occluder = MeshOccluder::exact;  // the receiver around the objects
   scene.meshes.push_back(std::move(room));
   scene.meshes.push_back(make_box_mesh("cube", {Vec3f{-0.5f}, Vec3f{0.5f}}));
   scene.meshes.push_back(make_box_mesh("tall box", {Vec3f{-0.3f, 0.0f, -0.3f}, Vec3f{0.3f, 1.2f, 0.3f}}));

@@ -54,6 +54,7 @@ TriangleMesh make_ground_mesh(std::string name, float cx, float cz, float half_s
   mesh.name = std::move(name);
   const float x0 = cx - half_size, x1 = cx + half_size, z0 = cz - half_size, z1 = cz + half_size;
   add_quad(mesh, {Vec3f{x0, y, z0}, Vec3f{x0, y, z1}, Vec3f{x1, y, z1}, Vec3f{x1, y, z0}}, material);
+  mesh.occluder = MeshOccluder::exact;  // a receiver: its field would be one coarse plane
   return mesh;
 }
 

@@ -27,7 +27,8 @@ void add_quad_frame(TriangleMesh& mesh, const Quad& inner, const Quad& outer, st
 /// Closed axis-aligned box: 8 shared corners, 12 outward-facing triangles; no material ids (material 0).
 TriangleMesh make_box_mesh(std::string name, const Bounds3f& box);
 
-/// Square ground quad at height y, centred on (cx, cz), facing +y; 2 triangles with material `material`.
+/// Square ground quad at height y, centred on (cx, cz), facing +y; 2 triangles with material `material`;
+/// an exact occluder (MeshOccluder::exact).
 TriangleMesh make_ground_mesh(std::string name, float cx, float cz, float half_size, float y, std::uint32_t material);
 
 /// Splits `total` into weights.size() parts proportional to `weights` (largest remainder, ties to the

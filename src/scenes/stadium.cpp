@@ -44,6 +44,7 @@ Scene make_stadium_scene(std::size_t knot_triangles) {
   knot.transform.scale = kKnotScale;
   knot.transform.translation = {0.0f, kKnotHeight, 0.0f};
   knot.material = gold;
+  arena.occluder = MeshOccluder::exact;  // the receiver around the knot
   scene.meshes.push_back(std::move(arena));
   scene.meshes.push_back(make_torus_knot_mesh("knot", 2, 3, 0.5f, knot_triangles));
   scene.add_instance(Instance{});

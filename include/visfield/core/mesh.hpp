@@ -14,6 +14,13 @@ namespace vf {
 /// Vertex indices of one triangle.
 using TriangleIndices = std::array<std::uint32_t, 3>;
 
+/// How an approximate occluder (`--occluder field`) represents a mesh's objects.
+enum class MeshOccluder : std::uint8_t {
+  automatic,  ///< The structure decides (FieldScene: a field).
+  exact,      ///< Exact geometry always: receivers such as grounds and walls, whose fields would be coarse.
+  field,      ///< A precomputed field (ObjectField).
+};
+
 /// A triangle mesh: shared vertex positions plus index triples, in the mesh's own (object) space.
 /// Owns its arrays; immutable once handed to a Scene. Not thread-safe to mutate.
 struct TriangleMesh {
@@ -21,6 +28,7 @@ struct TriangleMesh {
   std::vector<Vec3f> positions;              ///< Vertex positions.
   std::vector<TriangleIndices> triangles;    ///< Index triples into positions.
   std::vector<std::uint32_t> material_ids;   ///< Per triangle index into Scene::materials, or empty (all use material 0).
+  MeshOccluder occluder = MeshOccluder::automatic;  ///< Scene JSON "occluder": "exact" | "field".
 
   /// Bounds of the referenced and unreferenced vertices alike; O(V).
   Bounds3f bounds() const;

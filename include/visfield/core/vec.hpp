@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "visfield/core/orthonormal_basis.hpp"
+
 namespace vf {
 
 /// A 3-component float vector: positions, directions, colours. Plain value type.
@@ -63,13 +65,11 @@ constexpr int max_axis(const Vec3f& a) { return a.x >= a.y ? (a.x >= a.z ? 0 : 2
 /// True when every component is finite (no NaN or Inf).
 inline bool is_finite(const Vec3f& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
-/// Builds an orthonormal basis (t, b) around unit normal n (Duff et al. 2017, branchless).
+/// Builds an orthonormal basis (t, b) around unit normal n: orthonormal_basis.hpp's, for Vec3f.
 inline void orthonormal_basis(const Vec3f& n, Vec3f& t, Vec3f& b) {
-  const float sign = std::copysign(1.0f, n.z);
-  const float a = -1.0f / (sign + n.z);
-  const float c = n.x * n.y * a;
-  t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  b = {c, sign + n.y * n.y * a, -n.y};
+  const OrthonormalBasis<float> basis = orthonormal_basis(hd::Vec3<float>{n.x, n.y, n.z});
+  t = {basis.u.x, basis.u.y, basis.u.z};
+  b = {basis.v.x, basis.v.y, basis.v.z};
 }
 
 }  // namespace vf

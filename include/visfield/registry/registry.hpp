@@ -22,16 +22,18 @@
 #include "visfield/accel/median_bsp.hpp"
 #include "visfield/accel/uniform_grid.hpp"
 #include "visfield/core/spec.hpp"
+#include "visfield/field/field_scene.hpp"
 #include "visfield/registry/scene_geometry.hpp"
 
 namespace vf {
 
 /// Every structure type the table builds; std::visit it so that callers stay generic.
-using AnyStructure = std::variant<Bvh, UniformGrid, KdTree, MedianBsp, BruteForce, InstanceLayer, BeamField>;
+using AnyStructure = std::variant<Bvh, UniformGrid, KdTree, MedianBsp, BruteForce, InstanceLayer, BeamField, field::FieldScene>;
 
 /// What a build may need to know beyond the scene.
 struct BuildContext {
   std::uint64_t expected_rays = 1'000'000;  ///< R for `auto` when its rays= is not given: the rays the structure will trace.
+  bool progress = false;                    ///< Show a progress bar on stderr for long precomputes (fields).
 };
 
 /// A built structure and how its spec was resolved.

@@ -29,7 +29,7 @@ const Scene& small_scene() {
 }
 
 TEST(Registry, EveryEntryBuildsWithItsDefaultsAndNamesItself) {
-  EXPECT_EQ(structure_names(), (std::vector<std::string>{"bvh", "grid", "kdtree", "median-bsp", "brute", "beam", "auto"}));
+  EXPECT_EQ(structure_names(), (std::vector<std::string>{"bvh", "grid", "kdtree", "median-bsp", "brute", "beam", "field", "auto"}));
   for (const StructureInfo& info : structure_table()) {
     SceneGeometry geometry(small_scene());
     const BuiltStructure built = build_structure(info.name, geometry);
@@ -65,6 +65,10 @@ TEST(Registry, DefaultsAreTheConfigDefaults) {
   EXPECT_EQ(default_of("beam", "n"), BeamFieldConfig{}.resolution);
   EXPECT_EQ(default_of("beam", "depth"), BeamFieldConfig{}.max_depth);
   EXPECT_EQ(default_of("beam", "leaf"), BeamFieldConfig{}.leaf_size);
+  EXPECT_EQ(default_of("field", "positions"), field::ObjectFieldConfig{}.positions);
+  EXPECT_EQ(default_of("field", "directions"), field::ObjectFieldConfig{}.directions);
+  EXPECT_EQ(default_of("field", "bilinear"), field::ObjectFieldConfig{}.direction_lookup == field::DirectionLookup::bilinear ? 1.0 : 0.0);
+  EXPECT_EQ(default_of("field", "blend"), field::ObjectFieldConfig{}.position_lookup == field::PositionLookup::blend ? 1.0 : 0.0);
 }
 
 TEST(Registry, EveryRangeTheRegistryAcceptsTheStructureAccepts) {
@@ -111,7 +115,7 @@ TEST(Registry, ParametersReachTheStructure) {
 
 TEST(Registry, BadSpecsAreRefusedWithOneLineNamingTheProblem) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"octree", "--accel octree: unknown structure (valid: bvh, grid, kdtree, median-bsp, brute, beam, auto)"},
+      {"octree", "--accel octree: unknown structure (valid: bvh, grid, kdtree, median-bsp, brute, beam, field, auto)"},
       {"bvh:leaves=4", "unknown key 'leaves' (valid keys: bins, leaf, kt, ki, levels)"},
       {"bvh:leaf=0", "leaf=0: expected a non-negative integer in 1..128"},
       {"bvh:leaf=many", "leaf=many"},

@@ -1,0 +1,76 @@
+#pragma once
+/// \file The ObjectFields of a scene as one approximate structure: one field per mesh, shared by
+/// every object (instance) of that mesh, each object reached through its inverse transform; meshes
+/// marked MeshOccluder::exact (grounds, walls: the receivers) stay exact triangles in a BVH beside
+/// them. It answers both query roles (a field hit has a distance and an object, no triangle and no
+/// normal), and is meant for the occlusion role: AO and shadow rays (`--occluder field`).
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "visfield/accel/bvh.hpp"
+#include "visfield/accel/query.hpp"
+#include "visfield/core/scene.hpp"
+#include "visfield/field/object_field.hpp"
+
+namespace vf::field {
+
+/// Fields of a scene's meshes under a flat list of the objects' world-space spheres. Immutable;
+/// queries are const and thread-safe. Movable.
+class FieldScene {
+ public:
+  /// Builds the field of every mesh some object uses (each once, with `config`) unless the mesh is
+  /// marked exact, then the object list, and a BVH over the exact meshes' objects. Objects must have uniform scale (Transform guarantees it). Throws vf::Error on bad
+  /// parameters or memory (checked up front for all fields together), vf::Interrupted on a
+  /// signal. `progress(n)`: n more positional samples done, over progress_total(scene, config).
+  static FieldScene build(const Scene& scene, const ObjectFieldConfig& config,
+                          const std::function<void(std::size_t)>& progress = {});
+  /// Peak bytes build() takes: every field's tables, the largest field mesh's BVH build, and the
+  /// exact objects' triangles and BVH.
+  static double estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config);
+  /// Positional samples build() will precompute (for a progress bar).
+  static std::size_t progress_total(const Scene& scene, const ObjectFieldConfig& config);
+
+  /// Closest hit in [tmin, tmax] over every object: the exact part's hit or a nearer field answer
+  /// (with the object's id, no triangle and no normal).
+  Hit intersect(const Ray& ray) const;
+  /// Occlusion: whether some object's field, or the exact part, reports a hit in [tmin, tmax].
+  bool occluded(const Ray& ray) const;
+  /// Memory of the fields (each once), the object list and the exact part; build_ms of the whole
+  /// build; node_count = fields, leaf_count = field objects, reference_count = positional samples
+  /// over all fields.
+  const AccelStats& stats() const { return stats_; }
+  /// The errors tests/approximate holds this structure to at the default parameters (measured on
+  /// the built-in scenes; see the README's ObjectField section).
+  ErrorBounds error_bounds() const;
+  /// The field of mesh `mesh`, or null when no object uses it.
+  const ObjectField* mesh_field(std::uint32_t mesh) const {
+    return mesh < fields_.size() ? fields_[mesh].get() : nullptr;
+  }
+  /// "field".
+  static std::string name() { return "field"; }
+  static constexpr Exactness exactness = Exactness::approximate;
+
+ private:
+  /// One object: its field, its world-to-object map and its world-space sphere.
+  struct Object {
+    ObjectId id;
+    const ObjectField* field;
+    InverseTransform to_object;
+    Vec3f centre;
+    float radius;
+  };
+  /// Whether `ray` (world space) can meet object `o`'s sphere within its [tmin, tmax].
+  static bool may_meet(const Object& o, const Ray& ray);
+
+  std::vector<std::shared_ptr<const ObjectField>> fields_;  // by mesh index; null when unused
+  std::vector<Object> objects_;
+  std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
+  AccelStats stats_;
+};
+
+}  // namespace vf::field
