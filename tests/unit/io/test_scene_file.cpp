@@ -111,6 +111,19 @@ TEST(SceneFile, WithoutInstancesEveryMeshGetsAnIdentityInstance) {
   EXPECT_FALSE(scene.camera.has_value());
 }
 
+TEST(SceneFile, AMeshSaysHowFieldOccludersTreatIt) {
+  SceneDir d;
+  write_file(d.dir / "meshes/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene scene = load_scene_file(d.scene(
+      R"({"meshes": [{"path": "meshes/tetra.obj", "occluder": "field"}, {"path": "meshes/tri.obj", "occluder": "exact"},
+                     {"name": "plain", "path": "meshes/tri.obj"}]})"));
+  EXPECT_EQ(scene.meshes[0].occluder, MeshOccluder::field);
+  EXPECT_EQ(scene.meshes[1].occluder, MeshOccluder::exact);
+  EXPECT_EQ(scene.meshes[2].occluder, MeshOccluder::automatic);
+  expect_scene_error(R"({"meshes": [{"path": "meshes/tetra.obj", "occluder": "approximate"}]})", "meshes[0].occluder",
+                     "expected \"exact\" or \"field\"");
+}
+
 TEST(SceneFile, CommentsAreAllowed) {
   SceneDir d;
   const Scene scene = load_scene_file(d.scene("// a comment\n{\"meshes\": [{\"path\": \"meshes/tetra.obj\"}] /* here too */}"));
