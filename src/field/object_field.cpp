@@ -119,7 +119,7 @@ ObjectField ObjectField::build(const TriangleSet& object_triangles, const Object
   const int n = config.directions;
   field.cells_.assign(count * field.sample_stride_, 0);
   if (config.storage == CellStorage::bit) field.averages_.assign(count, 0.0f);
-  field.frames_.resize(3 * count);
+  field.compute_frames();
   const BoundingSphere sphere = field.sphere_;
   const float diameter = 2.0f * sphere.radius;
   std::vector<std::size_t> traced(count, 0);
@@ -128,9 +128,6 @@ ObjectField ObjectField::build(const TriangleSet& object_triangles, const Object
     const hd::Vec3<double> out = field.positions_.direction(k);
     const OrthonormalBasis<double> basis = orthonormal_basis(hd::Vec3<double>{-out.x, -out.y, -out.z});
     const auto f = [](const hd::Vec3<double>& v) { return Vec3f{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; };
-    field.frames_[3 * k] = f(basis.u);
-    field.frames_[3 * k + 1] = f(basis.v);
-    field.frames_[3 * k + 2] = f(basis.w);
     const Vec3f origin = sphere.centre + f(out) * sphere.radius;
     double hit_sum = 0.0;
     std::size_t hits = 0;
@@ -157,6 +154,42 @@ ObjectField ObjectField::build(const TriangleSet& object_triangles, const Object
   });
   for (const std::size_t t : traced) field.rays_traced_ += t;
   field.build_ms_ = watch.elapsed_ms();
+  return field;
+}
+
+void ObjectField::compute_frames() {
+  frames_.resize(3 * positions_.size());
+  for (std::size_t k = 0; k < positions_.size(); ++k) {
+    const hd::Vec3<double> out = positions_.direction(k);
+    const OrthonormalBasis<double> basis = orthonormal_basis(hd::Vec3<double>{-out.x, -out.y, -out.z});
+    const auto f = [](const hd::Vec3<double>& v) { return Vec3f{static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; };
+    frames_[3 * k] = f(basis.u);
+    frames_[3 * k + 1] = f(basis.v);
+    frames_[3 * k + 2] = f(basis.w);
+  }
+}
+
+bool ObjectField::same_tables(const ObjectFieldConfig& a, const ObjectFieldConfig& b) {
+  return a.positions == b.positions && a.directions == b.directions && a.mapping == b.mapping && a.storage == b.storage;
+}
+
+ObjectField ObjectField::from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::vector<std::uint8_t> cells,
+                                     std::vector<float> averages, double build_ms, std::size_t rays_traced) {
+  config.validate();
+  if (!is_finite(sphere.centre) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))
+    throw Error("object field: its bounding sphere is not finite with a positive radius");
+  ObjectField field(config, sphere);
+  if (cells.size() != field.positions_.size() * field.sample_stride_)
+    throw Error("object field: " + std::to_string(cells.size()) + " bytes of cells, expected " +
+                std::to_string(field.positions_.size() * field.sample_stride_));
+  const std::size_t expected_averages = config.storage == CellStorage::bit ? field.positions_.size() : 0;
+  if (averages.size() != expected_averages)
+    throw Error("object field: " + std::to_string(averages.size()) + " average distances, expected " + std::to_string(expected_averages));
+  field.cells_ = std::move(cells);
+  field.averages_ = std::move(averages);
+  field.compute_frames();
+  field.build_ms_ = build_ms;
+  field.rays_traced_ = rays_traced;
   return field;
 }
 

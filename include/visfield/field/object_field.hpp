@@ -77,6 +77,12 @@ class ObjectField {
   static ObjectField build(const TriangleSet& object_triangles, const ObjectFieldConfig& config,
                            const std::function<void(std::size_t)>& progress = {});
 
+  /// A field from stored tables (a .vfield file): `cells` as cell_table() returns them, `averages`
+  /// one per position for CellStorage::bit (else empty). Throws vf::Error when a size does not
+  /// match `config` or the sphere is not finite and positive.
+  static ObjectField from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::vector<std::uint8_t> cells,
+                                 std::vector<float> averages, double build_ms, std::size_t rays_traced);
+
   /// Bytes of the field's tables for `config`: positions × ⌈N² × bits per cell / 8⌉, plus per
   /// position 36 bytes of hemisphere frame and, for the 1-bit variant, 4 of average distance.
   static double table_bytes(const ObjectFieldConfig& config);
@@ -98,6 +104,16 @@ class ObjectField {
   /// Rays traced by the precompute (used cells × positions).
   std::size_t rays_traced() const { return rays_traced_; }
 
+  /// The raw table: per positional sample ⌈N² × bits / 8⌉ bytes, cell (i, j) at j·N + i, each
+  /// encoded as cell_codec.hpp says (u16 and f32 little-endian, bits from the low end of a byte).
+  const std::vector<std::uint8_t>& cell_table() const { return cells_; }
+  /// The 1-bit variant's mean normalised hit distance per sample (empty for other storage).
+  const std::vector<float>& averages() const { return averages_; }
+  /// Bytes of one positional sample's table.
+  std::size_t sample_stride() const { return sample_stride_; }
+  /// Whether `config` (lookup options aside) equals `other`'s: the same tables.
+  static bool same_tables(const ObjectFieldConfig& config, const ObjectFieldConfig& other);
+
   /// Cell (i, j) of sample `sample`: whether it holds a hit, and the hit's distance over 2R (decoded).
   FieldAnswer cell(std::size_t sample, int i, int j) const;
 
@@ -117,6 +133,8 @@ class ObjectField {
   FieldAnswer read(std::size_t sample, const Vec3f& d) const;
   /// The answer for point `p` on the sphere (unit direction `from_centre`) and inward unit `d`, by the position lookup.
   FieldAnswer read_at(const Vec3f& from_centre, const Vec3f& d) const;
+  /// Fills frames_ from the positional samples (each hemisphere's pole points inward).
+  void compute_frames();
   /// Sets cell (i, j) of `sample` (build only).
   void store(std::size_t sample, int i, int j, bool hit, float x);
 

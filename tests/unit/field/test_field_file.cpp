@@ -1,0 +1,130 @@
+// .vfield files: every storage round-trips bit for bit, and a cut, corrupted, wrong-version,
+// inconsistent or wrong-mesh file is refused with one line naming it.
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
+#include "visfield/field/field_file.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf::field {
+namespace {
+
+TriangleSet box_object() {
+  const Scene scene = make_builtin_scene("cornell", {.size = 200});
+  return mesh_triangles(scene.meshes.at(1));
+}
+
+// The message of the vf::Error `f` throws ("" when it does not throw).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// `bytes` with the checksum recomputed, so that a test reaches the checks behind it.
+std::string with_checksum(std::string bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
+    h ^= static_cast<unsigned char>(bytes[i]);
+    h *= 0x100000001b3ull;
+  }
+  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
+  return bytes;
+}
+
+TEST(FieldFile, EveryStorageRoundTripsBitForBit) {
+  const TriangleSet set = box_object();
+  for (const CellStorage storage : {CellStorage::u8, CellStorage::u16, CellStorage::f32, CellStorage::bit}) {
+    const ObjectField field = ObjectField::build(set, {.positions = 290, .directions = 8, .mapping = HemisphereMapping::polar, .storage = storage});
+    const StoredField back = decode_field(encode_field(field, mesh_hash(set)), "f.vfield");
+    EXPECT_EQ(back.mesh_hash, mesh_hash(set));
+    EXPECT_TRUE(ObjectField::same_tables(back.field.config(), field.config()));
+    EXPECT_EQ(back.field.cell_table(), field.cell_table()) << storage_name(storage);
+    EXPECT_EQ(back.field.averages(), field.averages());
+    EXPECT_EQ(back.field.sphere().radius, field.sphere().radius);
+    EXPECT_EQ(back.field.sphere().centre, field.sphere().centre);
+    EXPECT_EQ(back.field.rays_traced(), field.rays_traced());
+    const Vec3f org{3.0f, 2.0f, 1.0f};
+    for (int q = 0; q < 100; ++q) {
+      const Vec3f dir = normalize(Vec3f{-3.0f + 0.02f * q, -2.0f, -1.0f + 0.01f * q});
+      const FieldAnswer a = field.trace(org, dir, 0.0f, 100.0f), b = back.field.trace(org, dir, 0.0f, 100.0f);
+      EXPECT_EQ(a.hit, b.hit);
+      EXPECT_EQ(a.t, b.t);
+    }
+  }
+}
+
+TEST(FieldFile, SavedAtomicallyAndLoadedForItsMeshOnly) {
+  const TriangleSet set = box_object();
+  const ObjectField field = ObjectField::build(set, {.positions = 290, .directions = 8});
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "visfield-field-file-test";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path path = dir / "box.vfield";
+  save_field(field, mesh_hash(set), path);
+  EXPECT_EQ(load_field(path, mesh_hash(set)).field.cell_table(), field.cell_table());
+  const ObjectField bilinear = load_field(path, std::nullopt, {.direction_lookup = DirectionLookup::bilinear}).field;
+  EXPECT_EQ(bilinear.config().direction_lookup, DirectionLookup::bilinear);
+  EXPECT_NE(error_of([&] { load_field(path, mesh_hash(set) + 1); }).find("made for another mesh"), std::string::npos);
+  EXPECT_NE(error_of([&] { load_field(dir / "none.vfield"); }).find("none.vfield: no such file"), std::string::npos);
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename(), "box.vfield") << "left behind: " << entry.path();
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FieldFile, DamagedFilesAreRefusedWithOneLine) {
+  const TriangleSet set = box_object();
+  const std::string good = encode_field(ObjectField::build(set, {.positions = 290, .directions = 8}), 7);
+  const auto expect_refused = [](const std::string& bytes, const std::string& expected) {
+    const std::string message = error_of([&] { decode_field(bytes, "x.vfield"); });
+    EXPECT_NE(message.find("x.vfield: " + expected), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  };
+  expect_refused("", "the file is cut short");
+  expect_refused(good.substr(0, 40), "the file is cut short");
+  expect_refused(good.substr(0, good.size() - 1), "checksum mismatch");
+  expect_refused("NOTFIELD" + good.substr(8), "not a .vfield file");
+  std::string flipped = good;
+  flipped[200] ^= 0x10;
+  expect_refused(flipped, "checksum mismatch");
+  std::string version = good;
+  version[8] = 2;
+  expect_refused(with_checksum(version), ".vfield version 2, this visfield reads version 1");
+  std::string positions = good;
+  positions[12] = 7;  // 290 -> 263
+  expect_refused(with_checksum(positions), "field positions");
+  std::string mapping = good;
+  mapping[20] = 9;
+  expect_refused(with_checksum(mapping), "unknown direction mapping 9");
+  std::string reserved = good;
+  reserved[22] = 1;
+  expect_refused(with_checksum(reserved), "reserved header bytes");
+  std::string radius = good;
+  const float negative = -1.0f;
+  std::memcpy(radius.data() + 44, &negative, 4);
+  expect_refused(with_checksum(radius), "object field: its bounding sphere");
+  std::string longer = good;
+  longer.insert(good.size() - 8, "xxxx");
+  expect_refused(with_checksum(longer), std::to_string(longer.size()) + " bytes, its header describes");
+}
+
+TEST(FieldFile, ATableBeyondTheMemoryLimitIsRefusedBeforeReading) {
+  const TriangleSet set = box_object();
+  const std::string bytes = encode_field(ObjectField::build(set, {.positions = 1090, .directions = 64}), 7);  // 4.3 MiB
+  set_memory_limit(1 << 20, "the test's 1 MiB");
+  const std::string message = error_of([&] { decode_field(bytes, "big.vfield"); });
+  clear_memory_limit();
+  EXPECT_NE(message.find("big.vfield's field would need about"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace vf::field
