@@ -68,7 +68,7 @@ int run_render(const RenderOptions& o) {
   // The float image and its encoded copy (at most 4 bytes a pixel for PNG, 12 for EXR).
   require_memory(static_cast<double>(camera.width) * static_cast<double>(camera.height) * (sizeof(Vec3f) + 12.0),
                  "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
-  const BuildContext context{rays_of_render(camera, o)};
+  const BuildContext context{rays_of_render(camera, o), !o.no_progress};
   const BuiltStructure closest = build_structure_for(o.accel, geometry, context, "--accel", o.scene);
   std::optional<BuiltStructure> occluder;
   if (!o.occluder.empty() && o.occluder != o.accel)

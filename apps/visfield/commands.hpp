@@ -25,4 +25,7 @@ void register_report_command(CLI::App& app, Action& action);
 /// `visfield structures`: the registry's structures, their metadata and parameters.
 void register_structures_command(CLI::App& app, Action& action);
 
+/// `visfield field build <mesh> -o F.vfield` and `visfield field info F.vfield`: ObjectField files.
+void register_field_command(CLI::App& app, Action& action);
+
 }  // namespace vf::cli

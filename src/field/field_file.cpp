@@ -95,7 +95,7 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   const auto version = in.get<std::uint32_t>();
   if (version != kFieldFileVersion)
     throw Error(name + ": .vfield version " + std::to_string(version) + ", this visfield reads version " +
-                std::to_string(kFieldFileVersion) + " (rebuild it with `visfield field build`)");
+                std::to_string(kFieldFileVersion) + " (rebuild it with visfield field build)");
   if (bytes.size() < kHeaderBytes + 8) throw Error(name + ": the file is cut short (not a complete .vfield file)");
   const std::uint64_t stored_sum = [&] {
     std::uint64_t sum;
@@ -179,7 +179,7 @@ StoredField load_field(const std::filesystem::path& path, std::optional<std::uin
   if (!file.read(bytes.data(), static_cast<std::streamsize>(size))) throw Error(name + ": cannot read the whole file");
   StoredField stored = decode_field(bytes, name);
   if (expected_hash && *expected_hash != stored.mesh_hash)
-    throw Error(name + ": made for another mesh (its mesh hash differs; rebuild it with `visfield field build`)");
+    throw Error(name + ": made for another mesh (its mesh hash differs; rebuild it with visfield field build)");
   ObjectFieldConfig config = stored.field.config();
   config.direction_lookup = lookups.direction_lookup;
   config.position_lookup = lookups.position_lookup;

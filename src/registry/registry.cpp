@@ -367,6 +367,12 @@ BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, c
   return built;
 }
 
+field::ObjectFieldConfig field_config_from_spec(std::string_view spec, std::string_view what) {
+  const auto [info, params] = read_spec(spec, what);
+  if (info->name != "field") throw Error(std::string(what) + std::string(spec) + ": expected a field:... spec");
+  return field_config(params);
+}
+
 double estimate_structure_bytes(std::string_view spec, const SceneGeometry& geometry, std::string_view what) {
   const auto [info, params] = read_spec(spec, what);
   return info->estimate(params, geometry);

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "support/run_command.hpp"
+#include "visfield/field/field_file.hpp"
 #include "visfield/select/calibration.hpp"
 
 namespace vf {
@@ -83,6 +85,21 @@ std::string calibration_of_another_machine() {
 }
 
 std::string nested(int depth) { return std::string(static_cast<std::size_t>(depth), '[') + std::string(static_cast<std::size_t>(depth), ']'); }
+
+// A valid .vfield file of a tetrahedron (290 positions x 8^2), optionally with one byte changed.
+std::string field_file(std::size_t flip_at = 0) {
+  TriangleSet set;
+  const Vec3f a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0}, d{0, 0, 1};
+  for (const std::array<Vec3f, 3>& t : {std::array<Vec3f, 3>{a, b, c}, {a, b, d}, {a, c, d}, {b, c, d}}) {
+    set.triangles.push_back(t);
+    set.prim.push_back(static_cast<std::uint32_t>(set.prim.size()));
+    set.instance.push_back(kInvalidId);
+    for (const Vec3f& p : t) set.bounds.extend(p);
+  }
+  std::string bytes = field::encode_field(field::ObjectField::build(set, {.positions = 290, .directions = 8}), field::mesh_hash(set));
+  if (flip_at > 0) bytes[flip_at] ^= 0x01;
+  return bytes;
+}
 
 std::string scene_json(const std::string& rest) { return R"({"meshes": [{"path": "tri.obj"}])" + rest + "}"; }
 
@@ -206,6 +223,18 @@ std::vector<Row> catalogue() {
        "select builtin:cornell --rays 1e6 --calibration cal.json", 1,
        "cal.json: measured on Another CPU with 2 threads, but this is …: its timings do not apply (run visfield calibrate "
        "here…)"},
+      // ObjectField files and builds.
+      {"FieldFileCutShort", {{"cut.vfield", "VISFIELD\x01"}}, "field info cut.vfield", 1,
+       "cut.vfield: the file is cut short (not a complete .vfield file)"},
+      {"FieldFileNotAField", {{"junk.vfield", garbage()}}, "field info junk.vfield", 1,
+       "junk.vfield: not a .vfield file (no VISFIELD signature)"},
+      {"FieldFileCorrupted", {{"bad.vfield", field_file(500)}}, "field info bad.vfield", 1,
+       "bad.vfield: checksum mismatch (the file is corrupted or cut short)"},
+      {"FieldOutputNotVfield", {tri}, "field build tri.obj -o tri.png", 1, "-o tri.png: the file name must end in .vfield"},
+      {"FieldDirectionsOutOfRange", {tri}, "field build tri.obj --directions 4 -o tri.vfield", 2,
+       "--directions: Value 4 not in range 8 to 256"},
+      {"FieldOverMaxMemory", {}, render + "builtin:cornell --occluder field:positions=16642,directions=256,storage=f32 --max-memory 100M", 1,
+       "--occluder field:positions=16642,directions=256,storage=f32: the build would need about 12.19 GiB, more than --max-memory 100.00 MiB"},
       // Resources and output.
       {"StructureOverMaxMemory", {}, render + "builtin:soup:size=1000000 --accel kdtree --max-memory 10M", 1,
        "--accel kdtree: the build would need about 347.14 MiB, more than --max-memory 10.00 MiB"},

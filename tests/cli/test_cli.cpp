@@ -1,6 +1,8 @@
 // End-to-end tests of the visfield command line: what a user types, what comes out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -76,10 +78,51 @@ TEST_F(Cli, OcclusionRaysCanGoToAnotherStructure) {
   EXPECT_EQ(read_image(dir_ / "bvh.exr").pixels, read_image(dir_ / "split.exr").pixels);
 }
 
+TEST_F(Cli, FieldOccludersRenderCloseToTheExactImage) {
+  const std::string common = "render builtin:cornell:size=400 --width 48 --height 36 --ao-rays 16 --no-progress --out ";
+  ASSERT_EQ(visfield(common + "exact.exr").exit_code, 0);
+  const auto r = visfield(common + "field.exr --occluder field:positions=1090,directions=16");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("occluder field:"), std::string::npos) << r.out;
+  const Image exact = read_image(dir_ / "exact.exr"), field = read_image(dir_ / "field.exr");
+  ASSERT_EQ(exact.pixels.size(), field.pixels.size());
+  double sum_sq = 0.0;
+  bool differs = false;
+  for (std::size_t i = 0; i < exact.pixels.size(); ++i) {
+    const double d = exact.pixels[i].x - field.pixels[i].x;
+    sum_sq += d * d;
+    differs = differs || d != 0.0;
+  }
+  EXPECT_TRUE(differs);  // the fields did answer the AO rays
+  EXPECT_LT(std::sqrt(sum_sq / static_cast<double>(exact.pixels.size())), 0.05);
+}
+
+TEST_F(Cli, FieldFilesAreBuiltAndDescribed) {
+  write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n");
+  const auto built = visfield("field build tetra.obj --positions 290 --directions 16 --mapping polar --storage u16 -o tetra.vfield");
+  ASSERT_EQ(built.exit_code, 0) << built.err;
+  EXPECT_NE(built.out.find("290 positions x 16^2 polar u16 cells of 4 triangles"), std::string::npos) << built.out;
+  const auto info = visfield("field info tetra.vfield");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  for (const char* needle : {"positions:   290", "directions:  16 x 16 polar", "storage:     u16", "hit cells:", "mesh hash:"})
+    EXPECT_NE(info.out.find(needle), std::string::npos) << needle << "\n" << info.out;
+  for (const char* bad : {"field build tetra.obj --directions 7 -o a.vfield", "field build tetra.obj --positions 300 -o a.vfield",
+                          "field build tetra.obj -o a.png", "field build tetra.obj --storage u4 -o a.vfield"}) {
+    const auto r = visfield(bad);
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "a.vfield"));
+  write("cut.vfield", test::read_text_file(dir_ / "tetra.vfield").substr(0, 100));
+  const auto cut = visfield("field info cut.vfield");
+  EXPECT_EQ(cut.exit_code, 1);
+  EXPECT_NE(cut.err.find("cut.vfield: checksum mismatch"), std::string::npos) << cut.err;
+}
+
 TEST_F(Cli, StructuresListsTheRegistry) {
   const auto r = visfield("structures");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* needle : {"bvh (exact", "grid (exact", "kdtree (exact", "median-bsp (exact", "brute (exact", "auto (exact",
+  for (const char* needle : {"bvh (exact", "grid (exact", "kdtree (exact", "median-bsp (exact", "brute (exact", "auto (exact", "field (approximate",
                              "levels=auto", "leaf=8", "density=2"})
     EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
 }

@@ -102,5 +102,13 @@ TEST_F(Interrupt, SigintStopsACalibrationAndLeavesNoJson) {
   expect_stopped(o, SIGINT, "SIGINT");
 }
 
+TEST_F(Interrupt, SigintStopsAFieldPrecomputeAndLeavesNoFile) {
+  // 68M rays into 200,000 triangles: tens of seconds, interrupted after one.
+  const Outcome o = interrupt_visfield({"field", "build", "builtin:soup:size=200000", "--positions", "16642", "--directions", "64",
+                                        "--no-progress", "-o", "soup.vfield"},
+                                       dir_, SIGINT, 1.0);
+  expect_stopped(o, SIGINT, "SIGINT");
+}
+
 }  // namespace
 }  // namespace vf

@@ -74,6 +74,10 @@ void check_structure_spec(std::string_view spec, std::string_view what = "--acce
 BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, const BuildContext& context = {},
                                std::string_view what = "--accel ");
 
+/// The ObjectField parameters of a "field[:key=value,...]" spec (lookup options included); throws
+/// vf::Error starting with `what` on a bad spec or another structure's name.
+field::ObjectFieldConfig field_config_from_spec(std::string_view spec, std::string_view what = "--accel ");
+
 /// The estimate build_structure() checks for `spec` over `geometry`, in bytes; throws on a bad spec.
 double estimate_structure_bytes(std::string_view spec, const SceneGeometry& geometry, std::string_view what = "--accel ");
 

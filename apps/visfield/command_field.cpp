@@ -1,0 +1,119 @@
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/field/field_file.hpp"
+#include "visfield/io/atomic_file.hpp"
+#include "visfield/registry/registry.hpp"
+#include "visfield/render/progress.hpp"
+
+namespace vf::cli {
+
+namespace {
+
+struct FieldBuildOptions {
+  std::string mesh;
+  std::string positions = "4226";
+  int directions = 32;
+  std::string mapping = "concentric";
+  std::string storage = "u8";
+  std::string out;
+  int threads = 0;
+  bool no_progress = false;
+};
+
+// The one mesh the argument names (a mesh file, or a scene whose objects all use one mesh).
+const TriangleMesh& the_mesh(const Scene& scene, const std::string& argument) {
+  const TriangleMesh* mesh = nullptr;
+  for (const Instance& object : scene.instances()) {
+    if (mesh && mesh != &scene.meshes[object.mesh])
+      throw Error(argument + ": a field is built for one mesh; this scene's objects use several (give a mesh file)");
+    mesh = &scene.meshes[object.mesh];
+  }
+  if (!mesh) throw Error(argument + ": no object to build a field for");
+  return *mesh;
+}
+
+int run_field_build(const FieldBuildOptions& o) {
+  if (std::filesystem::path(o.out).extension() != ".vfield") throw Error("-o " + o.out + ": the file name must end in .vfield");
+  check_writable(o.out);
+  const field::ObjectFieldConfig config = field_config_from_spec(
+      "field:positions=" + o.positions + ",directions=" + std::to_string(o.directions) + ",mapping=" + o.mapping + ",storage=" + o.storage,
+      "");
+  ThreadLimit limit(o.threads);
+  const Scene scene = load_scene_argument(o.mesh);
+  const TriangleSet triangles = mesh_triangles(the_mesh(scene, o.mesh));
+  if (triangles.size() == 0) throw Error(o.mesh + ": no triangles of non-zero area");
+  ProgressBar bar("field", static_cast<std::size_t>(config.positions), !o.no_progress);
+  const field::ObjectField built = field::ObjectField::build(triangles, config, [&](std::size_t n) { bar.tick(n); });
+  bar.finish();
+  field::save_field(built, field::mesh_hash(triangles), o.out);
+  std::cout << "wrote " << std::filesystem::absolute(o.out).string() << "\n"
+            << "field: " << config.positions << " positions x " << config.directions << "^2 " << field::mapping_name(config.mapping)
+            << " " << field::storage_name(config.storage) << " cells of " << triangles.size() << " triangles, "
+            << format_bytes(static_cast<double>(built.memory_bytes())) << ", precomputed in " << built.build_ms() / 1000.0
+            << " s (" << built.rays_traced() << " rays, " << limit.threads() << " threads)\n";
+  return 0;
+}
+
+int run_field_info(const std::string& path) {
+  const field::StoredField stored = field::load_field(path);
+  const field::ObjectField& f = stored.field;
+  const field::ObjectFieldConfig& c = f.config();
+  std::size_t hits = 0, cells = 0;
+  for (std::size_t k = 0; k < f.position_count(); ++k)
+    for (int j = 0; j < c.directions; ++j)
+      for (int i = 0; i < c.directions; ++i) {
+        if (!field::cell_used<double>(c.mapping, i, j, c.directions)) continue;
+        ++cells;
+        hits += f.cell(k, i, j).hit ? 1 : 0;
+      }
+  const Vec3f& centre = f.sphere().centre;
+  std::cout << "file:        " << path << " (.vfield version " << field::kFieldFileVersion << ")\n"
+            << "positions:   " << c.positions << "\n"
+            << "directions:  " << c.directions << " x " << c.directions << " " << field::mapping_name(c.mapping) << "\n"
+            << "storage:     " << field::storage_name(c.storage) << "\n"
+            << "sphere:      centre (" << centre.x << ", " << centre.y << ", " << centre.z << "), radius " << f.sphere().radius << "\n"
+            << "mesh hash:   " << std::hex << stored.mesh_hash << std::dec << "\n"
+            << "memory:      " << format_bytes(static_cast<double>(f.memory_bytes())) << "\n"
+            << "hit cells:   " << hits << " of " << cells << "\n"
+            << "precompute:  " << f.build_ms() / 1000.0 << " s, " << f.rays_traced() << " rays\n";
+  return 0;
+}
+
+}  // namespace
+
+void register_field_command(CLI::App& app, Action& action) {
+  CLI::App* field = app.add_subcommand("field", "Build a mesh's ObjectField into a .vfield file, or describe one");
+  field->require_subcommand(1);
+
+  auto build = std::make_shared<FieldBuildOptions>();
+  CLI::App* b = field->add_subcommand("build", "Precompute the ObjectField of a mesh and write it to a .vfield file");
+  add_scene_argument(*b, build->mesh);
+  b->add_option("--positions", build->positions, "Positional samples on the bounding sphere")
+      ->check(CLI::IsMember({"290", "1090", "4226", "16642"}))
+      ->capture_default_str();
+  b->add_option("--directions", build->directions, "N: an NxN table of directions per positional sample")
+      ->check(CLI::Range(8, 256))
+      ->capture_default_str();
+  b->add_option("--mapping", build->mapping, "Hemisphere mapping of the tables")
+      ->check(CLI::IsMember({"polar", "rejection", "concentric", "equal-area"}))
+      ->capture_default_str();
+  b->add_option("--storage", build->storage, "Bits per distance")->check(CLI::IsMember({"u8", "u16", "f32", "bit"}))->capture_default_str();
+  b->add_option("-o,--out", build->out, "The .vfield file to write")->required();
+  b->add_flag("--no-progress", build->no_progress, "Do not draw the progress bar");
+  add_resource_options(*b, build->threads);
+  b->callback([build, &action] { action = [build] { return run_field_build(*build); }; });
+
+  auto file = std::make_shared<std::string>();
+  CLI::App* i = field->add_subcommand("info", "Describe a .vfield file: parameters, sphere, mesh hash, memory, hit cells");
+  i->add_option("file", *file, "The .vfield file")->required();
+  i->callback([file, &action] { action = [file] { return run_field_info(*file); }; });
+}
+
+}  // namespace vf::cli

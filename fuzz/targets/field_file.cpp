@@ -1,0 +1,37 @@
+// Fuzz target: the .vfield reader. Any input must give a field or a vf::Error. Inputs whose first
+// byte is odd get their checksum recomputed first, so that mutations reach the checks behind it;
+// a field that parses answers a few rays (its tables may hold any codes).
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
+#include "visfield/field/field_file.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const bool limited = (vf::set_memory_limit(256.0 * (1 << 20), "the fuzz target's 256 MiB"), true);
+  (void)limited;
+  std::string bytes(reinterpret_cast<const char*>(data), size);
+  if (size > 8 && (data[0] & 1u)) {
+    bytes[0] = 'V';  // keep the signature the seeds start with
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
+      h ^= static_cast<unsigned char>(bytes[i]);
+      h *= 0x100000001b3ull;
+    }
+    std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
+  }
+  try {
+    const vf::field::StoredField stored = vf::field::decode_field(bytes, "fuzz.vfield");
+    const vf::field::BoundingSphere& s = stored.field.sphere();
+    for (int k = 0; k < 8; ++k) {
+      const vf::Vec3f dir = vf::normalize(vf::Vec3f{k & 1 ? 1.0f : -1.0f, k & 2 ? 0.5f : -0.5f, k & 4 ? 0.25f : -0.25f});
+      stored.field.trace(s.centre - dir * (2.0f * s.radius), dir, 0.0f, 1e30f);  // from outside
+      stored.field.trace(s.centre, dir, 0.0f, 1e30f);                            // from inside
+    }
+  } catch (const vf::Error&) {
+  }
+  return 0;
+}
