@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
+#include "field_figures.hpp"
 #include "visfield/core/direction_lines.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
@@ -49,14 +50,12 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
 
   CLI::App app{"Times the same rays through visfield's structures and Embree 3 in one process.", "visfield-bench"};
   app.add_option("--scene", options.scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
-  app.add_option("--rays", kind_name, "Ray set: primary, ao, shadow or random")
-      ->required()
+  app.add_option("--rays", kind_name, "Ray set: primary, ao, shadow or random (required, except with --figure)")
       ->check(CLI::IsMember({"primary", "ao", "shadow", "random"}));
   std::string accel_list;
   app.add_option("--accel", accel_list,
                  "Comma-separated structures, each NAME[:key=value,...] (`visfield structures` lists the parameters): " +
-                     joined(bench_accel_names()))
-      ->required();
+                     joined(bench_accel_names()) + " (required, except with --figure)");
   app.add_option("--count", count, "Exact number of rays (default: one image's worth)")
       ->check(CLI::Range(std::int64_t{1}, kMaxRayCount));
   app.add_option("--threads", options.threads, "Worker threads for every structure, 0 = all hardware threads")
@@ -94,6 +93,12 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
                  "Object id moved by --dynamic (default: the object nearest to 5% of the scene's triangles)")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{0xfffffffe}));
 
+  app.add_option("--figure", options.figure,
+                 "Reproduce an ObjectField paper experiment with --scene as the caster in the Figure-6 corner: fig6 "
+                 "(positions x directions: precompute, AO time, RMS), fig5 (mappings, 1-bit variant), fig8 (--scene: a folder "
+                 "of models; each model alone, then three together)")
+      ->check(CLI::IsMember(field_figure_names()));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -107,6 +112,9 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     const double bytes = *parse_byte_size(max_memory);
     set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
   }
+  if (!options.figure.empty()) return options;  // the figure chooses its rays and structures
+  if (kind_name.empty()) throw UsageError("--rays is required");
+  if (accel_list.empty()) throw UsageError("--accel is required");
   options.kind = *parse_ray_kind(kind_name);
   for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
     if (ao_directions == std::to_string(DirectionLines::count(level))) options.psf_level = level;

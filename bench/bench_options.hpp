@@ -37,6 +37,7 @@ struct BenchOptions {
   int warmup = 1;                                               ///< --warmup: untimed runs before the timed ones.
   int dynamic_frames = 0;                 ///< --dynamic: frames of the moving-object mode; 0 = the static benchmark.
   std::optional<std::uint32_t> move_object;  ///< --move-object: the object id moved in --dynamic (default: chosen).
+  std::string figure;                     ///< --figure: an ObjectField paper experiment to reproduce ("" = none).
 };
 
 /// Largest --count accepted (the rays alone would take 32 GB).

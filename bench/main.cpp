@@ -7,6 +7,8 @@
 #include "bench_options.hpp"
 #include "bench_run.hpp"
 #include "dynamic_run.hpp"
+#include "field_figures.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
 
@@ -30,6 +32,11 @@ int main(int argc, char** argv) {
   try {
     const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
     if (!options) return 0;
+    if (!options->figure.empty()) {
+      const vf::ThreadLimit limit(options->threads);
+      vf::bench::run_field_figure(options->figure, options->scene, std::cout);
+      return 0;
+    }
     if (options->dynamic_frames > 0) {
       const vf::bench::DynamicReport report = vf::bench::run_dynamic_bench(*options);
       if (options->json) {

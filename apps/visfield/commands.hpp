@@ -28,4 +28,7 @@ void register_structures_command(CLI::App& app, Action& action);
 /// `visfield field build <mesh> -o F.vfield` and `visfield field info F.vfield`: ObjectField files.
 void register_field_command(CLI::App& app, Action& action);
 
+/// `visfield compare IMAGE REFERENCE [--diff F]`: RMS, max error, PSNR and an error image.
+void register_compare_command(CLI::App& app, Action& action);
+
 }  // namespace vf::cli

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   vf::cli::register_report_command(app, action);
   vf::cli::register_structures_command(app, action);
   vf::cli::register_field_command(app, action);
+  vf::cli::register_compare_command(app, action);
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;
     bool found = false;

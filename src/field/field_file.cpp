@@ -183,7 +183,8 @@ StoredField load_field(const std::filesystem::path& path, std::optional<std::uin
   ObjectFieldConfig config = stored.field.config();
   config.direction_lookup = lookups.direction_lookup;
   config.position_lookup = lookups.position_lookup;
-  stored.field = ObjectField::from_tables(config, stored.field.sphere(), stored.field.cell_table(), stored.field.averages(),
+  const std::span<const std::uint8_t> table = stored.field.cell_table();
+  stored.field = ObjectField::from_tables(config, stored.field.sphere(), std::vector<std::uint8_t>(table.begin(), table.end()), stored.field.averages(),
                                           stored.field.build_ms(), stored.field.rays_traced());
   return stored;
 }

@@ -1,13 +1,19 @@
 #include "visfield/field/field_scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/triangle_set.hpp"
+#include "visfield/field/field_file.hpp"
 
 namespace vf::field {
 namespace {
@@ -45,8 +51,47 @@ std::size_t FieldScene::progress_total(const Scene& scene, const ObjectFieldConf
   return used_meshes(scene).size() * static_cast<std::size_t>(config.positions);
 }
 
+namespace {
+
+/// Where mesh `mesh`'s field is cached: its own field_file, else a file in `cache_folder` named by
+/// the mesh and the parameters, else nowhere ("").
+std::string cache_path(const TriangleMesh& mesh, std::uint64_t hash, const ObjectFieldConfig& config, const std::string& cache_folder) {
+  if (!mesh.field_file.empty()) return mesh.field_file;
+  if (cache_folder.empty()) return "";
+  std::string name = mesh.name;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(hash));
+  return (std::filesystem::path(cache_folder) / (name + "-" + hex + "-" + std::to_string(config.positions) + "x" +
+                                                 std::to_string(config.directions) + "-" + mapping_name(config.mapping) + "-" +
+                                                 storage_name(config.storage) + ".vfield"))
+      .string();
+}
+
+/// The field of `triangles` (mesh `mesh`): read from its cache file when there is one, else built
+/// (and written to the cache file when it has one).
+std::shared_ptr<const ObjectField> load_or_build_field(const TriangleMesh& mesh, const TriangleSet& triangles, const ObjectFieldConfig& config,
+                                              const std::function<void(std::size_t)>& progress, const std::string& cache_folder) {
+  const std::uint64_t hash = mesh_hash(triangles);
+  const std::string path = cache_path(mesh, hash, config, cache_folder);
+  if (!path.empty() && std::filesystem::exists(path)) {
+    StoredField stored = load_field(path, hash, config);
+    if (progress) progress(static_cast<std::size_t>(config.positions));
+    return std::make_shared<const ObjectField>(std::move(stored.field));
+  }
+  auto field = std::make_shared<const ObjectField>(ObjectField::build(triangles, config, progress));
+  if (!path.empty()) {
+    if (mesh.field_file.empty()) std::filesystem::create_directories(cache_folder);
+    save_field(*field, hash, path);
+  }
+  return field;
+}
+
+}  // namespace
+
 FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config,
-                             const std::function<void(std::size_t)>& progress) {
+                             const std::function<void(std::size_t)>& progress, const std::string& cache_folder) {
   config.validate();
   require_memory(estimate_build_bytes(scene, config), "the object fields of " + std::to_string(used_meshes(scene).size()) +
                                                           " meshes (" + std::to_string(config.positions) + " positions x " +
@@ -58,7 +103,7 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   for (const std::uint32_t mesh : used_meshes(scene)) {
     const TriangleSet triangles = mesh_triangles(scene.meshes[mesh]);
     if (triangles.size() == 0) throw Error("mesh " + scene.meshes[mesh].name + ": no triangles of non-zero area for its field");
-    result.fields_[mesh] = std::make_shared<const ObjectField>(ObjectField::build(triangles, config, progress));
+    result.fields_[mesh] = load_or_build_field(scene.meshes[mesh], triangles, config, progress, cache_folder);
     result.stats_.memory_bytes += result.fields_[mesh]->memory_bytes();
     result.stats_.reference_count += result.fields_[mesh]->position_count();
     ++result.stats_.node_count;
@@ -136,6 +181,69 @@ ErrorBounds FieldScene::error_bounds() const {
   b.distance_rms = 0.06;
   b.image_rms = 0.03;
   return b;
+}
+
+void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const {
+  const std::size_t n = rays.size();
+  // The exact part first: its hit bounds every field's search (closest) or settles the ray (occlusion).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (closest)
+      best[i] = exact_ ? exact_->intersect(rays[i]) : Hit{};
+    else
+      occluded[i] = exact_ && exact_->occluded(rays[i]) ? 1 : 0;
+  }
+  std::vector<float> soa(8 * n);
+  std::vector<std::uint32_t> index(n);
+  std::vector<FieldAnswer> answers(n);
+  for (const Object& o : objects_) {
+    // This object's candidate rays, mapped into its space, as arrays.
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!closest && occluded[i]) continue;
+      Ray ray = rays[i];
+      if (closest && best[i].found) ray.tmax = best[i].t;
+      if (!may_meet(o, ray)) continue;
+      const Ray local = o.to_object.apply(ray);
+      const float values[8] = {local.org.x, local.org.y, local.org.z, local.dir.x, local.dir.y, local.dir.z, ray.tmin, ray.tmax};
+      for (int k = 0; k < 8; ++k) soa[static_cast<std::size_t>(k) * n + m] = values[k];
+      index[m++] = static_cast<std::uint32_t>(i);
+    }
+    if (m == 0) continue;
+    const float* a = soa.data();
+    o.field->trace_batch({a, a + n, a + 2 * n, a + 3 * n, a + 4 * n, a + 5 * n, a + 6 * n, a + 7 * n, m}, answers.data());
+    for (std::size_t k = 0; k < m; ++k) {
+      if (!answers[k].hit) continue;
+      const std::size_t i = index[k];
+      if (!closest) {
+        occluded[i] = 1;
+      } else if (!best[i].found || answers[k].t < best[i].t) {
+        best[i] = Hit{};
+        best[i].found = true;
+        best[i].t = answers[k].t;
+        best[i].instance = o.id;
+      }
+    }
+  }
+}
+
+namespace {
+constexpr std::size_t kBlock = 1024;  // rays per parallel task: enough for 16-ray steps per object
+}  // namespace
+
+void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  vf::parallel_for(std::size_t{0}, (rays.size() + kBlock - 1) / kBlock, [&](std::size_t block) {
+    check_interrupt();
+    const std::size_t begin = block * kBlock, count = std::min(kBlock, rays.size() - begin);
+    fields.trace_block(rays.subspan(begin, count), false, nullptr, occluded.data() + begin);
+  });
+}
+
+void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits) {
+  vf::parallel_for(std::size_t{0}, (rays.size() + kBlock - 1) / kBlock, [&](std::size_t block) {
+    check_interrupt();
+    const std::size_t begin = block * kBlock, count = std::min(kBlock, rays.size() - begin);
+    fields.trace_block(rays.subspan(begin, count), true, hits.data() + begin, nullptr);
+  });
 }
 
 }  // namespace vf::field

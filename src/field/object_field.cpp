@@ -90,7 +90,8 @@ double ObjectField::table_bytes(const ObjectFieldConfig& config) {
   const double cells = static_cast<double>(config.directions) * config.directions;
   const double per_sample = std::ceil(cells * cell_bits(config.storage) / 8.0);
   const double averages = config.storage == CellStorage::bit ? 4.0 : 0.0;
-  return static_cast<double>(config.positions) * (per_sample + averages + 3.0 * sizeof(Vec3f));
+  // Frames as Vec3f and as rows, the upper samples' directions as rows (half the samples, 3 floats).
+  return static_cast<double>(config.positions) * (per_sample + averages + 6.0 * sizeof(Vec3f) + 6.0) + 4.0;
 }
 
 double ObjectField::estimate_build_bytes(std::size_t triangles, const ObjectFieldConfig& config) {
@@ -117,7 +118,7 @@ ObjectField ObjectField::build(const TriangleSet& object_triangles, const Object
   const Bvh bvh = Bvh::build(object_triangles);
   const std::size_t count = field.positions_.size();
   const int n = config.directions;
-  field.cells_.assign(count * field.sample_stride_, 0);
+  field.cells_.assign(count * field.sample_stride_ + kTablePadding, 0);
   if (config.storage == CellStorage::bit) field.averages_.assign(count, 0.0f);
   field.compute_frames();
   const BoundingSphere sphere = field.sphere_;
@@ -158,7 +159,15 @@ ObjectField ObjectField::build(const TriangleSet& object_triangles, const Object
 }
 
 void ObjectField::compute_frames() {
-  frames_.resize(3 * positions_.size());
+  const std::size_t count = positions_.size(), upper = count / 2;
+  frames_.resize(3 * count);
+  lookup_rows_.assign(3 * upper + 9 * count, 0.0f);
+  const hd::Vec3<float>* table = positions_.upper_table();
+  for (std::size_t k = 0; k < upper; ++k) {
+    lookup_rows_[k] = table[k].x;
+    lookup_rows_[upper + k] = table[k].y;
+    lookup_rows_[2 * upper + k] = table[k].z;
+  }
   for (std::size_t k = 0; k < positions_.size(); ++k) {
     const hd::Vec3<double> out = positions_.direction(k);
     const OrthonormalBasis<double> basis = orthonormal_basis(hd::Vec3<double>{-out.x, -out.y, -out.z});
@@ -166,6 +175,7 @@ void ObjectField::compute_frames() {
     frames_[3 * k] = f(basis.u);
     frames_[3 * k + 1] = f(basis.v);
     frames_[3 * k + 2] = f(basis.w);
+    for (int row = 0; row < 9; ++row) lookup_rows_[3 * upper + static_cast<std::size_t>(row) * count + k] = frames_[3 * k + row / 3][row % 3];
   }
 }
 
@@ -185,7 +195,9 @@ ObjectField ObjectField::from_tables(const ObjectFieldConfig& config, const Boun
   const std::size_t expected_averages = config.storage == CellStorage::bit ? field.positions_.size() : 0;
   if (averages.size() != expected_averages)
     throw Error("object field: " + std::to_string(averages.size()) + " average distances, expected " + std::to_string(expected_averages));
-  field.cells_ = std::move(cells);
+  field.cells_.reserve(cells.size() + kTablePadding);
+  field.cells_.assign(cells.begin(), cells.end());
+  field.cells_.resize(cells.size() + kTablePadding, 0);
   field.averages_ = std::move(averages);
   field.compute_frames();
   field.build_ms_ = build_ms;

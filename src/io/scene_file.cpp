@@ -14,7 +14,7 @@ namespace {
 void load_meshes(const json::JsonField& meshes, const std::filesystem::path& folder, Scene& scene,
                  io_detail::SceneNames& names) {
   for (const json::JsonField& entry : meshes.elements(1)) {
-    entry.require_object({"name", "path", "occluder"});
+    entry.require_object({"name", "path", "occluder", "field"});
     const json::JsonField path_field = entry.member("path");
     const std::filesystem::path path = folder / path_field.as_string();
     const std::optional<json::JsonField> name_field = entry.optional_member("name");
@@ -37,6 +37,8 @@ void load_meshes(const json::JsonField& meshes, const std::filesystem::path& fol
       else
         occluder->fail("expected \"exact\" or \"field\"");
     }
+    // Relative to the scene file, like the mesh path; it need not exist yet (a cache).
+    if (const std::optional<json::JsonField> field = entry.optional_member("field")) loaded.mesh.field_file = (folder / field->as_string()).string();
     names.meshes.emplace(name, add_mesh(scene, std::move(loaded)));
   }
 }

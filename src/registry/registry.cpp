@@ -255,6 +255,7 @@ constexpr ParamSpec kFieldParams[] = {
      "u8|u16|f32|bit"},
     {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0},
     {"blend", ParamType::boolean, "0", "blend the three positional samples around the entry point", 0, 0},
+    {"cache", ParamType::text, "", "folder where each mesh's .vfield is read from, or written to when missing", 0, 0},
 };
 
 field::ObjectFieldConfig field_config(const ParamValues& p) {
@@ -273,7 +274,8 @@ field::ObjectFieldConfig field_config(const ParamValues& p) {
 BuiltStructure build_field(const ParamValues& p, SceneGeometry& geometry, const BuildContext& context) {
   const field::ObjectFieldConfig config = field_config(p);
   ProgressBar bar("field", field::FieldScene::progress_total(geometry.scene(), config), context.progress);
-  field::FieldScene fields = field::FieldScene::build(geometry.scene(), config, [&](std::size_t n) { bar.tick(n); });
+  field::FieldScene fields = field::FieldScene::build(geometry.scene(), config, [&](std::size_t n) { bar.tick(n); },
+                                                     p.has("cache") ? p.text("cache") : std::string());
   bar.finish();
   return {std::move(fields), with_params("field", p.canonical()), object_degenerate_count(geometry.scene())};
 }

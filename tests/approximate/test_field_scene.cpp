@@ -61,5 +61,32 @@ TEST(FieldScene, InstancesOfOneMeshShareOneField) {
   EXPECT_EQ(fields.stats().leaf_count, scene.instances().size() - 1);  // the ground stays exact
 }
 
+// The batch queries answer as the single-ray ones, up to the batch's rounding near cell borders,
+// with instances (boxes) and an exact part (the ground) in the scene.
+TEST(FieldScene, BatchQueriesAnswerAsSingleRays) {
+  const Scene scene = make_builtin_scene("boxes", {.size = 64});
+  const TriangleSet set = flatten(scene);
+  const FieldScene fields = FieldScene::build(scene, {.positions = 1090, .directions = 16});
+  std::vector<Ray> rays = surface_origin_rays(set, 8, 20000);
+  for (Ray& ray : rays) ray.tmin = 1e-4f * length(set.bounds.extent());
+  const std::vector<Ray> random = random_rays(set, 9, 20000);
+  rays.insert(rays.end(), random.begin(), random.end());
+  std::vector<std::uint8_t> occluded(rays.size());
+  std::vector<Hit> hits(rays.size());
+  field::occluded_batch(fields, rays, occluded);
+  field::intersect_batch(fields, rays, hits);
+  std::size_t occlusion_differs = 0, hit_differs = 0, occluded_count = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const bool one = fields.occluded(rays[i]);
+    occluded_count += one ? 1 : 0;
+    occlusion_differs += one != (occluded[i] != 0) ? 1 : 0;
+    const Hit h = fields.intersect(rays[i]);
+    hit_differs += h.found != hits[i].found || (h.found && (h.t != hits[i].t || h.instance != hits[i].instance)) ? 1 : 0;
+  }
+  EXPECT_GT(occluded_count, rays.size() / 10);
+  EXPECT_LE(occlusion_differs, rays.size() / 1000);
+  EXPECT_LE(hit_differs, rays.size() / 1000);
+}
+
 }  // namespace
 }  // namespace vf::test

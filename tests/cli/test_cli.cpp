@@ -97,6 +97,26 @@ TEST_F(Cli, FieldOccludersRenderCloseToTheExactImage) {
   EXPECT_LT(std::sqrt(sum_sq / static_cast<double>(exact.pixels.size())), 0.05);
 }
 
+TEST_F(Cli, CompareReportsTheErrorAndWritesTheExaggeratedDifference) {
+  const std::string common = "render builtin:cornell:size=400 --width 32 --height 24 --ao-rays 8 --no-progress --out ";
+  ASSERT_EQ(visfield(common + "exact.png").exit_code, 0);
+  ASSERT_EQ(visfield(common + "field.png --occluder field:positions=290,directions=16").exit_code, 0);
+  const auto same = visfield("compare exact.png exact.png");
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_NE(same.out.find("rms:  0 (0-255), 0 (0-1)"), std::string::npos) << same.out;
+  const auto r = visfield("compare field.png exact.png --diff diff.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* needle : {"rms:  ", "(0-255)", "max:  ", "psnr: ", "differences x5"})
+    EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
+  EXPECT_EQ(r.out.find("rms:  0 (0-255)"), std::string::npos) << r.out;
+  const Image diff = read_image(dir_ / "diff.png");
+  EXPECT_EQ(diff.width, 32);
+  ASSERT_EQ(visfield("render builtin:cornell --width 16 --height 12 --ao-rays 1 --no-progress --out small.png").exit_code, 0);
+  const auto mismatch = visfield("compare small.png exact.png");
+  EXPECT_EQ(mismatch.exit_code, 1);
+  EXPECT_EQ(std::count(mismatch.err.begin(), mismatch.err.end(), '\n'), 1) << mismatch.err;
+}
+
 TEST_F(Cli, FieldFilesAreBuiltAndDescribed) {
   write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n");
   const auto built = visfield("field build tetra.obj --positions 290 --directions 16 --mapping polar --storage u16 -o tetra.vfield");

@@ -29,6 +29,7 @@ struct TriangleMesh {
   std::vector<TriangleIndices> triangles;    ///< Index triples into positions.
   std::vector<std::uint32_t> material_ids;   ///< Per triangle index into Scene::materials, or empty (all use material 0).
   MeshOccluder occluder = MeshOccluder::automatic;  ///< Scene JSON "occluder": "exact" | "field".
+  std::string field_file;  ///< Scene JSON "field": the mesh's .vfield file, read when it exists, written when not ("" = none).
 
   /// Bounds of the referenced and unreferenced vertices alike; O(V).
   Bounds3f bounds() const;

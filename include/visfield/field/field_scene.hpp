@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -24,11 +25,15 @@ namespace vf::field {
 class FieldScene {
  public:
   /// Builds the field of every mesh some object uses (each once, with `config`) unless the mesh is
-  /// marked exact, then the object list, and a BVH over the exact meshes' objects. Objects must have uniform scale (Transform guarantees it). Throws vf::Error on bad
+  /// marked exact, then the object list, and a BVH over the exact meshes' objects. A mesh with a
+  /// `field_file` takes its field from that file when it exists (refused when made for another
+  /// mesh; its own parameters then apply, the lookups `config`'s) and writes it there when not; with
+  /// a `cache_folder`, every other mesh's field is read from or written to
+  /// `cache_folder/<mesh name>-<mesh hash>-<parameters>.vfield` likewise. Objects must have uniform scale (Transform guarantees it). Throws vf::Error on bad
   /// parameters or memory (checked up front for all fields together), vf::Interrupted on a
   /// signal. `progress(n)`: n more positional samples done, over progress_total(scene, config).
   static FieldScene build(const Scene& scene, const ObjectFieldConfig& config,
-                          const std::function<void(std::size_t)>& progress = {});
+                          const std::function<void(std::size_t)>& progress = {}, const std::string& cache_folder = "");
   /// Peak bytes build() takes: every field's tables, the largest field mesh's BVH build, and the
   /// exact objects' triangles and BVH.
   static double estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config);
@@ -56,6 +61,12 @@ class FieldScene {
   static constexpr Exactness exactness = Exactness::approximate;
 
  private:
+  friend void occluded_batch(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
+  friend void intersect_batch(const FieldScene&, std::span<const Ray>, std::span<Hit>);
+  /// Answers for the rays of one block (at most kBlock), into best (closest hits, when `closest`) or
+  /// occluded; the batch queries run it per block in parallel.
+  void trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const;
+
   /// One object: its field, its world-to-object map and its world-space sphere.
   struct Object {
     ObjectId id;
@@ -72,5 +83,13 @@ class FieldScene {
   std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
   AccelStats stats_;
 };
+
+/// Batch occlusion through a FieldScene: occluded[i] is occluded(rays[i]) up to the batch's rounding
+/// (ObjectField::trace_batch), parallel over blocks of rays; each object's candidate rays are traced
+/// 16 at a time. Spans of equal size. Throws vf::Interrupted on a signal.
+void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+
+/// Batch closest hits through a FieldScene, as occluded_batch() above: hits[i] is intersect(rays[i]).
+void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits);
 
 }  // namespace vf::field

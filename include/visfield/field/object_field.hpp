@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,13 @@ struct FieldAnswer {
   float t = 0.0f;
 };
 
+/// Object-space rays as arrays (structure of arrays) for ObjectField::trace_batch: origin, direction
+/// (any non-zero length) and [tmin, tmax], `count` of each. The arrays are the caller's.
+struct ObjectRays {
+  const float *ox, *oy, *oz, *dx, *dy, *dz, *tmin, *tmax;
+  std::size_t count;
+};
+
 /// An immutable ObjectField. Queries are const and thread-safe. Movable.
 class ObjectField {
  public:
@@ -84,7 +92,8 @@ class ObjectField {
                                  std::vector<float> averages, double build_ms, std::size_t rays_traced);
 
   /// Bytes of the field's tables for `config`: positions × ⌈N² × bits per cell / 8⌉, plus per
-  /// position 36 bytes of hemisphere frame and, for the 1-bit variant, 4 of average distance.
+  /// position 72 bytes of hemisphere frame and sample direction (twice: per sample and as arrays
+  /// for the batch) and, for the 1-bit variant, 4 of average distance; 4 bytes of padding.
   static double table_bytes(const ObjectFieldConfig& config);
   /// Peak bytes build() takes for `triangles` triangles: the tables plus the exact BVH's build.
   static double estimate_build_bytes(std::size_t triangles, const ObjectFieldConfig& config);
@@ -97,7 +106,8 @@ class ObjectField {
   std::size_t position_count() const { return positions_.size(); }
   /// Bytes held by the tables and the per-sample frames (table_bytes() of the config).
   std::size_t memory_bytes() const {
-    return cells_.capacity() + averages_.capacity() * sizeof(float) + frames_.capacity() * sizeof(Vec3f);
+    return cells_.capacity() + averages_.capacity() * sizeof(float) + frames_.capacity() * sizeof(Vec3f) +
+           lookup_rows_.capacity() * sizeof(float);
   }
   /// Wall-clock precompute time in milliseconds.
   double build_ms() const { return build_ms_; }
@@ -106,7 +116,7 @@ class ObjectField {
 
   /// The raw table: per positional sample ⌈N² × bits / 8⌉ bytes, cell (i, j) at j·N + i, each
   /// encoded as cell_codec.hpp says (u16 and f32 little-endian, bits from the low end of a byte).
-  const std::vector<std::uint8_t>& cell_table() const { return cells_; }
+  std::span<const std::uint8_t> cell_table() const { return {cells_.data(), cells_.size() - kTablePadding}; }
   /// The 1-bit variant's mean normalised hit distance per sample (empty for other storage).
   const std::vector<float>& averages() const { return averages_; }
   /// Bytes of one positional sample's table.
@@ -122,6 +132,13 @@ class ObjectField {
   /// enters (inter-object); one that starts inside compares its distance to the exit point with
   /// the distance stored there for the reverse direction (intra-object, the GPU paper's d1 vs d2).
   FieldAnswer trace(const Vec3f& org, const Vec3f& dir, float tmin, float tmax) const;
+
+  /// trace() for every ray of `rays`, answers into out[0 .. rays.count). With AVX-512 and the
+  /// paper's lookups (nearest position, nearest cell) 16 rays run per step with polynomial
+  /// arctangents and gathered table reads: the answers equal trace()'s except for rays within
+  /// about 1e-5 of a cell's or a sample's border, which may read the neighbour. Otherwise one
+  /// trace() per ray. Thread-safe.
+  void trace_batch(const ObjectRays& rays, FieldAnswer* out) const;
 
   /// The distance (over 2R) below which an intra-object answer counts as the ray's own start
   /// surface: half a cell plus half the positional spacing, so it shrinks as the field grows finer.
@@ -142,9 +159,14 @@ class ObjectField {
   BoundingSphere sphere_;
   SpherePositions positions_;
   std::size_t sample_stride_ = 0;      // bytes per positional sample
-  std::vector<std::uint8_t> cells_;    // sample-major; within a sample, cell j·N + i
+  // Zero bytes after the table, so that the batch may read 32 bits at any cell.
+  static constexpr std::size_t kTablePadding = 4;
+  std::vector<std::uint8_t> cells_;    // sample-major; within a sample, cell j·N + i; then the padding
   std::vector<float> averages_;        // 1-bit variant: mean normalised hit distance per sample
   std::vector<Vec3f> frames_;          // per sample: u, v, w (inward pole) of its hemisphere, 3 entries
+  // The same for the batch, as arrays of floats: 3 rows (x, y, z) of the upper hemisphere's sample
+  // directions, then 9 rows (u.x .. w.z) of the frames; see lookup_rows_.
+  std::vector<float> lookup_rows_;
   float self_offset_ = 0.0f;
   double build_ms_ = 0.0;
   std::size_t rays_traced_ = 0;

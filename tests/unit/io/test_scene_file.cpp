@@ -120,6 +120,9 @@ TEST(SceneFile, AMeshSaysHowFieldOccludersTreatIt) {
   EXPECT_EQ(scene.meshes[0].occluder, MeshOccluder::field);
   EXPECT_EQ(scene.meshes[1].occluder, MeshOccluder::exact);
   EXPECT_EQ(scene.meshes[2].occluder, MeshOccluder::automatic);
+  EXPECT_EQ(scene.meshes[2].field_file, "");
+  const Scene cached = load_scene_file(d.scene(R"({"meshes": [{"path": "meshes/tetra.obj", "field": "fields/tetra.vfield"}]})"));
+  EXPECT_EQ(cached.meshes[0].field_file, (d.dir / "fields/tetra.vfield").string());
   expect_scene_error(R"({"meshes": [{"path": "meshes/tetra.obj", "occluder": "approximate"}]})", "meshes[0].occluder",
                      "expected \"exact\" or \"field\"");
 }

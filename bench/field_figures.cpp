@@ -1,0 +1,240 @@
+#include "field_figures.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "bench_accel.hpp"
+#include "query_runner.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/core/sampling.hpp"
+#include "visfield/io/mesh_loader.hpp"
+#include "visfield/registry/scene_geometry.hpp"
+
+namespace vf::bench {
+namespace {
+
+// The corner of Figure 6: three square faces of 33 x 33 vertices meeting at the origin (the floor
+// y = 0 and the walls x = 0 and z = 0), side kCornerSide; the caster stands on the floor with its
+// bounding sphere (radius 1) kCasterOffset from both walls.
+constexpr int kCornerVertices = 33;
+constexpr float kCornerSide = 3.0f;
+constexpr float kCasterOffset = 1.25f;
+// 256 rays per vertex: the centres of 16 x 16 cells under the concentric map, lifted by Malley.
+constexpr int kRaysPerSide = 16;
+
+struct Receiver {
+  std::vector<Vec3f> points, normals;
+};
+
+Receiver corner_receiver() {
+  Receiver r;
+  const float step = kCornerSide / static_cast<float>(kCornerVertices - 1);
+  for (int face = 0; face < 3; ++face)
+    for (int a = 0; a < kCornerVertices; ++a)
+      for (int b = 0; b < kCornerVertices; ++b) {
+        const float u = step * static_cast<float>(a), v = step * static_cast<float>(b);
+        // floor (normal +y), wall x = 0 (normal +x), wall z = 0 (normal +z)
+        const Vec3f p = face == 0 ? Vec3f{u, 0.0f, v} : face == 1 ? Vec3f{0.0f, u, v} : Vec3f{u, v, 0.0f};
+        const Vec3f n = face == 0 ? Vec3f{0, 1, 0} : face == 1 ? Vec3f{1, 0, 0} : Vec3f{0, 0, 1};
+        r.points.push_back(p);
+        r.normals.push_back(n);
+      }
+  return r;
+}
+
+std::vector<Ray> receiver_rays(const Receiver& r) {
+  std::vector<Ray> rays;
+  rays.reserve(r.points.size() * kRaysPerSide * kRaysPerSide);
+  for (std::size_t v = 0; v < r.points.size(); ++v) {
+    Vec3f tangent, bitangent;
+    orthonormal_basis(r.normals[v], tangent, bitangent);
+    for (int a = 0; a < kRaysPerSide; ++a)
+      for (int b = 0; b < kRaysPerSide; ++b) {
+        const Vec3f l = cosine_hemisphere((static_cast<float>(a) + 0.5f) / kRaysPerSide, (static_cast<float>(b) + 0.5f) / kRaysPerSide);
+        rays.push_back(Ray{r.points[v], tangent * l.x + bitangent * l.y + r.normals[v] * l.z, 1e-4f});
+      }
+  }
+  return rays;
+}
+
+/// Where a caster stands: its bounding sphere's radius and its centre's distance from the walls.
+struct Placement {
+  float radius, x, z;
+};
+
+// The casters alone (the corner only receives), each standing on the floor at its placement by its
+// object transform (so that fields stay in object space, as for any instance).
+Scene corner_scene(const std::vector<std::string>& caster_paths, const std::vector<Placement>& placements) {
+  Scene scene;
+  for (std::size_t c = 0; c < caster_paths.size(); ++c) {
+    LoadedMesh loaded = load_mesh(caster_paths[c]);
+    const TriangleSet set = mesh_triangles(loaded.mesh);
+    if (set.size() == 0) throw Error(caster_paths[c] + ": no triangles of non-zero area");
+    const field::BoundingSphere sphere = field::bounding_sphere_of(set);
+    Transform t;
+    t.scale = placements[c].radius / sphere.radius;
+    const Vec3f centre = sphere.centre * t.scale;
+    t.translation = Vec3f{placements[c].x, -set.bounds.lo.y * t.scale, placements[c].z} - Vec3f{centre.x, 0.0f, centre.z};
+    loaded.mesh.occluder = MeshOccluder::field;
+    scene.meshes.push_back(std::move(loaded.mesh));
+    scene.add_instance(static_cast<std::uint32_t>(c), t);
+  }
+  scene.name = "corner";
+  return scene;
+}
+
+Scene corner_scene(const std::string& caster_path) { return corner_scene({caster_path}, {{1.0f, kCasterOffset, kCasterOffset}}); }
+
+// Ambient occlusion per receiver vertex on the 0-255 scale (255 = unoccluded).
+std::vector<double> vertex_ao(const std::vector<std::uint8_t>& occluded) {
+  constexpr std::size_t per_vertex = kRaysPerSide * kRaysPerSide;
+  std::vector<double> ao(occluded.size() / per_vertex);
+  for (std::size_t v = 0; v < ao.size(); ++v) {
+    std::size_t clear = 0;
+    for (std::size_t k = 0; k < per_vertex; ++k) clear += occluded[v * per_vertex + k] ? 0 : 1;
+    ao[v] = 255.0 * static_cast<double>(clear) / static_cast<double>(per_vertex);
+  }
+  return ao;
+}
+
+double rms(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+std::string format(const char* pattern, double a, double b = 0, double c = 0, double d = 0) {
+  char text[128];
+  std::snprintf(text, sizeof(text), pattern, a, b, c, d);
+  return text;
+}
+
+/// One structure's answers on the figure's rays: seconds (median of 3 after a warm-up) and per-vertex AO.
+struct Run {
+  double build_s = 0.0, ao_s = 0.0;
+  std::vector<double> ao;
+};
+
+Run run(const std::string& spec, SceneGeometry& geometry, const std::vector<Ray>& rays) {
+  BuiltBenchAccel built = build_bench_accel(spec, geometry, {rays.size()}, threads_in_force());
+  const BenchAccel* accels[] = {&built.accel};
+  const std::vector<QueryMeasurement> m = measure_queries(accels, rays, RayKind::ao, {1, 3});
+  return {bench_accel_stats(built.accel).build_ms / 1000.0, m[0].timings.median_ms() / 1000.0, vertex_ao(m[0].results.occluded)};
+}
+
+// The paper's Figure 6: precompute s / AO s / RMS for positions x directions (mach. type 2).
+const char* const kPaperFigure6[3][4] = {
+    {"3.96 / 0.0946 / 2.82", "14.60 / 0.0958 / 2.41", "54.42 / 0.0981 / 2.32", "213.75 / 0.1016 / 2.29"},
+    {"14.06 / 0.0987 / 1.07", "51.23 / 0.1022 / 1.03", "193.25 / 0.1079 / 1.03", "772 / 0.1152 / 1.03"},
+    {"54.79 / 0.1083 / 0.677", "204.27 / 0.1112 / 0.632", "925.05 / 0.1150 / 0.621", "3039.72 / 0.1219 / 0.619"},
+};
+
+void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream& out) {
+  const Run exact = run("bvh", geometry, rays);
+  out << "Exact AO (our BVH): " << format("%.3f s", exact.ao_s);
+  if (kHaveEmbree) out << ", Embree: " << format("%.3f s", run(kEmbreeName, geometry, rays).ao_s);
+  out << " for " << rays.size() << " rays.\n\n";
+  out << "Each cell: precompute s / AO s / RMS (0-255) with the paper's lookup / RMS with bilinear + blend; "
+         "the paper's figures (precompute / AO / RMS, its machine) below ours.\n\n";
+  out << "| positions | 32x32 | 64x64 | 128x128 | 256x256 |\n|---|---|---|---|---|\n";
+  const int positions[] = {290, 1090, 4226, 16642};
+  for (int p = 0; p < 4; ++p) {
+    out << "| " << positions[p];
+    for (const int n : {32, 64, 128, 256}) {
+      const std::string spec = "field:positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(n);
+      const Run paper = run(spec, geometry, rays);
+      const Run blended = run(spec + ",bilinear=1,blend=1", geometry, rays);
+      out << " | " << format("%.2f / %.4f / %.3f / %.3f", paper.build_s, paper.ao_s, rms(paper.ao, exact.ao), rms(blended.ao, exact.ao));
+    }
+    out << " |\n";
+    if (p < 3) {
+      out << "| paper";
+      for (int n = 0; n < 4; ++n) out << " | " << kPaperFigure6[p][n];
+      out << " |\n";
+    }
+  }
+}
+
+void figure5(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream& out) {
+  const Run exact = run("bvh", geometry, rays);
+  out << "4226 positions x 64x64 cells (equal memory), RMS (0-255) of per-vertex AO against the exact values:\n\n"
+      << "| mapping / storage | RMS | paper |\n|---|---|---|\n";
+  for (const char* mapping : {"polar", "rejection", "concentric", "equal-area"}) {
+    const Run r = run(std::string("field:positions=4226,directions=64,mapping=") + mapping, geometry, rays);
+    out << "| " << mapping << " u8 | " << format("%.3f", rms(r.ao, exact.ao)) << " | "
+        << (std::string(mapping) == "concentric" ? "0.632 (Figure 6)" : "-") << " |\n";
+  }
+  const Run bit = run("field:positions=4226,directions=64,storage=bit", geometry, rays);
+  out << "| concentric bit (Figure 7) | " << format("%.3f", rms(bit.ao, exact.ao)) << " | 4.403 |\n";
+}
+
+// The paper's Figure 8 (mach. type 1): triangles, ray casting s, precompute s (4226 x 32^2), AO s.
+struct PaperRow {
+  const char* model;
+  const char* figures;
+};
+constexpr PaperRow kPaperFigure8[] = {{"bunny", "39,000 / 331.10 / 54.79 / 0.228"}, {"igea", "67,200 / 616.35 / 243.76 / 0.204"}};
+
+// Figure 8: each model of `folder` alone in the corner, then three of them together, at 4226 x 32^2.
+void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostream& out) {
+  const char* const models[] = {"cow.obj", "bun_zipper.ply", "igea-triangles.ply", "dragon_vrip_res2.ply", "Armadillo.ply"};
+  out << "4226 positions x 32x32 concentric u8 cells; " << rays.size() << " AO rays from the corner per model.\n\n"
+      << "| model | triangles | exact AO s (BVH) | exact AO s (Embree) | precompute s | field AO s | field vs Embree | RMS (0-255) | paper: triangles / ray casting s / precompute s / AO s |\n"
+      << "|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+  const auto row = [&](const std::string& name, const Scene& scene) {
+    SceneGeometry geometry(scene);
+    const Run exact = run("bvh", geometry, rays);
+    const double embree_s = kHaveEmbree ? run(kEmbreeName, geometry, rays).ao_s : 0.0;
+    const Run field = run("field", geometry, rays);
+    std::string paper = "-";
+    for (const PaperRow& p : kPaperFigure8)
+      if (name.find(p.model) != std::string::npos) paper = p.figures;
+    out << "| " << name << " | " << scene.instanced_triangle_count() << " | " << format("%.3f", exact.ao_s) << " | "
+        << (kHaveEmbree ? format("%.3f", embree_s) : std::string("-")) << " | " << format("%.2f", field.build_s) << " | "
+        << format("%.4f", field.ao_s) << " | " << (kHaveEmbree ? format("%.1fx", embree_s / field.ao_s) : std::string("-")) << " | "
+        << format("%.3f", rms(field.ao, exact.ao)) << " | " << paper << " |\n";
+  };
+  std::vector<std::string> found;
+  for (const char* model : models) {
+    const std::string path = (std::filesystem::path(folder) / model).string();
+    if (!std::filesystem::exists(path)) {
+      out << "| " << model << " | not in " << folder << " | | | | | | | |\n";
+      continue;
+    }
+    found.push_back(path);
+    row(model, corner_scene(path));
+  }
+  if (found.size() >= 3)
+    row("three together", corner_scene({found[0], found[1], found[2]}, {{0.6f, 0.8f, 0.8f}, {0.6f, 2.2f, 0.8f}, {0.6f, 0.8f, 2.2f}}));
+}
+
+}  // namespace
+
+std::vector<std::string> field_figure_names() { return {"fig6", "fig5", "fig8"}; }
+
+void run_field_figure(const std::string& name, const std::string& caster_path, std::ostream& out) {
+  if (name == "fig8") {
+    const std::vector<Ray> rays = receiver_rays(corner_receiver());
+    out << "## fig8: the models of " << caster_path << " in a corner of 3 x " << kCornerVertices << " x " << kCornerVertices
+        << " receiver vertices, " << kRaysPerSide * kRaysPerSide << " concentric rays each, " << threads_in_force() << " threads\n\n";
+    figure8(caster_path, rays, out);
+    return;
+  }
+  const Scene scene = corner_scene(caster_path);
+  SceneGeometry geometry(scene);
+  const std::vector<Ray> rays = receiver_rays(corner_receiver());
+  out << "## " << name << ": " << caster_path << " (" << scene.meshes[0].triangles.size() << " triangles) in a corner of 3 x "
+      << kCornerVertices << " x " << kCornerVertices << " receiver vertices, " << kRaysPerSide * kRaysPerSide
+      << " concentric rays each, " << threads_in_force() << " threads\n\n";
+  if (name == "fig6")
+    figure6(geometry, rays, out);
+  else if (name == "fig5")
+    figure5(geometry, rays, out);
+  else
+    throw Error("--figure " + name + ": unknown figure");
+}
+
+}  // namespace vf::bench
