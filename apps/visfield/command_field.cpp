@@ -22,6 +22,7 @@ struct FieldBuildOptions {
   int directions = 32;
   std::string mapping = "concentric";
   std::string storage = "u8";
+  std::string normals = "none";
   std::string out;
   int threads = 0;
   bool no_progress = false;
@@ -43,7 +44,8 @@ int run_field_build(const FieldBuildOptions& o) {
   if (std::filesystem::path(o.out).extension() != ".vfield") throw Error("-o " + o.out + ": the file name must end in .vfield");
   check_writable(o.out);
   const field::ObjectFieldConfig config = field_config_from_spec(
-      "field:positions=" + o.positions + ",directions=" + std::to_string(o.directions) + ",mapping=" + o.mapping + ",storage=" + o.storage,
+      "field:positions=" + o.positions + ",directions=" + std::to_string(o.directions) + ",mapping=" + o.mapping + ",storage=" + o.storage +
+          ",normals=" + o.normals,
       "");
   ThreadLimit limit(o.threads);
   const Scene scene = load_scene_argument(o.mesh);
@@ -55,7 +57,9 @@ int run_field_build(const FieldBuildOptions& o) {
   field::save_field(built, field::mesh_hash(triangles), o.out);
   std::cout << "wrote " << std::filesystem::absolute(o.out).string() << "\n"
             << "field: " << config.positions << " positions x " << config.directions << "^2 " << field::mapping_name(config.mapping)
-            << " " << field::storage_name(config.storage) << " cells of " << triangles.size() << " triangles, "
+            << " " << field::storage_name(config.storage) << " cells"
+            << (config.normals == field::NormalStorage::none ? std::string() : ", " + field::normals_name(config.normals) + " normals")
+            << " of " << triangles.size() << " triangles, "
             << format_bytes(static_cast<double>(built.memory_bytes())) << ", precomputed in " << built.build_ms() / 1000.0
             << " s (" << built.rays_traced() << " rays, " << limit.threads() << " threads)\n";
   return 0;
@@ -74,10 +78,11 @@ int run_field_info(const std::string& path) {
         hits += f.cell(k, i, j).hit ? 1 : 0;
       }
   const Vec3f& centre = f.sphere().centre;
-  std::cout << "file:        " << path << " (.vfield version " << field::kFieldFileVersion << ")\n"
+  std::cout << "file:        " << path << " (.vfield version " << stored.version << ")\n"
             << "positions:   " << c.positions << "\n"
             << "directions:  " << c.directions << " x " << c.directions << " " << field::mapping_name(c.mapping) << "\n"
             << "storage:     " << field::storage_name(c.storage) << "\n"
+            << "normals:     " << field::normals_name(c.normals) << "\n"
             << "sphere:      centre (" << centre.x << ", " << centre.y << ", " << centre.z << "), radius " << f.sphere().radius << "\n"
             << "mesh hash:   " << std::hex << stored.mesh_hash << std::dec << "\n"
             << "memory:      " << format_bytes(static_cast<double>(f.memory_bytes())) << "\n"
@@ -105,6 +110,9 @@ void register_field_command(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"polar", "rejection", "concentric", "equal-area"}))
       ->capture_default_str();
   b->add_option("--storage", build->storage, "Bits per distance")->check(CLI::IsMember({"u8", "u16", "f32", "bit"}))->capture_default_str();
+  b->add_option("--normals", build->normals, "Normal field beside the distances (octahedral, 8 or 16 bits per coordinate)")
+      ->check(CLI::IsMember({"none", "oct16", "oct32"}))
+      ->capture_default_str();
   b->add_option("-o,--out", build->out, "The .vfield file to write")->required();
   b->add_flag("--no-progress", build->no_progress, "Do not draw the progress bar");
   add_resource_options(*b, build->threads);

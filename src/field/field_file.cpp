@@ -16,7 +16,8 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the .vfield writer assumes a little-endian machine");
 
 constexpr char kMagic[8] = {'V', 'I', 'S', 'F', 'I', 'E', 'L', 'D'};
-constexpr std::size_t kHeaderBytes = 80;
+/// Header bytes of version 1 (no normal field) and of version 2.
+constexpr std::size_t header_bytes(std::uint32_t version) { return version == 1 ? 80 : 88; }
 
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
   for (const char c : bytes) {
@@ -66,14 +67,15 @@ std::uint64_t mesh_hash(const TriangleSet& object_triangles) {
 std::string encode_field(const ObjectField& field, std::uint64_t hash) {
   const ObjectFieldConfig& c = field.config();
   std::string out;
-  out.reserve(kHeaderBytes + field.cell_table().size() + 4 * field.averages().size() + 8);
+  out.reserve(header_bytes(kFieldFileVersion) + field.cell_table().size() + 4 * field.averages().size() + field.normal_table().size() + 8);
   out.append(kMagic, sizeof(kMagic));
   put(out, kFieldFileVersion);
   put(out, static_cast<std::uint32_t>(c.positions));
   put(out, static_cast<std::uint32_t>(c.directions));
   put(out, static_cast<std::uint8_t>(c.mapping));
   put(out, static_cast<std::uint8_t>(c.storage));
-  put(out, std::uint16_t{0});
+  put(out, static_cast<std::uint8_t>(c.normals));
+  put(out, std::uint8_t{0});
   put(out, hash);
   put(out, field.sphere().centre.x);
   put(out, field.sphere().centre.y);
@@ -81,10 +83,12 @@ std::string encode_field(const ObjectField& field, std::uint64_t hash) {
   put(out, field.sphere().radius);
   put(out, static_cast<std::uint64_t>(field.cell_table().size()));
   put(out, static_cast<std::uint64_t>(field.averages().size()));
+  put(out, static_cast<std::uint64_t>(field.normal_table().size()));
   put(out, field.build_ms());
   put(out, static_cast<std::uint64_t>(field.rays_traced()));
   out.append(reinterpret_cast<const char*>(field.cell_table().data()), field.cell_table().size());
   out.append(reinterpret_cast<const char*>(field.averages().data()), 4 * field.averages().size());
+  out.append(reinterpret_cast<const char*>(field.normal_table().data()), field.normal_table().size());
   put(out, fnv1a(out));
   return out;
 }
@@ -93,10 +97,11 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   Reader in(bytes, name);
   if (in.take(sizeof(kMagic)) != std::string_view(kMagic, sizeof(kMagic))) throw Error(name + ": not a .vfield file (no VISFIELD signature)");
   const auto version = in.get<std::uint32_t>();
-  if (version != kFieldFileVersion)
-    throw Error(name + ": .vfield version " + std::to_string(version) + ", this visfield reads version " +
+  if (version != 1 && version != kFieldFileVersion)
+    throw Error(name + ": .vfield version " + std::to_string(version) + ", this visfield reads versions 1 and " +
                 std::to_string(kFieldFileVersion) + " (rebuild it with visfield field build)");
-  if (bytes.size() < kHeaderBytes + 8) throw Error(name + ": the file is cut short (not a complete .vfield file)");
+  const std::size_t header = header_bytes(version);
+  if (bytes.size() < header + 8) throw Error(name + ": the file is cut short (not a complete .vfield file)");
   const std::uint64_t stored_sum = [&] {
     std::uint64_t sum;
     std::memcpy(&sum, bytes.data() + bytes.size() - 8, 8);
@@ -109,12 +114,14 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   config.positions = static_cast<int>(std::min<std::uint32_t>(in.get<std::uint32_t>(), 1u << 30));
   config.directions = static_cast<int>(std::min<std::uint32_t>(in.get<std::uint32_t>(), 1u << 30));
   const auto mapping = in.get<std::uint8_t>(), storage = in.get<std::uint8_t>();
-  const auto reserved = in.get<std::uint16_t>();
+  const auto normals = in.get<std::uint8_t>(), reserved = in.get<std::uint8_t>();
   if (mapping >= kMappingCount) throw Error(name + ": unknown direction mapping " + std::to_string(mapping));
   if (storage >= kStorageCount) throw Error(name + ": unknown cell storage " + std::to_string(storage));
+  if (normals >= kNormalStorageCount || (version == 1 && normals != 0)) throw Error(name + ": unknown normal storage " + std::to_string(normals));
   if (reserved != 0) throw Error(name + ": reserved header bytes are not zero");
   config.mapping = static_cast<HemisphereMapping>(mapping);
   config.storage = static_cast<CellStorage>(storage);
+  config.normals = static_cast<NormalStorage>(normals);
   try {
     config.validate();
   } catch (const Error& e) {
@@ -128,23 +135,28 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   sphere.radius = in.get<float>();
   const auto cell_bytes = in.get<std::uint64_t>();
   const auto average_count = in.get<std::uint64_t>();
+  const auto normal_bytes = version == 1 ? std::uint64_t{0} : in.get<std::uint64_t>();
   const auto build_ms = in.get<double>();
   const auto rays = in.get<std::uint64_t>();
 
   const std::uint64_t cells_per_sample = static_cast<std::uint64_t>(config.directions) * static_cast<std::uint64_t>(config.directions);
-  const std::uint64_t expected_cells =
-      static_cast<std::uint64_t>(config.positions) * ((cells_per_sample * static_cast<std::uint64_t>(cell_bits(config.storage)) + 7) / 8);
-  const std::uint64_t expected_averages = config.storage == CellStorage::bit ? static_cast<std::uint64_t>(config.positions) : 0;
-  if (cell_bytes != expected_cells || average_count != expected_averages)
+  const std::uint64_t positions = static_cast<std::uint64_t>(config.positions);
+  const std::uint64_t expected_cells = positions * ((cells_per_sample * static_cast<std::uint64_t>(cell_bits(config.storage)) + 7) / 8);
+  const std::uint64_t expected_normals = positions * cells_per_sample * static_cast<std::uint64_t>(normal_bits(config.normals)) / 8;
+  const std::uint64_t expected_averages = config.storage == CellStorage::bit ? positions : 0;
+  if (cell_bytes != expected_cells || average_count != expected_averages || normal_bytes != expected_normals)
     throw Error(name + ": the header's table sizes do not match its parameters (corrupted file)");
-  if (bytes.size() != kHeaderBytes + cell_bytes + 4 * average_count + 8)
-    throw Error(name + ": " + std::to_string(bytes.size()) + " bytes, its header describes " +
-                std::to_string(kHeaderBytes + cell_bytes + 4 * average_count + 8));
-  require_memory(static_cast<double>(cell_bytes) + 4.0 * static_cast<double>(average_count), name + "'s field");
+  const std::uint64_t total = header + cell_bytes + 4 * average_count + normal_bytes + 8;
+  if (bytes.size() != total)
+    throw Error(name + ": " + std::to_string(bytes.size()) + " bytes, its header describes " + std::to_string(total));
+  require_memory(static_cast<double>(cell_bytes) + 4.0 * static_cast<double>(average_count) + static_cast<double>(normal_bytes),
+                 name + "'s field");
   const std::string_view cell_data = in.take(cell_bytes);
   std::vector<std::uint8_t> cells(cell_data.begin(), cell_data.end());
   std::vector<float> averages(average_count);
   if (average_count > 0) std::memcpy(averages.data(), in.take(4 * average_count).data(), 4 * average_count);
+  const std::string_view normal_data = in.take(normal_bytes);
+  std::vector<std::uint8_t> normal_codes(normal_data.begin(), normal_data.end());
   for (const float a : averages)
     if (!(a >= 0.0f && a <= 1.0f)) throw Error(name + ": an average distance outside [0, 1] (corrupted file)");
   if (config.storage == CellStorage::f32) {
@@ -156,7 +168,7 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   }
   if (!std::isfinite(build_ms) || build_ms < 0.0) throw Error(name + ": a precompute time that is not a finite duration");
   try {
-    return {ObjectField::from_tables(config, sphere, std::move(cells), std::move(averages), build_ms, rays), hash};
+    return {ObjectField::from_tables(config, sphere, std::move(cells), std::move(averages), std::move(normal_codes), build_ms, rays), hash, version};
   } catch (const Error& e) {
     throw Error(name + ": " + e.what());
   }
@@ -183,8 +195,9 @@ StoredField load_field(const std::filesystem::path& path, std::optional<std::uin
   ObjectFieldConfig config = stored.field.config();
   config.direction_lookup = lookups.direction_lookup;
   config.position_lookup = lookups.position_lookup;
-  const std::span<const std::uint8_t> table = stored.field.cell_table();
-  stored.field = ObjectField::from_tables(config, stored.field.sphere(), std::vector<std::uint8_t>(table.begin(), table.end()), stored.field.averages(),
+  const std::span<const std::uint8_t> table = stored.field.cell_table(), normal_codes = stored.field.normal_table();
+  stored.field = ObjectField::from_tables(config, stored.field.sphere(), std::vector<std::uint8_t>(table.begin(), table.end()),
+                                          stored.field.averages(), std::vector<std::uint8_t>(normal_codes.begin(), normal_codes.end()),
                                           stored.field.build_ms(), stored.field.rays_traced());
   return stored;
 }

@@ -65,7 +65,8 @@ std::string cache_path(const TriangleMesh& mesh, std::uint64_t hash, const Objec
   std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(hash));
   return (std::filesystem::path(cache_folder) / (name + "-" + hex + "-" + std::to_string(config.positions) + "x" +
                                                  std::to_string(config.directions) + "-" + mapping_name(config.mapping) + "-" +
-                                                 storage_name(config.storage) + ".vfield"))
+                                                 storage_name(config.storage) +
+                                                 (config.normals == NormalStorage::none ? "" : "-" + normals_name(config.normals)) + ".vfield"))
       .string();
 }
 
@@ -121,8 +122,8 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
     }
     const ObjectField* field = result.fields_[object.mesh].get();
     const BoundingSphere& s = field->sphere();
-    result.objects_.push_back({object.id, field, object.transform.inverse(), object.transform.apply_point(s.centre),
-                               s.radius * object.transform.scale});
+    result.objects_.push_back({object.id, field, object.transform.inverse(), object.transform.rotation,
+                               object.transform.apply_point(s.centre), s.radius * object.transform.scale});
   }
   if (exact.size() > 0) {
     result.exact_.emplace(Bvh::build(exact));
@@ -136,35 +137,39 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
 }
 
 bool FieldScene::may_meet(const Object& o, const Ray& ray) {
-  // Distance from the centre to the ray's line, and whether the sphere lies within [tmin, tmax].
+  // Distance from the centre to the ray's line, and whether the sphere lies within [tmin, tmax];
+  // the sphere is widened by 1e-3 of its radius so that rounding never culls a ray the object-space
+  // test would let in (the batch must answer as the single-ray query does).
+  const float radius = o.radius * 1.001f;
   const Vec3f oc = o.centre - ray.org;
   const float dd = dot(ray.dir, ray.dir);
   const float along = dot(oc, ray.dir);
   const Vec3f perpendicular = oc - ray.dir * (along / dd);
-  if (dot(perpendicular, perpendicular) > o.radius * o.radius) return false;
-  const float reach = o.radius * std::sqrt(dd);
+  if (dot(perpendicular, perpendicular) > radius * radius) return false;
+  const float reach = radius * std::sqrt(dd);
   return along + reach >= ray.tmin * dd && along - reach <= ray.tmax * dd;
+}
+
+Hit FieldScene::field_hit(const Object& o, const FieldAnswer& a) {
+  if (!a.has_normal) return Hit::surface(a.t, o.id);
+  const Vec3f normal = o.rotation * Vec3f{a.normal.x, a.normal.y, a.normal.z};
+  return Hit::surface(a.t, o.id, &normal);
 }
 
 Hit FieldScene::intersect(const Ray& ray) const {
   Hit best = exact_ ? exact_->intersect(ray) : Hit{};
   for (const Object& o : objects_) {
-    if (!may_meet(o, ray)) continue;
+    if (objects_.size() > 1 && !may_meet(o, ray)) continue;
     const Ray local = o.to_object.apply(ray);
     const FieldAnswer a = o.field->trace(local.org, local.dir, ray.tmin, best.found ? best.t : ray.tmax);
-    if (a.hit && (!best.found || a.t < best.t)) {
-      best = Hit{};
-      best.found = true;
-      best.t = a.t;
-      best.instance = o.id;
-    }
+    if (a.hit && (!best.found || a.t < best.t)) best = field_hit(o, a);
   }
   return best;
 }
 
 bool FieldScene::occluded(const Ray& ray) const {
   for (const Object& o : objects_) {
-    if (!may_meet(o, ray)) continue;
+    if (objects_.size() > 1 && !may_meet(o, ray)) continue;
     const Ray local = o.to_object.apply(ray);
     if (o.field->trace(local.org, local.dir, ray.tmin, ray.tmax).hit) return true;
   }
@@ -192,36 +197,34 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
     else
       occluded[i] = exact_ && exact_->occluded(rays[i]) ? 1 : 0;
   }
-  std::vector<float> soa(8 * n);
+  if (objects_.empty()) return;
   std::vector<std::uint32_t> index(n);
+  std::vector<float> limit(closest ? n : 0);
   std::vector<FieldAnswer> answers(n);
+  const bool cull = objects_.size() > 1;
   for (const Object& o : objects_) {
-    // This object's candidate rays, mapped into its space, as arrays.
+    // This object's candidate rays: those still open, and, among several objects, those that may
+    // meet its sphere; a closest-hit search ends at the best hit so far.
     std::size_t m = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (!closest && occluded[i]) continue;
-      Ray ray = rays[i];
-      if (closest && best[i].found) ray.tmax = best[i].t;
-      if (!may_meet(o, ray)) continue;
-      const Ray local = o.to_object.apply(ray);
-      const float values[8] = {local.org.x, local.org.y, local.org.z, local.dir.x, local.dir.y, local.dir.z, ray.tmin, ray.tmax};
-      for (int k = 0; k < 8; ++k) soa[static_cast<std::size_t>(k) * n + m] = values[k];
+      if (closest) limit[i] = best[i].found ? best[i].t : rays[i].tmax;
+      if (cull) {
+        Ray ray = rays[i];
+        if (closest) ray.tmax = limit[i];
+        if (!may_meet(o, ray)) continue;
+      }
       index[m++] = static_cast<std::uint32_t>(i);
     }
     if (m == 0) continue;
-    const float* a = soa.data();
-    o.field->trace_batch({a, a + n, a + 2 * n, a + 3 * n, a + 4 * n, a + 5 * n, a + 6 * n, a + 7 * n, m}, answers.data());
+    o.field->trace_rays(rays.data(), index.data(), m, o.to_object, closest ? limit.data() : nullptr, answers.data());
     for (std::size_t k = 0; k < m; ++k) {
       if (!answers[k].hit) continue;
       const std::size_t i = index[k];
-      if (!closest) {
+      if (!closest)
         occluded[i] = 1;
-      } else if (!best[i].found || answers[k].t < best[i].t) {
-        best[i] = Hit{};
-        best[i].found = true;
-        best[i].t = answers[k].t;
-        best[i].instance = o.id;
-      }
+      else if (!best[i].found || answers[k].t < best[i].t)
+        best[i] = field_hit(o, answers[k]);
     }
   }
 }

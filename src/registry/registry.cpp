@@ -253,6 +253,8 @@ constexpr ParamSpec kFieldParams[] = {
      "polar|rejection|concentric|equal-area"},
     {"storage", ParamType::choice, "u8", "bits of a distance: u8, u16, f32, or bit (visibility + mean distance)", 0, 0,
      "u8|u16|f32|bit"},
+    {"normals", ParamType::choice, "none", "normal field beside the distances: none, oct16 or oct32 (octahedral, 8 or 16 bits per coordinate)",
+     0, 0, "none|oct16|oct32"},
     {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0},
     {"blend", ParamType::boolean, "0", "blend the three positional samples around the entry point", 0, 0},
     {"cache", ParamType::text, "", "folder where each mesh's .vfield is read from, or written to when missing", 0, 0},
@@ -266,6 +268,8 @@ field::ObjectFieldConfig field_config(const ParamValues& p) {
     if (field::mapping_name(static_cast<field::HemisphereMapping>(m)) == p.text("mapping")) c.mapping = static_cast<field::HemisphereMapping>(m);
   for (int s = 0; s < field::kStorageCount; ++s)
     if (field::storage_name(static_cast<field::CellStorage>(s)) == p.text("storage")) c.storage = static_cast<field::CellStorage>(s);
+  for (int s = 0; s < field::kNormalStorageCount; ++s)
+    if (field::normals_name(static_cast<field::NormalStorage>(s)) == p.text("normals")) c.normals = static_cast<field::NormalStorage>(s);
   c.direction_lookup = p.boolean("bilinear") ? field::DirectionLookup::bilinear : field::DirectionLookup::nearest;
   c.position_lookup = p.boolean("blend") ? field::PositionLookup::blend : field::PositionLookup::nearest;
   return c;

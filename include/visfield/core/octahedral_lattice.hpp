@@ -41,11 +41,11 @@ VF_HOST_DEVICE inline hd::Vec3<Real> point_direction(int i, int j, int n) {
 }
 
 /// Continuous lattice coordinates (a, b) of unit direction `d` with d.z >= 0: the inverse of
-/// point_direction, so that |a| + |b| <= n.
+/// point_direction, so that |a| + |b| <= n. In float the angle is hd::lookup_atan2's polynomial.
 template <class Real>
 VF_HOST_DEVICE inline void coordinates(const hd::Vec3<Real>& d, int n, Real& a, Real& b) {
   const Real r = hd::sqrt(hd::max(Real(0), Real(1) - d.z));
-  const Real phi = hd::atan2(hd::abs(d.y), hd::abs(d.x));
+  const Real phi = hd::lookup_atan2(hd::abs(d.y), hd::abs(d.x));
   const Real v = r * phi / (hd::kPi<Real> / 2), u = r - v;
   a = d.x > 0 ? n * u : (d.x < 0 ? -n * u : Real(0));
   b = d.y > 0 ? n * v : (d.y < 0 ? -n * v : Real(0));

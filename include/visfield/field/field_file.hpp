@@ -1,10 +1,12 @@
 #pragma once
 /// \file The .vfield file: one ObjectField on disk, versioned and checksummed, tied to its mesh.
 ///
-/// Layout (little-endian): "VISFIELD", u32 version (1), u32 positions, u32 directions, u8 mapping,
-/// u8 storage, u16 zero, u64 mesh hash, f32 sphere centre x y z, f32 radius, u64 cell bytes,
-/// u64 average count, f64 precompute ms, u64 rays traced (80 bytes of header); the cell table;
-/// the averages (f32, 1-bit variant only); u64 FNV-1a checksum of everything before it.
+/// Layout (little-endian), version 2: "VISFIELD", u32 version, u32 positions, u32 directions,
+/// u8 mapping, u8 storage, u8 normals, u8 zero, u64 mesh hash, f32 sphere centre x y z, f32 radius,
+/// u64 cell bytes, u64 average count, u64 normal bytes, f64 precompute ms, u64 rays traced (88 bytes
+/// of header); the cell table; the averages (f32, 1-bit variant only); the normal table; u64 FNV-1a
+/// checksum of everything before it. Version 1 (read, not written) had no normal field: its header
+/// lacks the normal byte count (80 bytes) and its normals byte is zero.
 
 #include <cstdint>
 #include <filesystem>
@@ -17,8 +19,8 @@
 
 namespace vf::field {
 
-/// The version this build writes and reads.
-inline constexpr std::uint32_t kFieldFileVersion = 1;
+/// The version this build writes (it reads this one and version 1).
+inline constexpr std::uint32_t kFieldFileVersion = 2;
 
 /// FNV-1a hash of a mesh's object-space triangles (corner bits, in order): what ties a field to the
 /// mesh it was precomputed for. O(triangles).
@@ -28,6 +30,7 @@ std::uint64_t mesh_hash(const TriangleSet& object_triangles);
 struct StoredField {
   ObjectField field;
   std::uint64_t mesh_hash = 0;
+  std::uint32_t version = kFieldFileVersion;  ///< The file's format version.
 };
 
 /// The bytes of a .vfield file for `field` of the mesh hashing to `hash`.

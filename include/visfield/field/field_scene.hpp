@@ -2,8 +2,9 @@
 /// \file The ObjectFields of a scene as one approximate structure: one field per mesh, shared by
 /// every object (instance) of that mesh, each object reached through its inverse transform; meshes
 /// marked MeshOccluder::exact (grounds, walls: the receivers) stay exact triangles in a BVH beside
-/// them. It answers both query roles (a field hit has a distance and an object, no triangle and no
-/// normal), and is meant for the occlusion role: AO and shadow rays (`--occluder field`).
+/// them. It answers both query roles (a field hit has a distance, an object and, with a normal
+/// field, a normal; no triangle), and is meant for the occlusion role: AO and shadow rays
+/// (`--occluder field`), and for approximate hit points off field objects (glossy reflections).
 
 #include <cstdint>
 #include <functional>
@@ -41,7 +42,7 @@ class FieldScene {
   static std::size_t progress_total(const Scene& scene, const ObjectFieldConfig& config);
 
   /// Closest hit in [tmin, tmax] over every object: the exact part's hit or a nearer field answer
-  /// (with the object's id, no triangle and no normal).
+  /// (with the object's id, no triangle, and the world-space normal when the fields have normals).
   Hit intersect(const Ray& ray) const;
   /// Occlusion: whether some object's field, or the exact part, reports a hit in [tmin, tmax].
   bool occluded(const Ray& ray) const;
@@ -67,16 +68,19 @@ class FieldScene {
   /// occluded; the batch queries run it per block in parallel.
   void trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const;
 
-  /// One object: its field, its world-to-object map and its world-space sphere.
+  /// One object: its field, its world-to-object map, its rotation (for normals) and its world-space sphere.
   struct Object {
     ObjectId id;
     const ObjectField* field;
     InverseTransform to_object;
+    Mat3 rotation;
     Vec3f centre;
     float radius;
   };
-  /// Whether `ray` (world space) can meet object `o`'s sphere within its [tmin, tmax].
+  /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
   static bool may_meet(const Object& o, const Ray& ray);
+  /// The world-space hit of field answer `a` of object `o` (its normal rotated to world space).
+  static Hit field_hit(const Object& o, const FieldAnswer& a);
 
   std::vector<std::shared_ptr<const ObjectField>> fields_;  // by mesh index; null when unused
   std::vector<Object> objects_;
@@ -84,9 +88,9 @@ class FieldScene {
   AccelStats stats_;
 };
 
-/// Batch occlusion through a FieldScene: occluded[i] is occluded(rays[i]) up to the batch's rounding
-/// (ObjectField::trace_batch), parallel over blocks of rays; each object's candidate rays are traced
-/// 16 at a time. Spans of equal size. Throws vf::Interrupted on a signal.
+/// Batch occlusion through a FieldScene: occluded[i] is occluded(rays[i]) bit for bit, parallel over
+/// blocks of rays; each object's candidate rays are traced 16 (AVX-512) or 8 (AVX2) at a time
+/// (ObjectField::trace_rays). Spans of equal size. Throws vf::Interrupted on a signal.
 void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
 
 /// Batch closest hits through a FieldScene, as occluded_batch() above: hits[i] is intersect(rays[i]).

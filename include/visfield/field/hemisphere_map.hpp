@@ -56,11 +56,10 @@ VF_HOST_DEVICE inline void disk_to_concentric(Real x, Real y, Real& s, Real& t) 
   if (r > Real(0)) {
     if (hd::abs(x) >= hd::abs(y)) {
       a = hd::copysign(r, x);
-      // atan(y/x) for x of either sign: atan2(y·sgn x, |x|).
-      b = a * (4 / hd::kPi<Real>) * hd::atan2(hd::copysign(Real(1), x) * y, hd::abs(x));
+      b = a * (4 / hd::kPi<Real>) * hd::atan_unit(y / x);
     } else {
       b = hd::copysign(r, y);
-      a = b * (4 / hd::kPi<Real>) * hd::atan2(hd::copysign(Real(1), y) * x, hd::abs(y));
+      a = b * (4 / hd::kPi<Real>) * hd::atan_unit(x / y);
     }
   }
   s = (a + 1) / 2;
@@ -108,11 +107,11 @@ template <class Real>
 VF_HOST_DEVICE inline void direction_to_square(HemisphereMapping mapping, const hd::Vec3<Real>& w, Real& s, Real& t) {
   switch (mapping) {
     case HemisphereMapping::polar: {
-      Real phi = hd::atan2(w.y, w.x);
+      Real phi = hd::lookup_atan2(w.y, w.x);
       if (phi < 0) phi += 2 * hd::kPi<Real>;
       s = phi / (2 * hd::kPi<Real>);
       if (s >= Real(1)) s = Real(0);
-      t = hd::atan2(hd::sqrt(w.x * w.x + w.y * w.y), w.z) / (hd::kPi<Real> / 2);
+      t = hd::lookup_atan2(hd::sqrt(w.x * w.x + w.y * w.y), w.z) / (hd::kPi<Real> / 2);
       return;
     }
     case HemisphereMapping::rejection_malley:

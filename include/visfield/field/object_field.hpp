@@ -5,9 +5,10 @@
 /// two-hemisphere octahedral set, sphere_positions.hpp); at each sample an N×N table over the
 /// hemisphere around the inward normal (hemisphere_map.hpp) whose cells hold the distance from
 /// the sample to the mesh along the cell's direction, normalised by the diameter 2R
-/// (cell_codec.hpp). A query answers in constant time, whatever the triangle count: it is an
-/// approximate occluder. Object space throughout; instances map rays in (a field is shared by
-/// every instance of its mesh).
+/// (cell_codec.hpp), and optionally the normal of the surface hit (normal_codec.hpp, the GPU
+/// paper's normal fields). A query (field_query.hpp) answers in constant time, whatever the
+/// triangle count: it is an approximate occluder. Object space throughout; instances map rays in
+/// (a field is shared by every instance of its mesh).
 
 #include <cstddef>
 #include <cstdint>
@@ -18,31 +19,21 @@
 
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/core/vec.hpp"
-#include "visfield/field/cell_codec.hpp"
-#include "visfield/field/hemisphere_map.hpp"
+#include "visfield/core/ray.hpp"
+#include "visfield/core/transform.hpp"
+#include "visfield/field/field_query.hpp"
 #include "visfield/field/sphere_positions.hpp"
 
 namespace vf::field {
 
-/// How a query reads the direction table of a positional sample.
-enum class DirectionLookup : unsigned char {
-  nearest = 0,   ///< The cell the direction falls in (the paper).
-  bilinear = 1,  ///< The four nearest cell centres, weighted bilinearly (hits vote, hit distances average).
-};
-
-/// Which positional samples a query reads.
-enum class PositionLookup : unsigned char {
-  nearest = 0,  ///< The sample nearest to the point where the ray meets the sphere (the paper).
-  blend = 1,    ///< The three samples of the lattice triangle around it, barycentric weights.
-};
-
 /// Parameters of a field. Defaults: the papers' 4226 positions × 32² concentric+Malley u8 cells,
-/// looked up as the paper does.
+/// no normal field, looked up as the paper does.
 struct ObjectFieldConfig {
   int positions = 4226;  ///< Positional samples: 290, 1090, 4226 or 16642 (levels 3–6).
   int directions = 32;   ///< N of the N×N direction table per sample, in [8, 256].
   HemisphereMapping mapping = HemisphereMapping::concentric_malley;
   CellStorage storage = CellStorage::u8;
+  NormalStorage normals = NormalStorage::none;  ///< A normal per cell beside the distance (GPU paper's normal fields).
   DirectionLookup direction_lookup = DirectionLookup::nearest;
   PositionLookup position_lookup = PositionLookup::nearest;
 
@@ -62,12 +53,6 @@ struct BoundingSphere {
 /// distance from it to a corner, enlarged by 1e-4 relative so that no surface touches it.
 BoundingSphere bounding_sphere_of(const TriangleSet& triangles);
 
-/// An approximate answer in object space: a hit at ray parameter t, or a miss.
-struct FieldAnswer {
-  bool hit = false;
-  float t = 0.0f;
-};
-
 /// Object-space rays as arrays (structure of arrays) for ObjectField::trace_batch: origin, direction
 /// (any non-zero length) and [tmin, tmax], `count` of each. The arrays are the caller's.
 struct ObjectRays {
@@ -79,21 +64,24 @@ struct ObjectRays {
 class ObjectField {
  public:
   /// Precomputes the field of `object_triangles` (object space, non-empty): for every positional
-  /// sample and used cell, one closest-hit ray through an exact BVH, in parallel (TBB). Refuses
-  /// with vf::Error before allocating when estimate_bytes() exceeds the memory limit; throws
+  /// sample and used cell, one closest-hit ray through an exact BVH, in parallel (TBB); with a
+  /// normal field, the hit triangle's unit geometric normal beside the distance. Refuses with
+  /// vf::Error before allocating when estimate_build_bytes() exceeds the memory limit; throws
   /// vf::Interrupted on a signal. `progress(n)` (optional, thread-safe) is told of n more samples done.
   static ObjectField build(const TriangleSet& object_triangles, const ObjectFieldConfig& config,
                            const std::function<void(std::size_t)>& progress = {});
 
-  /// A field from stored tables (a .vfield file): `cells` as cell_table() returns them, `averages`
-  /// one per position for CellStorage::bit (else empty). Throws vf::Error when a size does not
-  /// match `config` or the sphere is not finite and positive.
+  /// A field from stored tables (a .vfield file): `cells` and `normals` as cell_table() and
+  /// normal_table() return them, `averages` one per position for CellStorage::bit (else empty).
+  /// Throws vf::Error when a size does not match `config` or the sphere is not finite and positive.
   static ObjectField from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::vector<std::uint8_t> cells,
-                                 std::vector<float> averages, double build_ms, std::size_t rays_traced);
+                                 std::vector<float> averages, std::vector<std::uint8_t> normals, double build_ms,
+                                 std::size_t rays_traced);
 
-  /// Bytes of the field's tables for `config`: positions × ⌈N² × bits per cell / 8⌉, plus per
-  /// position 72 bytes of hemisphere frame and sample direction (twice: per sample and as arrays
-  /// for the batch) and, for the 1-bit variant, 4 of average distance; 4 bytes of padding.
+  /// Bytes a field of `config` holds: positions × N² × (bits per cell + bits per normal) / 8
+  /// (each sample's distance table rounded up to whole bytes), plus per position 6 bytes of sample
+  /// direction (12 per upper sample) and, for the 1-bit variant, 4 of average distance; 4 bytes of
+  /// padding per table.
   static double table_bytes(const ObjectFieldConfig& config);
   /// Peak bytes build() takes for `triangles` triangles: the tables plus the exact BVH's build.
   static double estimate_build_bytes(std::size_t triangles, const ObjectFieldConfig& config);
@@ -103,42 +91,57 @@ class ObjectField {
   /// The bounding sphere of the object.
   const BoundingSphere& sphere() const { return sphere_; }
   /// Number of positional samples.
-  std::size_t position_count() const { return positions_.size(); }
-  /// Bytes held by the tables and the per-sample frames (table_bytes() of the config).
+  std::size_t position_count() const { return 2 * upper_.size(); }
+  /// Bytes held (table_bytes() of the config).
   std::size_t memory_bytes() const {
-    return cells_.capacity() + averages_.capacity() * sizeof(float) + frames_.capacity() * sizeof(Vec3f) +
-           lookup_rows_.capacity() * sizeof(float);
+    return cells_.capacity() + normals_.capacity() + averages_.capacity() * sizeof(float) + upper_.capacity() * sizeof(upper_[0]);
   }
   /// Wall-clock precompute time in milliseconds.
   double build_ms() const { return build_ms_; }
   /// Rays traced by the precompute (used cells × positions).
   std::size_t rays_traced() const { return rays_traced_; }
 
-  /// The raw table: per positional sample ⌈N² × bits / 8⌉ bytes, cell (i, j) at j·N + i, each
-  /// encoded as cell_codec.hpp says (u16 and f32 little-endian, bits from the low end of a byte).
+  /// The raw distance table: per positional sample sample_stride() bytes, cell (i, j) at j·N + i,
+  /// each encoded as cell_codec.hpp says (u16 and f32 little-endian, bits from the low end of a byte).
   std::span<const std::uint8_t> cell_table() const { return {cells_.data(), cells_.size() - kTablePadding}; }
+  /// The raw normal table (empty without a normal field): per sample normal_stride() bytes, cell
+  /// (i, j) at (j·N + i) × 2 or × 4 bytes, little-endian normal_codec.hpp codes.
+  std::span<const std::uint8_t> normal_table() const {
+    return normals_.empty() ? std::span<const std::uint8_t>{} : std::span<const std::uint8_t>{normals_.data(), normals_.size() - kTablePadding};
+  }
   /// The 1-bit variant's mean normalised hit distance per sample (empty for other storage).
   const std::vector<float>& averages() const { return averages_; }
-  /// Bytes of one positional sample's table.
+  /// Bytes of one positional sample's distance table.
   std::size_t sample_stride() const { return sample_stride_; }
+  /// Bytes of one positional sample's normal table (0 without a normal field).
+  std::size_t normal_stride() const { return normal_stride_; }
   /// Whether `config` (lookup options aside) equals `other`'s: the same tables.
   static bool same_tables(const ObjectFieldConfig& config, const ObjectFieldConfig& other);
+  /// What the query code reads (field_query.hpp), borrowed from this field.
+  FieldTables tables() const;
 
-  /// Cell (i, j) of sample `sample`: whether it holds a hit, and the hit's distance over 2R (decoded).
+  /// Cell (i, j) of sample `sample`: whether it holds a hit, the hit's distance over 2R (decoded)
+  /// and, with a normal field, its normal.
   FieldAnswer cell(std::size_t sample, int i, int j) const;
 
   /// The field's answer for the object-space ray org + t·dir (dir non-zero, any length), within
-  /// [tmin, tmax]. A ray that starts outside the sphere reads the table of the sample where it
-  /// enters (inter-object); one that starts inside compares its distance to the exit point with
-  /// the distance stored there for the reverse direction (intra-object, the GPU paper's d1 vs d2).
+  /// [tmin, tmax]: trace_field() of field_query.hpp. O(1).
   FieldAnswer trace(const Vec3f& org, const Vec3f& dir, float tmin, float tmax) const;
 
-  /// trace() for every ray of `rays`, answers into out[0 .. rays.count). With AVX-512 and the
-  /// paper's lookups (nearest position, nearest cell) 16 rays run per step with polynomial
-  /// arctangents and gathered table reads: the answers equal trace()'s except for rays within
-  /// about 1e-5 of a cell's or a sample's border, which may read the neighbour. Otherwise one
-  /// trace() per ray. Thread-safe.
-  void trace_batch(const ObjectRays& rays, FieldAnswer* out) const;
+  /// trace() for every ray of `rays`, answers into out[0 .. rays.count), bit for bit, `width` rays
+  /// per step: 0 for the widest this build runs (16 with AVX-512, 8 with AVX2, else 1), or 16, 8
+  /// or 1 to compare them (batch_width() says what a request runs). Thread-safe.
+  void trace_batch(const ObjectRays& rays, FieldAnswer* out, int width = 0) const;
+
+  /// trace() for the world-space rays rays[index[k]], k < count, each mapped by `to_object` (as
+  /// InverseTransform::apply maps it) and limited to [tmin, limit[index[k]]] when `limit` is given
+  /// (else [tmin, tmax]); answers (object-space normals) into out[0 .. count), bit for bit those of
+  /// trace() on the mapped rays; `width` as for trace_batch(). `rays` holds fewer than 2^28 rays.
+  /// Thread-safe.
+  void trace_rays(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
+                  const float* limit, FieldAnswer* out, int width = 0) const;
+  /// The lanes per step a batch query asked for `width` runs in this build: 16, 8 or 1.
+  static int batch_width(int width = 0);
 
   /// The distance (over 2R) below which an intra-object answer counts as the ray's own start
   /// surface: half a cell plus half the positional spacing, so it shrinks as the field grows finer.
@@ -146,27 +149,20 @@ class ObjectField {
 
  private:
   ObjectField(const ObjectFieldConfig& config, const BoundingSphere& sphere);
-  /// The table's answer (normalised) for sample `sample` and world-space unit direction `d` pointing into the sphere.
-  FieldAnswer read(std::size_t sample, const Vec3f& d) const;
-  /// The answer for point `p` on the sphere (unit direction `from_centre`) and inward unit `d`, by the position lookup.
-  FieldAnswer read_at(const Vec3f& from_centre, const Vec3f& d) const;
-  /// Fills frames_ from the positional samples (each hemisphere's pole points inward).
-  void compute_frames();
-  /// Sets cell (i, j) of `sample` (build only).
-  void store(std::size_t sample, int i, int j, bool hit, float x);
+  /// Sets cell (i, j) of `sample` (build only); `normal` is the hit's geometric normal.
+  void store(std::size_t sample, int i, int j, bool hit, float x, const Vec3f& normal);
 
   ObjectFieldConfig config_;
   BoundingSphere sphere_;
-  SpherePositions positions_;
+  int lattice_n_ = 0;
   std::size_t sample_stride_ = 0;      // bytes per positional sample
-  // Zero bytes after the table, so that the batch may read 32 bits at any cell.
+  std::size_t normal_stride_ = 0;      // bytes per positional sample of the normal table
+  // Zero bytes after each table, so that the batch may read 32 bits at any cell.
   static constexpr std::size_t kTablePadding = 4;
   std::vector<std::uint8_t> cells_;    // sample-major; within a sample, cell j·N + i; then the padding
+  std::vector<std::uint8_t> normals_;  // the same layout for the normal codes (empty without normals)
   std::vector<float> averages_;        // 1-bit variant: mean normalised hit distance per sample
-  std::vector<Vec3f> frames_;          // per sample: u, v, w (inward pole) of its hemisphere, 3 entries
-  // The same for the batch, as arrays of floats: 3 rows (x, y, z) of the upper hemisphere's sample
-  // directions, then 9 rows (u.x .. w.z) of the frames; see lookup_rows_.
-  std::vector<float> lookup_rows_;
+  std::vector<hd::Vec3<float>> upper_; // upper hemisphere's sample directions, by octa::point_index
   float self_offset_ = 0.0f;
   double build_ms_ = 0.0;
   std::size_t rays_traced_ = 0;
@@ -176,5 +172,7 @@ class ObjectField {
 std::string mapping_name(HemisphereMapping mapping);
 /// "u8", "u16", "f32", "bit".
 std::string storage_name(CellStorage storage);
+/// "none", "oct16", "oct32".
+std::string normals_name(NormalStorage normals);
 
 }  // namespace vf::field

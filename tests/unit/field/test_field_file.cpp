@@ -66,6 +66,32 @@ TEST(FieldFile, EveryStorageRoundTripsBitForBit) {
   }
 }
 
+TEST(FieldFile, NormalFieldsRoundTripBitForBit) {
+  const TriangleSet set = box_object();
+  for (const NormalStorage normals : {NormalStorage::oct16, NormalStorage::oct32}) {
+    const ObjectField field = ObjectField::build(set, {.positions = 290, .directions = 8, .normals = normals});
+    const StoredField back = decode_field(encode_field(field, mesh_hash(set)), "f.vfield");
+    EXPECT_EQ(back.field.config().normals, normals);
+    EXPECT_EQ(back.version, kFieldFileVersion);
+    EXPECT_FALSE(field.normal_table().empty());
+    EXPECT_TRUE(std::ranges::equal(back.field.normal_table(), field.normal_table())) << normals_name(normals);
+    EXPECT_TRUE(std::ranges::equal(back.field.cell_table(), field.cell_table()));
+  }
+}
+
+// A version-1 file (before normal fields) is the version-2 layout without the normal byte count.
+TEST(FieldFile, VersionOneFilesAreStillRead) {
+  const TriangleSet set = box_object();
+  const ObjectField field = ObjectField::build(set, {.positions = 290, .directions = 8});
+  std::string bytes = encode_field(field, 7);
+  bytes.erase(64, 8);
+  bytes[8] = 1;
+  const StoredField back = decode_field(with_checksum(bytes), "old.vfield");
+  EXPECT_EQ(back.version, 1u);
+  EXPECT_EQ(back.field.config().normals, NormalStorage::none);
+  EXPECT_TRUE(std::ranges::equal(back.field.cell_table(), field.cell_table()));
+}
+
 TEST(FieldFile, SavedAtomicallyAndLoadedForItsMeshOnly) {
   const TriangleSet set = box_object();
   const ObjectField field = ObjectField::build(set, {.positions = 290, .directions = 8});
@@ -99,17 +125,23 @@ TEST(FieldFile, DamagedFilesAreRefusedWithOneLine) {
   flipped[200] ^= 0x10;
   expect_refused(flipped, "checksum mismatch");
   std::string version = good;
-  version[8] = 2;
-  expect_refused(with_checksum(version), ".vfield version 2, this visfield reads version 1");
+  version[8] = 3;
+  expect_refused(with_checksum(version), ".vfield version 3, this visfield reads versions 1 and 2");
   std::string positions = good;
   positions[12] = 7;  // 290 -> 263
   expect_refused(with_checksum(positions), "field positions");
   std::string mapping = good;
   mapping[20] = 9;
   expect_refused(with_checksum(mapping), "unknown direction mapping 9");
+  std::string normals = good;
+  normals[22] = 5;
+  expect_refused(with_checksum(normals), "unknown normal storage 5");
   std::string reserved = good;
-  reserved[22] = 1;
+  reserved[23] = 1;
   expect_refused(with_checksum(reserved), "reserved header bytes");
+  std::string no_normal_table = encode_field(ObjectField::build(set, {.positions = 290, .directions = 8, .normals = NormalStorage::oct16}), 7);
+  no_normal_table[22] = 0;  // the header says no normals, but the normal table is there
+  expect_refused(with_checksum(no_normal_table), "the header's table sizes do not match");
   std::string radius = good;
   const float negative = -1.0f;
   std::memcpy(radius.data() + 44, &negative, 4);

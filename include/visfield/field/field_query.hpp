@@ -1,0 +1,225 @@
+#pragma once
+/// \file One ObjectField query in object space, exactly as the CPU's single-ray path, its SIMD
+/// batch (src/field/field_kernel.hpp) and the CUDA kernels compute it: the same float operations
+/// in the same order, so that the three give the same bits (host and device, no STL). The field is
+/// read through FieldTables, plain pointers to its tables, so that a device copy reads the same.
+///
+/// A ray meets the bounding sphere. From outside, it reads the table of the positional sample
+/// where it enters, in its own direction, and hits at entry + stored distance (inter-object, the
+/// 2008 paper). From inside (an AO ray leaving the object's own surface), it reads, at the sample
+/// where it leaves, the distance d2 back along the reverse direction and hits when d2 is shorter
+/// than its own distance d1 to that point, beyond the start surface (intra-object, the GPU paper).
+
+#include "visfield/core/host_device.hpp"
+#include "visfield/core/orthonormal_basis.hpp"
+#include "visfield/field/cell_codec.hpp"
+#include "visfield/field/hemisphere_map.hpp"
+#include "visfield/field/normal_codec.hpp"
+#include "visfield/field/position_lookup.hpp"
+
+namespace vf::field {
+
+/// How a query reads the direction table of a positional sample.
+enum class DirectionLookup : unsigned char {
+  nearest = 0,   ///< The cell the direction falls in (the paper).
+  bilinear = 1,  ///< The four nearest cell centres, weighted bilinearly (hits vote, hit distances average).
+};
+
+/// Which positional samples a query reads.
+enum class PositionLookup : unsigned char {
+  nearest = 0,  ///< The sample nearest to the point where the ray meets the sphere (the paper).
+  blend = 1,    ///< The three samples of the lattice triangle around it, barycentric weights.
+};
+
+/// An approximate answer in object space: a hit at ray parameter t, or a miss; with a normal field,
+/// the unit object-space normal of the surface the answering cell saw.
+struct FieldAnswer {
+  bool hit = false;
+  bool has_normal = false;
+  float t = 0.0f;
+  hd::Vec3<float> normal{0.0f, 0.0f, 0.0f};
+};
+
+/// What a query reads of one field: its parameters and borrowed pointers to its tables (valid as
+/// long as the field). Plain data: copied by value to a device.
+struct FieldTables {
+  int lattice_n = 0;      ///< Half-width of the positional lattice, 2^level (8 .. 64).
+  int upper_count = 0;    ///< Samples per hemisphere, octa::point_count(lattice_n).
+  int directions = 0;     ///< N of the N×N direction tables.
+  HemisphereMapping mapping = HemisphereMapping::concentric_malley;
+  CellStorage storage = CellStorage::u8;
+  NormalStorage normals = NormalStorage::none;
+  DirectionLookup direction_lookup = DirectionLookup::nearest;
+  PositionLookup position_lookup = PositionLookup::nearest;
+  hd::Vec3<float> centre{0.0f, 0.0f, 0.0f};  ///< Bounding sphere, object space.
+  float radius = 0.0f;
+  float self_offset = 0.0f;                  ///< Intra-object start-surface offset over 2R.
+  const hd::Vec3<float>* upper = nullptr;    ///< Upper samples' unit directions, by octa::point_index.
+  const unsigned char* cells = nullptr;      ///< Distance tables, sample after sample.
+  unsigned long long cell_stride = 0;        ///< Bytes per sample of `cells`.
+  const float* averages = nullptr;           ///< CellStorage::bit: mean hit distance per sample.
+  const unsigned char* normal_cells = nullptr;  ///< Normal tables, sample after sample (or null).
+  unsigned long long normal_stride = 0;      ///< Bytes per sample of `normal_cells`.
+};
+
+/// The inward unit normal of positional sample `sample`, the pole of its direction table: minus
+/// its direction, whose lower-hemisphere copy mirrors z (negated, not subtracted, so that the
+/// equator's two copies keep their signed zeros apart and their frames as the precompute built them).
+VF_HOST_DEVICE inline hd::Vec3<float> sample_inward(const FieldTables& f, int sample) {
+  const bool lower = sample >= f.upper_count;
+  const hd::Vec3<float> p = f.upper[lower ? sample - f.upper_count : sample];
+  return {-p.x, -p.y, lower ? p.z : -p.z};
+}
+
+/// Cell (i, j) of `sample`: hit or miss, the normalised distance (over 2R) of a hit, and its normal
+/// when the field has one.
+VF_HOST_DEVICE inline FieldAnswer read_cell(const FieldTables& f, int sample, int i, int j) {
+  const unsigned long long c = static_cast<unsigned long long>(j) * static_cast<unsigned long long>(f.directions) +
+                               static_cast<unsigned long long>(i);
+  const unsigned char* base = f.cells + static_cast<unsigned long long>(sample) * f.cell_stride;
+  FieldAnswer a;
+  switch (f.storage) {
+    case CellStorage::u8: {
+      const unsigned code = base[c];
+      a.hit = quantized_is_hit(CellStorage::u8, code);
+      a.t = decode_quantized(CellStorage::u8, code);
+      break;
+    }
+    case CellStorage::u16: {
+      const unsigned code = static_cast<unsigned>(base[2 * c]) | static_cast<unsigned>(base[2 * c + 1]) << 8;
+      a.hit = quantized_is_hit(CellStorage::u16, code);
+      a.t = decode_quantized(CellStorage::u16, code);
+      break;
+    }
+    case CellStorage::f32: {
+      float value;
+      unsigned char* bytes = reinterpret_cast<unsigned char*>(&value);
+      for (int k = 0; k < 4; ++k) bytes[k] = base[4 * c + static_cast<unsigned long long>(k)];
+      a.hit = value <= 1.5f;
+      a.t = value;
+      break;
+    }
+    case CellStorage::bit:
+    default:
+      a.hit = (base[c >> 3] >> (c & 7)) & 1u;
+      a.t = f.averages[sample];
+      break;
+  }
+  if (!a.hit) return {};
+  if (f.normals != NormalStorage::none) {
+    const unsigned char* n = f.normal_cells + static_cast<unsigned long long>(sample) * f.normal_stride;
+    const unsigned code = f.normals == NormalStorage::oct16
+                              ? static_cast<unsigned>(n[2 * c]) | static_cast<unsigned>(n[2 * c + 1]) << 8
+                              : static_cast<unsigned>(n[4 * c]) | static_cast<unsigned>(n[4 * c + 1]) << 8 |
+                                    static_cast<unsigned>(n[4 * c + 2]) << 16 | static_cast<unsigned>(n[4 * c + 3]) << 24;
+    a.normal = decode_normal(f.normals, code);
+    a.has_normal = true;
+  }
+  return a;
+}
+
+/// Folds the answers of several table reads by weight: a hit when hits carry at least half the
+/// weight, at the hit-weighted mean distance, with the normal of the heaviest hit (the first of equals).
+struct FieldVote {
+  float total = 0.0f, hit_weight = 0.0f, distance = 0.0f, heaviest = -1.0f;
+  FieldAnswer heaviest_hit;
+
+  /// Counts answer `a` with weight `w` (>= 0).
+  VF_HOST_DEVICE void add(float w, const FieldAnswer& a) {
+    total += w;
+    if (!a.hit) return;
+    hit_weight += w;
+    distance += w * a.t;
+    if (w > heaviest) {
+      heaviest = w;
+      heaviest_hit = a;
+    }
+  }
+  /// The folded answer.
+  VF_HOST_DEVICE FieldAnswer result() const {
+    if (!(total > 0.0f) || hit_weight < 0.5f * total) return {};
+    FieldAnswer a = heaviest_hit;
+    a.t = distance / hit_weight;
+    return a;
+  }
+};
+
+/// Whether cell (i, j) of the bilinear footprint counts: inside the table (polar tables wrap in i)
+/// and used by the mapping. Writes the wrapped or clamped indices back.
+VF_HOST_DEVICE inline bool bilinear_cell(const FieldTables& f, int& i, int& j) {
+  const int n = f.directions;
+  j = hd::clamp(j, 0, n - 1);
+  i = f.mapping == HemisphereMapping::polar ? (i + n) % n : hd::clamp(i, 0, n - 1);
+  return cell_used<float>(f.mapping, i, j, n);
+}
+
+/// The table of `sample` read in unit direction `d` (pointing into the sphere): the direction in
+/// the sample's hemisphere frame (built from its inward normal as the precompute built it), then
+/// its cell, or the bilinear vote of the four cells around it.
+VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sample, const hd::Vec3<float>& d) {
+  const hd::Vec3<float> w = sample_inward(f, sample);
+  const OrthonormalBasis<float> basis = orthonormal_basis(w);
+  hd::Vec3<float> local{hd::dot(basis.u, d), hd::dot(basis.v, d), hd::dot(w, d)};
+  if (local.z < 0.0f) {  // grazing: the sample's pole differs a little from the entry point's normal
+    const float planar = hd::sqrt(local.x * local.x + local.y * local.y);
+    local = planar > 0.0f ? hd::Vec3<float>{local.x / planar, local.y / planar, 0.0f} : hd::Vec3<float>{0.0f, 0.0f, 1.0f};
+  }
+  float s, t;
+  direction_to_square(f.mapping, local, s, t);
+  const int n = f.directions;
+  if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n));
+  const float fx = s * static_cast<float>(n) - 0.5f, fy = t * static_cast<float>(n) - 0.5f;
+  const int i0 = static_cast<int>(hd::floor(fx)), j0 = static_cast<int>(hd::floor(fy));
+  const float a = fx - static_cast<float>(i0), b = fy - static_cast<float>(j0);
+  FieldVote vote;
+  for (int dj = 0; dj < 2; ++dj)
+    for (int di = 0; di < 2; ++di) {
+      int i = i0 + di, j = j0 + dj;
+      if (!bilinear_cell(f, i, j)) continue;
+      vote.add((di ? a : 1.0f - a) * (dj ? b : 1.0f - b), read_cell(f, sample, i, j));
+    }
+  return vote.result();
+}
+
+/// The answer for the point of the sphere in unit direction `p` from its centre, read in unit
+/// direction `d`: at the nearest sample, or the blend of the three around `p`.
+VF_HOST_DEVICE inline FieldAnswer read_at(const FieldTables& f, const hd::Vec3<float>& p, const hd::Vec3<float>& d) {
+  if (f.position_lookup == PositionLookup::nearest) return read_direction(f, nearest_position(p, f.lattice_n, f.upper), d);
+  const PositionBlend<float> blend = blend_positions(p, f.lattice_n);
+  FieldVote vote;
+  for (int k = 0; k < 3; ++k)
+    if (blend.weight[k] > 0.0f) vote.add(blend.weight[k], read_direction(f, blend.index[k], d));
+  return vote.result();
+}
+
+/// The field's answer for the object-space ray org + t·dir, t in [tmin, tmax] (dir non-zero, any
+/// length; t in its units). O(1) whatever the mesh.
+VF_HOST_DEVICE inline FieldAnswer trace_field(const FieldTables& f, const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin,
+                                              float tmax) {
+  const float len = hd::sqrt(hd::dot(dir, dir));
+  const float inv = 1.0f / len;
+  const hd::Vec3<float> d{dir.x * inv, dir.y * inv, dir.z * inv};
+  const float s_min = tmin * len, s_max = tmax * len;
+  const float diameter = 2.0f * f.radius;
+  const hd::Vec3<float> oc{org.x - f.centre.x, org.y - f.centre.y, org.z - f.centre.z};
+  const float b = hd::dot(oc, d), c = hd::dot(oc, oc) - f.radius * f.radius;
+  const float disc = b * b - c;
+  if (!(disc >= 0.0f)) return {};
+  const float root = hd::sqrt(disc);
+  const float s_enter = -b - root, s_exit = -b + root;
+  const bool inside = !(c > 0.0f);
+  if (!inside && s_enter < 0.0f) return {};
+  const float s_at = inside ? s_exit : s_enter;
+  hd::Vec3<float> e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
+  const float e_inv = 1.0f / hd::sqrt(hd::dot(e, e));
+  e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
+  FieldAnswer a = read_at(f, e, inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d);
+  if (!a.hit) return {};
+  const float s_hit = inside ? s_exit - a.t * diameter : s_enter + a.t * diameter;
+  if (inside && !(s_hit > f.self_offset * diameter)) return {};
+  if (!(s_hit >= s_min && s_hit <= s_max)) return {};
+  a.t = s_hit / len;
+  return a;
+}
+
+}  // namespace vf::field

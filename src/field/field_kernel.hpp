@@ -1,0 +1,438 @@
+#pragma once
+// The ObjectField query of field_query.hpp on L::kWidth rays at once (L: a backend of
+// kernel_lanes.hpp). Each step is the scalar step on lanes, in the same order with the same
+// operations, so every lane's answer is bit for bit trace_field()'s (tests/unit/field checks it):
+// the arctangents are field_query's polynomial, the table reads are gathers, branches are masks.
+// Cycles go to the gathers (three candidate samples × three coordinates, one cell code, and the
+// ray itself when it is gathered from an array of Rays) and to the arithmetic of the two
+// arctangents and the hemisphere frame; see docs/objectfield-measurements.md.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "kernel_lanes.hpp"
+#include "visfield/core/ray.hpp"
+#include "visfield/core/transform.hpp"
+#include "visfield/field/field_query.hpp"
+
+namespace vf::field {
+
+template <class L>
+class FieldKernel {
+ public:
+  using F = typename L::F;
+  using I = typename L::I;
+  using M = typename L::M;
+  static constexpr int kWidth = L::kWidth;
+  /// Every lane.
+  static M all_lanes() { return L::all(); }
+
+  /// Object-space rays on lanes.
+  struct Rays {
+    F ox, oy, oz, dx, dy, dz, tmin, tmax;
+  };
+
+  /// Whether this kernel reads tables of these sizes (its byte offsets fit 31 bits); otherwise the
+  /// caller runs trace_field().
+  static bool reads(std::size_t cell_bytes, std::size_t normal_bytes) {
+    return cell_bytes < (std::size_t{1} << 31) && normal_bytes < (std::size_t{1} << 31);
+  }
+
+  /// Answers for the lanes of `valid` into out[0 .. kWidth) (misses elsewhere).
+  static void trace(const FieldTables& f, const Rays& r, M valid, FieldAnswer* out) {
+    Answer a = trace_lanes(f, r, valid);
+    alignas(64) float t[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
+    L::store(t, a.t);
+    const bool normals = f.normals != NormalStorage::none;
+    if (normals) {
+      const Vec n = decode_normals(f, a.normal_code);
+      L::store(nx, n.x);
+      L::store(ny, n.y);
+      L::store(nz, n.z);
+    }
+    const std::uint32_t hits = L::bits(a.hit);
+    for (int lane = 0; lane < kWidth; ++lane) {
+      FieldAnswer& o = out[lane];
+      if (!((hits >> lane) & 1u)) {
+        o = FieldAnswer{};
+        continue;
+      }
+      o.hit = true;
+      o.t = t[lane];
+      o.has_normal = normals;
+      o.normal = normals ? hd::Vec3<float>{nx[lane], ny[lane], nz[lane]} : hd::Vec3<float>{0.0f, 0.0f, 0.0f};
+    }
+  }
+
+  /// kWidth consecutive object-space rays from structure-of-arrays rows starting at `at`.
+  static Rays load(const float* const rows[8], std::size_t at) {
+    return {L::load(rows[0] + at), L::load(rows[1] + at), L::load(rows[2] + at), L::load(rows[3] + at),
+            L::load(rows[4] + at), L::load(rows[5] + at), L::load(rows[6] + at), L::load(rows[7] + at)};
+  }
+
+  /// World-space rays rays[index[k]] (k < kWidth), with tmax replaced by limit[index[k]] when
+  /// `limit` is given, mapped into object space as InverseTransform::apply() maps them.
+  static Rays gather(const Ray* rays, const std::uint32_t* index, const float* limit, const InverseTransform& to_object) {
+    static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is 8 floats: org, dir, tmin, tmax");
+    const I at = L::load(index);
+    const I slot = at * L::splat(8);
+    const float* base = reinterpret_cast<const float*>(rays);
+    const M all = L::all();
+    Rays r;
+    r.ox = gather_at(base, slot, 0, all);
+    r.oy = gather_at(base, slot, 1, all);
+    r.oz = gather_at(base, slot, 2, all);
+    r.dx = gather_at(base, slot, 3, all);
+    r.dy = gather_at(base, slot, 4, all);
+    r.dz = gather_at(base, slot, 5, all);
+    r.tmin = gather_at(base, slot, 6, all);
+    r.tmax = limit ? lanes::gather(limit, at, all) : gather_at(base, slot, 7, all);
+    if (to_object.identity) return r;
+    const Mat3& m = to_object.linear;
+    const F px = r.ox - L::splat(to_object.translation.x), py = r.oy - L::splat(to_object.translation.y),
+            pz = r.oz - L::splat(to_object.translation.z);
+    const F dx = r.dx, dy = r.dy, dz = r.dz;
+    r.ox = row_dot(m.rows[0], px, py, pz);
+    r.oy = row_dot(m.rows[1], px, py, pz);
+    r.oz = row_dot(m.rows[2], px, py, pz);
+    r.dx = row_dot(m.rows[0], dx, dy, dz);
+    r.dy = row_dot(m.rows[1], dx, dy, dz);
+    r.dz = row_dot(m.rows[2], dx, dy, dz);
+    return r;
+  }
+
+ private:
+  struct Vec {
+    F x, y, z;
+  };
+  /// Answers on lanes: hit, ray parameter t, and the raw normal code of the answering cell.
+  struct Answer {
+    M hit;
+    F t;
+    I normal_code;
+  };
+
+  static F gather_at(const float* base, I slot, int k, M m) { return lanes::gather(base + k, slot, m); }
+  static F row_dot(const Vec3f& row, F x, F y, F z) { return L::splat(row.x) * x + L::splat(row.y) * y + L::splat(row.z) * z; }
+  static F dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+  // hd::atan_unit on lanes.
+  static F atan_unit(F x) {
+    const F x2 = x * x;
+    F p = L::splat(-0.01172120f);
+    p = p * x2 + L::splat(0.05265332f);
+    p = p * x2 - L::splat(0.11643287f);
+    p = p * x2 + L::splat(0.19354346f);
+    p = p * x2 - L::splat(0.33262347f);
+    p = p * x2 + L::splat(0.99997726f);
+    return x * p;
+  }
+
+  // hd::lookup_atan2 on lanes.
+  static F atan2(F y, F x) {
+    const F ax = abs(x), ay = abs(y), zero = L::splat(0.0f);
+    const F big = select(ax < ay, ay, ax), small = select(ay < ax, ay, ax);
+    F a = atan_unit(select(big > zero, small / big, zero));
+    a = select(ay > ax, L::splat(1.57079632679489661923f) - a, a);
+    a = select(x < zero, L::splat(3.14159265358979323846f) - a, a);
+    return select(y < zero, -a, a);
+  }
+
+  // disk_to_concentric on lanes.
+  static void disk_to_square(F x, F y, F& s, F& t) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
+    const F four_over_pi = L::splat(4 / hd::kPi<float>);
+    const F r = sqrt(x * x + y * y);
+    const M positive = r > zero, x_major = abs(x) >= abs(y);
+    const F major_x = copysign(r, x), major_y = copysign(r, y);
+    const F a_x = major_x, b_x = major_x * four_over_pi * atan_unit(y / x);
+    const F b_y = major_y, a_y = major_y * four_over_pi * atan_unit(x / y);
+    const F a = select(positive, select(x_major, a_x, a_y), zero);
+    const F b = select(positive, select(x_major, b_x, b_y), zero);
+    s = (a + one) / two;
+    t = (b + one) / two;
+  }
+
+  // direction_to_square on lanes.
+  static void to_square(HemisphereMapping mapping, const Vec& w, F& s, F& t) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
+    switch (mapping) {
+      case HemisphereMapping::polar: {
+        F phi = atan2(w.y, w.x);
+        phi = select(phi < zero, phi + L::splat(2 * hd::kPi<float>), phi);
+        s = phi / L::splat(2 * hd::kPi<float>);
+        s = select(s >= one, zero, s);
+        t = atan2(sqrt(w.x * w.x + w.y * w.y), w.z) / L::splat(hd::kPi<float> / 2);
+        return;
+      }
+      case HemisphereMapping::rejection_malley:
+        s = (w.x + one) / two;
+        t = (w.y + one) / two;
+        return;
+      case HemisphereMapping::concentric_malley:
+        disk_to_square(w.x, w.y, s, t);
+        return;
+      case HemisphereMapping::concentric_equal_area:
+      default: {
+        const F k = one / sqrt(one + max(w.z, zero));
+        disk_to_square(w.x * k, w.y * k, s, t);
+        return;
+      }
+    }
+  }
+
+  // octa::point_index on lanes.
+  static I point_index(I i, I j, int n) {
+    const I n_v = L::splat(n);
+    const I left = (i + n_v) * (i + n_v);
+    const I right = L::splat(n * n) + L::splat(2 * n + 2) * i - i * i;
+    return select(i <= L::splat(0), left, right) + j + n_v - abs(i);
+  }
+
+  /// cell_of on lanes.
+  static I cell_of(F s, int n) { return min(max(to_int(s * L::splat(static_cast<float>(n))), L::splat(0)), L::splat(n - 1)); }
+
+  /// read_cell on lanes (of `m`): hit, distance over 2R, and the normal code when the field has one.
+  static Answer read_cell(const FieldTables& f, I sample, I i, I j, M m) {
+    const I c = j * L::splat(f.directions) + i;
+    const I base = sample * L::splat(static_cast<int>(f.cell_stride));
+    Answer a;
+    switch (f.storage) {
+      case CellStorage::u8: {
+        const I code = lanes::gather_bytes(f.cells, base + c, m) & L::splat(0xFF);
+        a.hit = m & (code <= L::splat(254));
+        a.t = to_float(code) / L::splat(254.0f);
+        break;
+      }
+      case CellStorage::u16: {
+        const I code = lanes::gather_bytes(f.cells, base + c + c, m) & L::splat(0xFFFF);
+        a.hit = m & (code <= L::splat(65534));
+        a.t = to_float(code) / L::splat(65534.0f);
+        break;
+      }
+      case CellStorage::f32: {
+        const I word_index = sample * L::splat(static_cast<int>(f.cell_stride / 4)) + c;
+        a.t = lanes::gather(reinterpret_cast<const float*>(f.cells), word_index, m);
+        a.hit = m & (a.t <= L::splat(1.5f));
+        break;
+      }
+      case CellStorage::bit:
+      default: {
+        const I word = lanes::gather_bytes(f.cells, base + (c >> L::splat(3)), m);
+        a.hit = m & (((word >> (c & L::splat(7))) & L::splat(1)) == L::splat(1));
+        a.t = lanes::gather(f.averages, sample, a.hit);
+        break;
+      }
+    }
+    a.normal_code = L::splat(0);
+    if (f.normals != NormalStorage::none) {
+      const bool narrow = f.normals == NormalStorage::oct16;
+      const I offset = sample * L::splat(static_cast<int>(f.normal_stride)) + (narrow ? c + c : c * L::splat(4));
+      const I code = lanes::gather_bytes(f.normal_cells, offset, a.hit);
+      a.normal_code = narrow ? code & L::splat(0xFFFF) : code;
+    }
+    return a;
+  }
+
+  /// FieldVote on lanes.
+  struct Vote {
+    F total = L::splat(0.0f), hit_weight = L::splat(0.0f), distance = L::splat(0.0f), heaviest = L::splat(-1.0f);
+    I code = L::splat(0);
+    void add(F w, const Answer& a, M m) {
+      total = select(m, total + w, total);
+      const M h = m & a.hit;
+      hit_weight = select(h, hit_weight + w, hit_weight);
+      distance = select(h, distance + w * a.t, distance);
+      const M heavier = h & (w > heaviest);
+      heaviest = select(heavier, w, heaviest);
+      code = select(heavier, a.normal_code, code);
+    }
+    Answer result() const {
+      const F zero = L::splat(0.0f);
+      return {(total > zero) & ~(hit_weight < L::splat(0.5f) * total), distance / hit_weight, code};
+    }
+  };
+
+  /// read_direction on lanes: sample `sample` with inward normal `w`, direction `d`.
+  static Answer read_direction(const FieldTables& f, I sample, const Vec& w, const Vec& d, M m) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f);
+    // orthonormal_basis(w)
+    const F sign = copysign(one, w.z);
+    const F a = L::splat(-1.0f) / (sign + w.z);
+    const F b = w.x * w.y * a;
+    const Vec u{one + sign * w.x * w.x * a, sign * b, -sign * w.x};
+    const Vec v{b, sign + w.y * w.y * a, -w.y};
+    Vec local{dot(u, d), dot(v, d), dot(w, d)};
+    const M grazing = m & (local.z < zero);
+    if (any(grazing)) {
+      const F planar = sqrt(local.x * local.x + local.y * local.y);
+      const M flat = planar > zero;
+      local.x = select(grazing, select(flat, local.x / planar, zero), local.x);
+      local.y = select(grazing, select(flat, local.y / planar, zero), local.y);
+      local.z = select(grazing, select(flat, zero, one), local.z);
+    }
+    F s, t;
+    to_square(f.mapping, local, s, t);
+    const int n = f.directions;
+    if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n), m);
+    const F n_f = L::splat(static_cast<float>(n)), half = L::splat(0.5f);
+    const F fx = s * n_f - half, fy = t * n_f - half;
+    const I i0 = to_int(floor(fx)), j0 = to_int(floor(fy));
+    const F wa = fx - to_float(i0), wb = fy - to_float(j0);
+    Vote vote;
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di) {
+        I i = i0 + L::splat(di);
+        const I j = min(max(j0 + L::splat(dj), L::splat(0)), L::splat(n - 1));
+        if (f.mapping == HemisphereMapping::polar)
+          i = select(i < L::splat(0), i + L::splat(n), select(L::splat(n - 1) < i, i - L::splat(n), i));
+        else
+          i = min(max(i, L::splat(0)), L::splat(n - 1));
+        M used = m;
+        if (f.mapping == HemisphereMapping::rejection_malley) used = used & cell_used(i, j, n);
+        const F weight = (di ? wa : one - wa) * (dj ? wb : one - wb);
+        vote.add(weight, read_cell(f, sample, i, j, used), used);
+      }
+    return vote.result();
+  }
+
+  /// cell_used<float> of rejection_malley on lanes.
+  static M cell_used(I i, I j, int n) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f), n_f = L::splat(static_cast<float>(n));
+    const F half = L::splat(1.0f / static_cast<float>(n));
+    const F xc = two * (to_float(i) + L::splat(0.5f)) / n_f - one, yc = two * (to_float(j) + L::splat(0.5f)) / n_f - one;
+    const F dx = max(abs(xc) - half, zero), dy = max(abs(yc) - half, zero);
+    return dx * dx + dy * dy < one;
+  }
+
+  /// read_at on lanes: the unit point `e` of the sphere, direction `q`.
+  static Answer read_at(const FieldTables& f, const Vec& e, const Vec& q, M active) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f);
+    const int n = f.lattice_n;
+    // fold_to_upper and octa::coordinates
+    const M lower = e.z < zero;
+    const F ez = abs(e.z);
+    const F r = sqrt(max(one - ez, zero));
+    const F phi = atan2(abs(e.y), abs(e.x));
+    const F v = r * phi / L::splat(hd::kPi<float> / 2), u = r - v;
+    const F n_f = L::splat(static_cast<float>(n)), minus_n_f = L::splat(static_cast<float>(-n));
+    const F la = select(e.x > zero, n_f * u, select(e.x < zero, minus_n_f * u, zero));
+    const F lb = select(e.y > zero, n_f * v, select(e.y < zero, minus_n_f * v, zero));
+    // octa::containing_triangle
+    const I i0 = min(max(to_int(floor(la)), L::splat(-n)), L::splat(n - 1));
+    const I j0 = min(max(to_int(floor(lb)), L::splat(-n)), L::splat(n - 1));
+    const F fa = la - to_float(i0), fb = lb - to_float(j0);
+    const M same = ~((i0 < L::splat(0)) ^ (j0 < L::splat(0)));
+    const M case_b = same & (fa + fb > one), case_c = ~same & (fb <= fa), case_d = ~same & (fb > fa);
+    const I one_i = L::splat(1);
+    const I i1 = i0 + one_i, j1 = j0 + one_i;
+    const I ci[3] = {select(case_b, i1, i0), select(case_d, i0, i1), select(case_c | case_d, i1, i0)};
+    const I cj[3] = {select(case_b, j1, j0), select(case_d, j1, j0), j1};
+    M rim[3];
+    I index[3];
+    Vec corner[3];
+    const float* upper = reinterpret_cast<const float*>(f.upper);
+    for (int k = 0; k < 3; ++k) {
+      rim[k] = abs(ci[k]) + abs(cj[k]) <= L::splat(n);
+      index[k] = select(rim[k], point_index(ci[k], cj[k], n), L::splat(0));
+      const I slot = index[k] * L::splat(3);
+      const M live = active & rim[k];
+      corner[k] = {lanes::gather(upper, slot, live), lanes::gather(upper + 1, slot, live), lanes::gather(upper + 2, slot, live)};
+    }
+    const I offset = select(lower, L::splat(f.upper_count), L::splat(0));
+    const auto inward = [&](const Vec& p) { return Vec{-p.x, -p.y, select(lower, p.z, -p.z)}; };
+    const Vec folded{e.x, e.y, ez};
+    if (f.position_lookup == PositionLookup::nearest) {
+      F best_cos = L::splat(-2.0f);
+      I best = L::splat(0);
+      Vec p = corner[0];
+      for (int k = 0; k < 3; ++k) {
+        const M better = active & rim[k] & (dot(folded, corner[k]) > best_cos);
+        best_cos = select(better, dot(folded, corner[k]), best_cos);
+        best = select(better, index[k], best);
+        p = {select(better, corner[k].x, p.x), select(better, corner[k].y, p.y), select(better, corner[k].z, p.z)};
+      }
+      return read_direction(f, best + offset, inward(p), q, active);
+    }
+    // blend_positions: triangle weights, clamped at 0, zero beyond the rim, normalised; a corner
+    // beyond the rim repeats the heaviest valid one.
+    F weight[3] = {select(same, select(case_b, fa + fb - one, one - fa - fb), select(case_c, one - fa, one - fb)),
+                   select(same, select(case_b, one - fb, fa), select(case_c, fa - fb, fb - fa)),
+                   select(same, select(case_b, one - fa, fb), select(case_c, fb, fa))};
+    F total = zero, valid_weight = L::splat(-1.0f);
+    I valid_index = L::splat(0), valid_k = L::splat(-1);
+    Vec valid_corner = corner[0];
+    for (int k = 0; k < 3; ++k) {
+      weight[k] = select(rim[k], max(weight[k], zero), zero);
+      const M take = rim[k] & (weight[k] > valid_weight);
+      valid_weight = select(take, weight[k], valid_weight);
+      valid_index = select(take, index[k], valid_index);
+      valid_k = select(take, L::splat(k), valid_k);
+      valid_corner = {select(take, corner[k].x, valid_corner.x), select(take, corner[k].y, valid_corner.y),
+                      select(take, corner[k].z, valid_corner.z)};
+      total = total + weight[k];
+    }
+    Vote vote;
+    for (int k = 0; k < 3; ++k) {
+      const F w = select(total > zero, weight[k] / total, select(valid_k == L::splat(k), one, zero));
+      const M m = active & (w > zero);
+      if (!any(m)) continue;
+      const I sample = select(rim[k], index[k], valid_index) + offset;
+      const Vec p{select(rim[k], corner[k].x, valid_corner.x), select(rim[k], corner[k].y, valid_corner.y),
+                  select(rim[k], corner[k].z, valid_corner.z)};
+      vote.add(w, read_direction(f, sample, inward(p), q, m), m);
+    }
+    return vote.result();
+  }
+
+  /// trace_field on lanes.
+  static Answer trace_lanes(const FieldTables& f, const Rays& r, M valid) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f);
+    const Vec dir{r.dx, r.dy, r.dz};
+    const F len = sqrt(dot(dir, dir));
+    const F inv = one / len;
+    const Vec d{dir.x * inv, dir.y * inv, dir.z * inv};
+    const F s_min = r.tmin * len, s_max = r.tmax * len;
+    const float diameter = 2.0f * f.radius;
+    const Vec oc{r.ox - L::splat(f.centre.x), r.oy - L::splat(f.centre.y), r.oz - L::splat(f.centre.z)};
+    const F b = dot(oc, d), c = dot(oc, oc) - L::splat(f.radius * f.radius);
+    const F disc = b * b - c;
+    M active = valid & (disc >= zero);
+    Answer none{L::none(), zero, L::splat(0)};
+    if (!any(active)) return none;
+    const F root = sqrt(max(disc, zero));
+    const F s_enter = -b - root, s_exit = -b + root;
+    const M inside = ~(c > zero);
+    active = active & (inside | ~(s_enter < zero));
+    if (!any(active)) return none;
+    const F s_at = select(inside, s_exit, s_enter);
+    Vec e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
+    const F e_inv = one / sqrt(dot(e, e));
+    e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
+    const Vec q{select(inside, -d.x, d.x), select(inside, -d.y, d.y), select(inside, -d.z, d.z)};
+    Answer a = read_at(f, e, q, active);
+    const F span = a.t * L::splat(diameter);
+    const F s_hit = select(inside, s_exit - span, s_enter + span);
+    a.hit = a.hit & active & (~inside | (s_hit > L::splat(f.self_offset * diameter))) & (s_hit >= s_min) & (s_hit <= s_max);
+    a.t = s_hit / len;
+    return a;
+  }
+
+  /// decode_normal on lanes.
+  static Vec decode_normals(const FieldTables& f, I code) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
+    const int half = f.normals == NormalStorage::oct16 ? 8 : 16;
+    const F top = L::splat(static_cast<float>(normal_max_code(f.normals)));
+    F u = to_float(code & L::splat(static_cast<int>(normal_max_code(f.normals)))) / top * two - one;
+    F v = to_float(code >> L::splat(half)) / top * two - one;
+    const F z = one - abs(u) - abs(v);
+    const M folded = z < zero;
+    const F fu = copysign(one - abs(v), u), fv = copysign(one - abs(u), v);
+    u = select(folded, fu, u);
+    v = select(folded, fv, v);
+    const F inv = one / sqrt(u * u + v * v + z * z);
+    return {u * inv, v * inv, z * inv};
+  }
+};
+
+}  // namespace vf::field
