@@ -73,6 +73,19 @@ void ObjectField::trace_rays(const Ray* rays, const std::uint32_t* index, std::s
   }
 }
 
+void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
+                                std::uint8_t* occluded, int width) const {
+  const FieldTables f = tables();
+  std::size_t done = run_lanes(resolved_width(width), count, cells_.size(), normals_.size(), [&]<class K>(K, std::size_t at) {
+    K::mark(f, K::gather(rays, index + at, nullptr, to_object), K::all_lanes(), index + at, occluded);
+  });
+  for (; done < count; ++done) {
+    const Ray local = to_object.apply(rays[index[done]]);
+    if (trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax).hit)
+      occluded[index[done]] = 1;
+  }
+}
+
 int ObjectField::batch_width(int width) { return resolved_width(width); }
 
 }  // namespace vf::field

@@ -7,6 +7,7 @@
 // ray itself when it is gathered from an array of Rays) and to the arithmetic of the two
 // arctangents and the hemisphere frame; see docs/objectfield-measurements.md.
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 
@@ -30,6 +31,12 @@ class FieldKernel {
   /// Object-space rays on lanes.
   struct Rays {
     F ox, oy, oz, dx, dy, dz, tmin, tmax;
+  };
+  /// Answers on lanes: hit, ray parameter t, and the raw normal code of the answering cell.
+  struct Answer {
+    M hit;
+    F t;
+    I normal_code;
   };
 
   /// Whether this kernel reads tables of these sizes (its byte offsets fit 31 bits); otherwise the
@@ -64,6 +71,12 @@ class FieldKernel {
     }
   }
 
+  /// For the lanes of `valid` that hit, marks[index[lane]] = 1 (what an occlusion query needs).
+  static void mark(const FieldTables& f, const Rays& r, M valid, const std::uint32_t* index, std::uint8_t* marks) {
+    for (std::uint32_t hits = L::bits(trace_lanes(f, r, valid).hit); hits != 0; hits &= hits - 1)
+      marks[index[std::countr_zero(hits)]] = 1;
+  }
+
   /// kWidth consecutive object-space rays from structure-of-arrays rows starting at `at`.
   static Rays load(const float* const rows[8], std::size_t at) {
     return {L::load(rows[0] + at), L::load(rows[1] + at), L::load(rows[2] + at), L::load(rows[3] + at),
@@ -75,18 +88,26 @@ class FieldKernel {
   static Rays gather(const Ray* rays, const std::uint32_t* index, const float* limit, const InverseTransform& to_object) {
     static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is 8 floats: org, dir, tmin, tmax");
     const I at = L::load(index);
-    const I slot = at * L::splat(8);
     const float* base = reinterpret_cast<const float*>(rays);
     const M all = L::all();
     Rays r;
-    r.ox = gather_at(base, slot, 0, all);
-    r.oy = gather_at(base, slot, 1, all);
-    r.oz = gather_at(base, slot, 2, all);
-    r.dx = gather_at(base, slot, 3, all);
-    r.dy = gather_at(base, slot, 4, all);
-    r.dz = gather_at(base, slot, 5, all);
-    r.tmin = gather_at(base, slot, 6, all);
-    r.tmax = limit ? lanes::gather(limit, at, all) : gather_at(base, slot, 7, all);
+    if (L::bits(at == L::splat(static_cast<int>(index[0])) + L::lane_index()) == L::bits(all)) {
+      // Consecutive rays (the common case of one object): loaded and transposed, not gathered.
+      F column[8];
+      L::transpose_rows(base + 8 * static_cast<std::size_t>(index[0]), column);
+      r = {column[0], column[1], column[2], column[3], column[4], column[5], column[6], column[7]};
+      if (limit) r.tmax = L::load(limit + index[0]);
+    } else {
+      const I slot = at * L::splat(8);
+      r.ox = gather_at(base, slot, 0, all);
+      r.oy = gather_at(base, slot, 1, all);
+      r.oz = gather_at(base, slot, 2, all);
+      r.dx = gather_at(base, slot, 3, all);
+      r.dy = gather_at(base, slot, 4, all);
+      r.dz = gather_at(base, slot, 5, all);
+      r.tmin = gather_at(base, slot, 6, all);
+      r.tmax = limit ? lanes::gather(limit, at, all) : gather_at(base, slot, 7, all);
+    }
     if (to_object.identity) return r;
     const Mat3& m = to_object.linear;
     const F px = r.ox - L::splat(to_object.translation.x), py = r.oy - L::splat(to_object.translation.y),
@@ -105,13 +126,6 @@ class FieldKernel {
   struct Vec {
     F x, y, z;
   };
-  /// Answers on lanes: hit, ray parameter t, and the raw normal code of the answering cell.
-  struct Answer {
-    M hit;
-    F t;
-    I normal_code;
-  };
-
   static F gather_at(const float* base, I slot, int k, M m) { return lanes::gather(base + k, slot, m); }
   static F row_dot(const Vec3f& row, F x, F y, F z) { return L::splat(row.x) * x + L::splat(row.y) * y + L::splat(row.z) * z; }
   static F dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
@@ -385,7 +399,7 @@ class FieldKernel {
     return vote.result();
   }
 
-  /// trace_field on lanes.
+  /// trace_field on lanes (of `valid`).
   static Answer trace_lanes(const FieldTables& f, const Rays& r, M valid) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     const Vec dir{r.dx, r.dy, r.dz};

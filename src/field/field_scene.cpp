@@ -200,7 +200,7 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   if (objects_.empty()) return;
   std::vector<std::uint32_t> index(n);
   std::vector<float> limit(closest ? n : 0);
-  std::vector<FieldAnswer> answers(n);
+  std::vector<FieldAnswer> answers(closest ? n : 0);
   const bool cull = objects_.size() > 1;
   for (const Object& o : objects_) {
     // This object's candidate rays: those still open, and, among several objects, those that may
@@ -217,14 +217,15 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
       index[m++] = static_cast<std::uint32_t>(i);
     }
     if (m == 0) continue;
-    o.field->trace_rays(rays.data(), index.data(), m, o.to_object, closest ? limit.data() : nullptr, answers.data());
+    if (!closest) {
+      o.field->mark_occluded(rays.data(), index.data(), m, o.to_object, occluded);
+      continue;
+    }
+    o.field->trace_rays(rays.data(), index.data(), m, o.to_object, limit.data(), answers.data());
     for (std::size_t k = 0; k < m; ++k) {
       if (!answers[k].hit) continue;
       const std::size_t i = index[k];
-      if (!closest)
-        occluded[i] = 1;
-      else if (!best[i].found || answers[k].t < best[i].t)
-        best[i] = field_hit(o, answers[k]);
+      if (!best[i].found || answers[k].t < best[i].t) best[i] = field_hit(o, answers[k]);
     }
   }
 }

@@ -39,6 +39,31 @@ struct Avx512 {
   static std::uint32_t bits(M a) { return a.m; }
   static M none() { return {0}; }
   static M all() { return {0xFFFF}; }
+  /// The 8 columns of 16 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]):
+  /// an in-register transpose (per 128-bit block unpacks and shuffles, then one two-source
+  /// permute per column), cheaper than 8 gathers.
+  static void transpose_rows(const float* p, F column[8]) {
+    __m512 a[8], t[8], u[8];
+    for (int k = 0; k < 8; ++k) a[k] = _mm512_loadu_ps(p + 16 * k);
+    for (int k = 0; k < 8; k += 2) {
+      t[k] = _mm512_unpacklo_ps(a[k], a[k + 1]);
+      t[k + 1] = _mm512_unpackhi_ps(a[k], a[k + 1]);
+    }
+    for (int h = 0; h < 8; h += 4) {
+      u[h] = _mm512_shuffle_ps(t[h], t[h + 2], 0x44);
+      u[h + 1] = _mm512_shuffle_ps(t[h], t[h + 2], 0xEE);
+      u[h + 2] = _mm512_shuffle_ps(t[h + 1], t[h + 3], 0x44);
+      u[h + 3] = _mm512_shuffle_ps(t[h + 1], t[h + 3], 0xEE);
+    }
+    // u[c] (c < 4) holds column c in its 128-bit blocks 0 (rows 0, 2, 4, 6) and 2 (rows 1, 3, 5, 7)
+    // and column c + 4 in blocks 1 and 3; u[c + 4] the same for rows 8..15.
+    const __m512i low = _mm512_setr_epi32(0, 8, 1, 9, 2, 10, 3, 11, 16, 24, 17, 25, 18, 26, 19, 27);
+    const __m512i high = _mm512_setr_epi32(4, 12, 5, 13, 6, 14, 7, 15, 20, 28, 21, 29, 22, 30, 23, 31);
+    for (int c = 0; c < 4; ++c) {
+      column[c].v = _mm512_permutex2var_ps(u[c], low, u[c + 4]);
+      column[c + 4].v = _mm512_permutex2var_ps(u[c], high, u[c + 4]);
+    }
+  }
 };
 
 inline Avx512::M operator&(Avx512::M a, Avx512::M b) { return {static_cast<__mmask16>(a.m & b.m)}; }
@@ -124,6 +149,26 @@ struct Avx2 {
   static std::uint32_t bits(M a) { return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(a.m))); }
   static M none() { return {_mm256_setzero_si256()}; }
   static M all() { return {_mm256_set1_epi32(-1)}; }
+  /// The 8 columns of 8 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]): the
+  /// classic 8×8 in-register transpose.
+  static void transpose_rows(const float* p, F column[8]) {
+    __m256 a[8], t[8], u[8];
+    for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(p + 8 * k);
+    for (int k = 0; k < 8; k += 2) {
+      t[k] = _mm256_unpacklo_ps(a[k], a[k + 1]);
+      t[k + 1] = _mm256_unpackhi_ps(a[k], a[k + 1]);
+    }
+    for (int h = 0; h < 8; h += 4) {
+      u[h] = _mm256_shuffle_ps(t[h], t[h + 2], 0x44);
+      u[h + 1] = _mm256_shuffle_ps(t[h], t[h + 2], 0xEE);
+      u[h + 2] = _mm256_shuffle_ps(t[h + 1], t[h + 3], 0x44);
+      u[h + 3] = _mm256_shuffle_ps(t[h + 1], t[h + 3], 0xEE);
+    }
+    for (int c = 0; c < 4; ++c) {
+      column[c].v = _mm256_permute2f128_ps(u[c], u[c + 4], 0x20);
+      column[c + 4].v = _mm256_permute2f128_ps(u[c], u[c + 4], 0x31);
+    }
+  }
 };
 
 inline Avx2::M operator&(Avx2::M a, Avx2::M b) { return {_mm256_and_si256(a.m, b.m)}; }

@@ -140,6 +140,10 @@ class ObjectField {
   /// Thread-safe.
   void trace_rays(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                   const float* limit, FieldAnswer* out, int width = 0) const;
+  /// Occlusion for the same rays as trace_rays() (no limit): occluded[index[k]] = 1 where trace()
+  /// of the mapped ray hits; other entries are left as they are. Thread-safe for disjoint `index` sets.
+  void mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
+                     std::uint8_t* occluded, int width = 0) const;
   /// The lanes per step a batch query asked for `width` runs in this build: 16, 8 or 1.
   static int batch_width(int width = 0);
 

@@ -334,9 +334,12 @@ TEST(ObjectField, WorldRaysThroughATransformAnswerAsTraceDoes) {
     rays[q] = Ray{transform.apply_point(rows.org(q)), transform.apply_vector(rows.dir(q)), rows.rows[6][q], rows.rows[7][q]};
     limit[q] = q % 7 == 0 ? 0.5f * rows.rows[7][q] : rows.rows[7][q];
   }
-  // Every third ray, in a shuffled order.
-  std::vector<std::uint32_t> index;
-  for (std::uint32_t q = 0; q < rays.size(); q += 3) index.push_back((q * 7919u) % static_cast<std::uint32_t>(rays.size()));
+  // Every third ray in a shuffled order (gathered), or runs of consecutive rays (loaded and transposed).
+  std::vector<std::uint32_t> shuffled, runs;
+  for (std::uint32_t q = 0; q < rays.size(); q += 3) shuffled.push_back((q * 7919u) % static_cast<std::uint32_t>(rays.size()));
+  for (std::uint32_t q = 0; q < rays.size(); ++q)
+    if (q % 40 < 33) runs.push_back(q);
+  for (const std::vector<std::uint32_t>& index : {shuffled, runs})
   for (const bool limited : {false, true})
     for (const int width : {16, 8, 1}) {
       std::vector<FieldAnswer> out(index.size());
@@ -352,6 +355,16 @@ TEST(ObjectField, WorldRaysThroughATransformAnswerAsTraceDoes) {
       }
       EXPECT_EQ(differ, 0u) << ObjectField::batch_width(width) << " lanes";
       EXPECT_GT(hits, index.size() / 10);
+      if (limited) continue;
+      // Occlusion marks: exactly the hits, nothing else touched.
+      std::vector<std::uint8_t> marks(rays.size(), 2);
+      field.mark_occluded(rays.data(), index.data(), index.size(), to_object, marks.data(), width);
+      std::size_t wrong = 0;
+      std::vector<std::uint8_t> expected(rays.size(), 2);
+      for (std::size_t k = 0; k < index.size(); ++k)
+        if (out[k].hit) expected[index[k]] = 1;
+      for (std::size_t q = 0; q < rays.size(); ++q) wrong += marks[q] != expected[q] ? 1 : 0;
+      EXPECT_EQ(wrong, 0u) << ObjectField::batch_width(width) << " lanes";
     }
 }
 
