@@ -26,15 +26,21 @@ int resolved_width(int width) {
   return width >= 16 ? 16 : width >= 8 ? 8 : 1;
 }
 
-/// Runs `step(FieldKernel<L>)` over the batch at `width` lanes and returns how many rays it took
-/// (a multiple of the width; 0 when the width is 1 or the kernel cannot read the tables).
-template <class Step>
-std::size_t run_lanes(int width, std::size_t count, std::size_t cell_bytes, std::size_t normal_bytes, const Step& step) {
+/// Streams the first count − count % width rays through FieldKernel<L> for the width (16 or 8):
+/// `load(kernel, k)` gives packet k's rays and `emit(kernel, k, answer)` takes its answers. Returns
+/// how many rays it took (0 when the width is 1 or the kernel cannot read the tables).
+template <class Load, class Emit>
+std::size_t run_lanes(const FieldTables& f, int width, std::size_t count, std::size_t cell_bytes, std::size_t normal_bytes,
+                      const Load& load, const Emit& emit) {
   std::size_t done = 0;
   const auto run = [&]<class L>(L) {
     using Kernel = FieldKernel<L>;
     if (!Kernel::reads(cell_bytes, normal_bytes)) return;
-    for (; done + Kernel::kWidth <= count; done += Kernel::kWidth) step(Kernel{}, done);
+    const std::size_t packets = count / Kernel::kWidth;
+    Kernel::stream(
+        f, packets, [&](std::size_t k) { return load(Kernel{}, k * Kernel::kWidth); },
+        [&](std::size_t k, const typename Kernel::Answer& a) { emit(Kernel{}, k * Kernel::kWidth, a); });
+    done = packets * Kernel::kWidth;
   };
 #if defined(__AVX512F__)
   if (width == 16) run(lanes::Avx512{});
@@ -51,9 +57,9 @@ std::size_t run_lanes(int width, std::size_t count, std::size_t cell_bytes, std:
 void ObjectField::trace_batch(const ObjectRays& rays, FieldAnswer* out, int width) const {
   const FieldTables f = tables();
   const float* const rows[8] = {rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tmin, rays.tmax};
-  std::size_t done = run_lanes(resolved_width(width), rays.count, cells_.size(), normals_.size(), [&]<class K>(K, std::size_t at) {
-    K::trace(f, K::load(rows, at), K::all_lanes(), out + at);
-  });
+  std::size_t done = run_lanes(
+      f, resolved_width(width), rays.count, cells_.size(), normals_.size(), [&]<class K>(K, std::size_t at) { return K::load(rows, at); },
+      [&]<class K>(K, std::size_t at, const typename K::Answer& a) { K::store(f, a, out + at); });
   for (; done < rays.count; ++done)
     out[done] = trace_field(f, {rays.ox[done], rays.oy[done], rays.oz[done]}, {rays.dx[done], rays.dy[done], rays.dz[done]},
                             rays.tmin[done], rays.tmax[done]);
@@ -62,9 +68,10 @@ void ObjectField::trace_batch(const ObjectRays& rays, FieldAnswer* out, int widt
 void ObjectField::trace_rays(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                              const float* limit, FieldAnswer* out, int width) const {
   const FieldTables f = tables();
-  std::size_t done = run_lanes(resolved_width(width), count, cells_.size(), normals_.size(), [&]<class K>(K, std::size_t at) {
-    K::trace(f, K::gather(rays, index + at, limit, to_object), K::all_lanes(), out + at);
-  });
+  std::size_t done = run_lanes(
+      f, resolved_width(width), count, cells_.size(), normals_.size(),
+      [&]<class K>(K, std::size_t at) { return K::gather(rays, index + at, limit, to_object); },
+      [&]<class K>(K, std::size_t at, const typename K::Answer& a) { K::store(f, a, out + at); });
   for (; done < count; ++done) {
     Ray ray = rays[index[done]];
     if (limit) ray.tmax = limit[index[done]];
@@ -76,9 +83,10 @@ void ObjectField::trace_rays(const Ray* rays, const std::uint32_t* index, std::s
 void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                                 std::uint8_t* occluded, int width) const {
   const FieldTables f = tables();
-  std::size_t done = run_lanes(resolved_width(width), count, cells_.size(), normals_.size(), [&]<class K>(K, std::size_t at) {
-    K::mark(f, K::gather(rays, index + at, nullptr, to_object), K::all_lanes(), index + at, occluded);
-  });
+  std::size_t done = run_lanes(
+      f, resolved_width(width), count, cells_.size(), normals_.size(),
+      [&]<class K>(K, std::size_t at) { return K::gather(rays, index + at, nullptr, to_object); },
+      [&]<class K>(K, std::size_t at, const typename K::Answer& a) { K::mark(a, index + at, occluded); });
   for (; done < count; ++done) {
     const Ray local = to_object.apply(rays[index[done]]);
     if (trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax).hit)

@@ -45,9 +45,8 @@ class FieldKernel {
     return cell_bytes < (std::size_t{1} << 31) && normal_bytes < (std::size_t{1} << 31);
   }
 
-  /// Answers for the lanes of `valid` into out[0 .. kWidth) (misses elsewhere).
-  static void trace(const FieldTables& f, const Rays& r, M valid, FieldAnswer* out) {
-    Answer a = trace_lanes(f, r, valid);
+  /// Answers `a` as FieldAnswers into out[0 .. kWidth).
+  static void store(const FieldTables& f, const Answer& a, FieldAnswer* out) {
     alignas(64) float t[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
     L::store(t, a.t);
     const bool normals = f.normals != NormalStorage::none;
@@ -71,10 +70,31 @@ class FieldKernel {
     }
   }
 
-  /// For the lanes of `valid` that hit, marks[index[lane]] = 1 (what an occlusion query needs).
-  static void mark(const FieldTables& f, const Rays& r, M valid, const std::uint32_t* index, std::uint8_t* marks) {
-    for (std::uint32_t hits = L::bits(trace_lanes(f, r, valid).hit); hits != 0; hits &= hits - 1)
-      marks[index[std::countr_zero(hits)]] = 1;
+  /// marks[index[lane]] = 1 for the lanes that hit (what an occlusion query needs).
+  static void mark(const Answer& a, const std::uint32_t* index, std::uint8_t* marks) {
+    for (std::uint32_t hits = L::bits(a.hit); hits != 0; hits &= hits - 1) marks[index[std::countr_zero(hits)]] = 1;
+  }
+
+  /// Answers for packets 0 .. packets−1 of kWidth rays: emit(k, trace_lanes(load(k))), with the
+  /// paper's lookups pipelined one packet ahead (locate k+1 and prefetch its cells, then read k's),
+  /// so the table's cache misses overlap the next packet's arithmetic.
+  template <class Load, class Emit>
+  static void stream(const FieldTables& f, std::size_t packets, const Load& load, const Emit& emit) {
+    if (packets == 0) return;
+    if (f.direction_lookup != DirectionLookup::nearest || f.position_lookup != PositionLookup::nearest) {
+      for (std::size_t k = 0; k < packets; ++k) emit(k, trace_lanes(f, load(k), L::all()));
+      return;
+    }
+    Located slot[2];
+    locate(f, load(0), L::all(), slot[0]);
+    prefetch(f, slot[0]);
+    for (std::size_t k = 0; k < packets; ++k) {
+      if (k + 1 < packets) {
+        locate(f, load(k + 1), L::all(), slot[(k + 1) & 1]);
+        prefetch(f, slot[(k + 1) & 1]);
+      }
+      emit(k, finish(f, slot[k & 1]));
+    }
   }
 
   /// kWidth consecutive object-space rays from structure-of-arrays rows starting at `at`.
@@ -131,7 +151,7 @@ class FieldKernel {
   static F dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
   // hd::atan_unit on lanes.
-  static F atan_unit(F x) {
+  [[gnu::always_inline]] static F atan_unit(F x) {
     const F x2 = x * x;
     F p = L::splat(-0.01172120f);
     p = p * x2 + L::splat(0.05265332f);
@@ -143,7 +163,7 @@ class FieldKernel {
   }
 
   // hd::lookup_atan2 on lanes.
-  static F atan2(F y, F x) {
+  [[gnu::always_inline]] static F atan2(F y, F x) {
     const F ax = abs(x), ay = abs(y), zero = L::splat(0.0f);
     const F big = select(ax < ay, ay, ax), small = select(ay < ax, ay, ax);
     F a = atan_unit(select(big > zero, small / big, zero));
@@ -153,23 +173,23 @@ class FieldKernel {
   }
 
   // disk_to_concentric on lanes.
-  static void disk_to_square(F x, F y, F& s, F& t) {
-    const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
-    const F four_over_pi = L::splat(4 / hd::kPi<float>);
+  // (Halving is exact, so a product by 0.5 gives the quotient's bits.)
+  [[gnu::always_inline]] static void disk_to_square(F x, F y, F& s, F& t) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), half = L::splat(0.5f);
     const F r = sqrt(x * x + y * y);
     const M positive = r > zero, x_major = abs(x) >= abs(y);
-    const F major_x = copysign(r, x), major_y = copysign(r, y);
-    const F a_x = major_x, b_x = major_x * four_over_pi * atan_unit(y / x);
-    const F b_y = major_y, a_y = major_y * four_over_pi * atan_unit(x / y);
-    const F a = select(positive, select(x_major, a_x, a_y), zero);
-    const F b = select(positive, select(x_major, b_x, b_y), zero);
-    s = (a + one) / two;
-    t = (b + one) / two;
+    // The major axis's coordinate is ±r, the minor's r·(4/π)·atan(minor/major).
+    const F major = copysign(r, select(x_major, x, y));
+    const F minor = major * L::splat(4 / hd::kPi<float>) * atan_unit(select(x_major, y, x) / select(x_major, x, y));
+    const F a = select(positive, select(x_major, major, minor), zero);
+    const F b = select(positive, select(x_major, minor, major), zero);
+    s = (a + one) * half;
+    t = (b + one) * half;
   }
 
   // direction_to_square on lanes.
-  static void to_square(HemisphereMapping mapping, const Vec& w, F& s, F& t) {
-    const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
+  [[gnu::always_inline]] static void to_square(HemisphereMapping mapping, const Vec& w, F& s, F& t) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f);
     switch (mapping) {
       case HemisphereMapping::polar: {
         F phi = atan2(w.y, w.x);
@@ -180,8 +200,8 @@ class FieldKernel {
         return;
       }
       case HemisphereMapping::rejection_malley:
-        s = (w.x + one) / two;
-        t = (w.y + one) / two;
+        s = (w.x + one) * L::splat(0.5f);
+        t = (w.y + one) * L::splat(0.5f);
         return;
       case HemisphereMapping::concentric_malley:
         disk_to_square(w.x, w.y, s, t);
@@ -195,8 +215,47 @@ class FieldKernel {
     }
   }
 
+  // hd::quadrant_sincos on lanes.
+  [[gnu::always_inline]] static void sincos(F phi, F& s, F& c) {
+    const F x2 = phi * phi;
+    F ps = L::splat(1.0f / 6227020800.0f);
+    ps = ps * x2 - L::splat(1.0f / 39916800.0f);
+    ps = ps * x2 + L::splat(1.0f / 362880.0f);
+    ps = ps * x2 - L::splat(1.0f / 5040.0f);
+    ps = ps * x2 + L::splat(1.0f / 120.0f);
+    ps = ps * x2 - L::splat(1.0f / 6.0f);
+    ps = ps * x2 + L::splat(1.0f);
+    s = phi * ps;
+    F pc = L::splat(-1.0f / 87178291200.0f);
+    pc = pc * x2 + L::splat(1.0f / 479001600.0f);
+    pc = pc * x2 - L::splat(1.0f / 3628800.0f);
+    pc = pc * x2 + L::splat(1.0f / 40320.0f);
+    pc = pc * x2 - L::splat(1.0f / 720.0f);
+    pc = pc * x2 + L::splat(1.0f / 24.0f);
+    pc = pc * x2 - L::splat(0.5f);
+    c = pc * x2 + L::splat(1.0f);
+  }
+
+  // octa::point_direction<float> on lanes: the upper table's entries, computed instead of gathered
+  // (i/n is a product by 1/n, exact for the power of two n).
+  [[gnu::always_inline]] static Vec lattice_direction(I i, I j, int n) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), inv_n = L::splat(1.0f / static_cast<float>(n));
+    const F u = to_float(i) * inv_n, v = to_float(j) * inv_n;
+    const F r = abs(u) + abs(v);
+    const F phi = L::splat(hd::kPi<float> / 2) * abs(v) / r;
+    const F radial = r * sqrt(L::splat(2.0f) - r * r);
+    F sin_phi, cos_phi;
+    sincos(phi, sin_phi, cos_phi);
+    const I zero_i = L::splat(0);
+    const M centre = r <= zero, equator = abs(i) + abs(j) == L::splat(n);
+    const F x = select(i == zero_i, zero, copysign(cos_phi * radial, u));
+    const F y = select(j == zero_i, zero, copysign(sin_phi * radial, v));
+    const F z = select(equator, zero, one - r * r);
+    return {select(centre, zero, x), select(centre, zero, y), select(centre, one, z)};
+  }
+
   // octa::point_index on lanes.
-  static I point_index(I i, I j, int n) {
+  [[gnu::always_inline]] static I point_index(I i, I j, int n) {
     const I n_v = L::splat(n);
     const I left = (i + n_v) * (i + n_v);
     const I right = L::splat(n * n) + L::splat(2 * n + 2) * i - i * i;
@@ -207,7 +266,7 @@ class FieldKernel {
   static I cell_of(F s, int n) { return min(max(to_int(s * L::splat(static_cast<float>(n))), L::splat(0)), L::splat(n - 1)); }
 
   /// read_cell on lanes (of `m`): hit, distance over 2R, and the normal code when the field has one.
-  static Answer read_cell(const FieldTables& f, I sample, I i, I j, M m) {
+  [[gnu::always_inline]] static Answer read_cell(const FieldTables& f, I sample, I i, I j, M m) {
     const I c = j * L::splat(f.directions) + i;
     const I base = sample * L::splat(static_cast<int>(f.cell_stride));
     Answer a;
@@ -268,7 +327,8 @@ class FieldKernel {
   };
 
   /// read_direction on lanes: sample `sample` with inward normal `w`, direction `d`.
-  static Answer read_direction(const FieldTables& f, I sample, const Vec& w, const Vec& d, M m) {
+  /// The square point (s, t) of unit direction `d` in the table of the sample with inward normal `w`.
+  [[gnu::always_inline]] static void square_point(const FieldTables& f, const Vec& w, const Vec& d, M m, F& s, F& t) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     // orthonormal_basis(w)
     const F sign = copysign(one, w.z);
@@ -285,8 +345,14 @@ class FieldKernel {
       local.y = select(grazing, select(flat, local.y / planar, zero), local.y);
       local.z = select(grazing, select(flat, zero, one), local.z);
     }
-    F s, t;
     to_square(f.mapping, local, s, t);
+  }
+
+  /// read_direction on lanes: sample `sample` with inward normal `w`, direction `d`.
+  [[gnu::always_inline]] static Answer read_direction(const FieldTables& f, I sample, const Vec& w, const Vec& d, M m) {
+    const F one = L::splat(1.0f);
+    F s, t;
+    square_point(f, w, d, m, s, t);
     const int n = f.directions;
     if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n), m);
     const F n_f = L::splat(static_cast<float>(n)), half = L::splat(0.5f);
@@ -311,7 +377,7 @@ class FieldKernel {
   }
 
   /// cell_used<float> of rejection_malley on lanes.
-  static M cell_used(I i, I j, int n) {
+  [[gnu::always_inline]] static M cell_used(I i, I j, int n) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f), n_f = L::splat(static_cast<float>(n));
     const F half = L::splat(1.0f / static_cast<float>(n));
     const F xc = two * (to_float(i) + L::splat(0.5f)) / n_f - one, yc = two * (to_float(j) + L::splat(0.5f)) / n_f - one;
@@ -319,121 +385,214 @@ class FieldKernel {
     return dx * dx + dy * dy < one;
   }
 
-  /// read_at on lanes: the unit point `e` of the sphere, direction `q`.
-  static Answer read_at(const FieldTables& f, const Vec& e, const Vec& q, M active) {
+  /// The lattice triangle around a unit point of the sphere: its corners (lattice coordinates,
+  /// whether within the rim, upper-hemisphere index, direction), the point folded to the upper
+  /// hemisphere and its hemisphere, and the triangle's barycentric cases and coordinates.
+  struct Corners {
+    M lower, same, case_b, case_c;
+    F fa, fb;
+    Vec folded;
+    M rim[3];
+    I index[3];
+    Vec direction[3];
+  };
+
+  /// fold_to_upper, octa::coordinates and octa::containing_triangle on lanes.
+  [[gnu::always_inline]] static Corners corners(const FieldTables& f, const Vec& e) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     const int n = f.lattice_n;
-    // fold_to_upper and octa::coordinates
-    const M lower = e.z < zero;
+    Corners c;
+    c.lower = e.z < zero;
     const F ez = abs(e.z);
+    c.folded = {e.x, e.y, ez};
     const F r = sqrt(max(one - ez, zero));
     const F phi = atan2(abs(e.y), abs(e.x));
     const F v = r * phi / L::splat(hd::kPi<float> / 2), u = r - v;
     const F n_f = L::splat(static_cast<float>(n)), minus_n_f = L::splat(static_cast<float>(-n));
     const F la = select(e.x > zero, n_f * u, select(e.x < zero, minus_n_f * u, zero));
     const F lb = select(e.y > zero, n_f * v, select(e.y < zero, minus_n_f * v, zero));
-    // octa::containing_triangle
     const I i0 = min(max(to_int(floor(la)), L::splat(-n)), L::splat(n - 1));
     const I j0 = min(max(to_int(floor(lb)), L::splat(-n)), L::splat(n - 1));
-    const F fa = la - to_float(i0), fb = lb - to_float(j0);
-    const M same = ~((i0 < L::splat(0)) ^ (j0 < L::splat(0)));
-    const M case_b = same & (fa + fb > one), case_c = ~same & (fb <= fa), case_d = ~same & (fb > fa);
+    c.fa = la - to_float(i0);
+    c.fb = lb - to_float(j0);
+    c.same = ~((i0 < L::splat(0)) ^ (j0 < L::splat(0)));
+    c.case_b = c.same & (c.fa + c.fb > one);
+    c.case_c = ~c.same & (c.fb <= c.fa);
+    const M case_d = ~c.same & (c.fb > c.fa);
     const I one_i = L::splat(1);
     const I i1 = i0 + one_i, j1 = j0 + one_i;
-    const I ci[3] = {select(case_b, i1, i0), select(case_d, i0, i1), select(case_c | case_d, i1, i0)};
-    const I cj[3] = {select(case_b, j1, j0), select(case_d, j1, j0), j1};
-    M rim[3];
-    I index[3];
-    Vec corner[3];
-    const float* upper = reinterpret_cast<const float*>(f.upper);
+    const I ci[3] = {select(c.case_b, i1, i0), select(case_d, i0, i1), select(c.case_c | case_d, i1, i0)};
+    const I cj[3] = {select(c.case_b, j1, j0), select(case_d, j1, j0), j1};
     for (int k = 0; k < 3; ++k) {
-      rim[k] = abs(ci[k]) + abs(cj[k]) <= L::splat(n);
-      index[k] = select(rim[k], point_index(ci[k], cj[k], n), L::splat(0));
-      const I slot = index[k] * L::splat(3);
-      const M live = active & rim[k];
-      corner[k] = {lanes::gather(upper, slot, live), lanes::gather(upper + 1, slot, live), lanes::gather(upper + 2, slot, live)};
+      c.rim[k] = abs(ci[k]) + abs(cj[k]) <= L::splat(n);
+      c.index[k] = select(c.rim[k], point_index(ci[k], cj[k], n), L::splat(0));
+      c.direction[k] = lattice_direction(ci[k], cj[k], n);
     }
-    const I offset = select(lower, L::splat(f.upper_count), L::splat(0));
-    const auto inward = [&](const Vec& p) { return Vec{-p.x, -p.y, select(lower, p.z, -p.z)}; };
-    const Vec folded{e.x, e.y, ez};
+    return c;
+  }
+
+  /// sample_inward on lanes: the inward normal of the sample in direction `p` of the upper table.
+  static Vec inward(const Corners& c, const Vec& p) { return Vec{-p.x, -p.y, select(c.lower, p.z, -p.z)}; }
+  /// The index offset of the lanes' hemisphere.
+  static I hemisphere_offset(const FieldTables& f, const Corners& c) { return select(c.lower, L::splat(f.upper_count), L::splat(0)); }
+
+  /// nearest_position on lanes: the sample index and its inward normal.
+  [[gnu::always_inline]] static void nearest_sample(const FieldTables& f, const Corners& c, M active, I& sample, Vec& w) {
+    F best_cos = L::splat(-2.0f);
+    I best = L::splat(0);
+    Vec p = c.direction[0];
+    for (int k = 0; k < 3; ++k) {
+      const F cosine = dot(c.folded, c.direction[k]);
+      const M better = active & c.rim[k] & (cosine > best_cos);
+      best_cos = select(better, cosine, best_cos);
+      best = select(better, c.index[k], best);
+      p = {select(better, c.direction[k].x, p.x), select(better, c.direction[k].y, p.y), select(better, c.direction[k].z, p.z)};
+    }
+    sample = best + hemisphere_offset(f, c);
+    w = inward(c, p);
+  }
+
+  /// read_at on lanes: the unit point `e` of the sphere, direction `q`.
+  [[gnu::always_inline]] static Answer read_at(const FieldTables& f, const Vec& e, const Vec& q, M active) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f);
+    const Corners c = corners(f, e);
     if (f.position_lookup == PositionLookup::nearest) {
-      F best_cos = L::splat(-2.0f);
-      I best = L::splat(0);
-      Vec p = corner[0];
-      for (int k = 0; k < 3; ++k) {
-        const M better = active & rim[k] & (dot(folded, corner[k]) > best_cos);
-        best_cos = select(better, dot(folded, corner[k]), best_cos);
-        best = select(better, index[k], best);
-        p = {select(better, corner[k].x, p.x), select(better, corner[k].y, p.y), select(better, corner[k].z, p.z)};
-      }
-      return read_direction(f, best + offset, inward(p), q, active);
+      I sample;
+      Vec w;
+      nearest_sample(f, c, active, sample, w);
+      return read_direction(f, sample, w, q, active);
     }
     // blend_positions: triangle weights, clamped at 0, zero beyond the rim, normalised; a corner
     // beyond the rim repeats the heaviest valid one.
-    F weight[3] = {select(same, select(case_b, fa + fb - one, one - fa - fb), select(case_c, one - fa, one - fb)),
-                   select(same, select(case_b, one - fb, fa), select(case_c, fa - fb, fb - fa)),
-                   select(same, select(case_b, one - fa, fb), select(case_c, fb, fa))};
+    const F fa = c.fa, fb = c.fb;
+    F weight[3] = {select(c.same, select(c.case_b, fa + fb - one, one - fa - fb), select(c.case_c, one - fa, one - fb)),
+                   select(c.same, select(c.case_b, one - fb, fa), select(c.case_c, fa - fb, fb - fa)),
+                   select(c.same, select(c.case_b, one - fa, fb), select(c.case_c, fb, fa))};
     F total = zero, valid_weight = L::splat(-1.0f);
     I valid_index = L::splat(0), valid_k = L::splat(-1);
-    Vec valid_corner = corner[0];
+    Vec valid_corner = c.direction[0];
     for (int k = 0; k < 3; ++k) {
-      weight[k] = select(rim[k], max(weight[k], zero), zero);
-      const M take = rim[k] & (weight[k] > valid_weight);
+      weight[k] = select(c.rim[k], max(weight[k], zero), zero);
+      const M take = c.rim[k] & (weight[k] > valid_weight);
       valid_weight = select(take, weight[k], valid_weight);
-      valid_index = select(take, index[k], valid_index);
+      valid_index = select(take, c.index[k], valid_index);
       valid_k = select(take, L::splat(k), valid_k);
-      valid_corner = {select(take, corner[k].x, valid_corner.x), select(take, corner[k].y, valid_corner.y),
-                      select(take, corner[k].z, valid_corner.z)};
+      valid_corner = {select(take, c.direction[k].x, valid_corner.x), select(take, c.direction[k].y, valid_corner.y),
+                      select(take, c.direction[k].z, valid_corner.z)};
       total = total + weight[k];
     }
+    const I offset = hemisphere_offset(f, c);
     Vote vote;
     for (int k = 0; k < 3; ++k) {
       const F w = select(total > zero, weight[k] / total, select(valid_k == L::splat(k), one, zero));
       const M m = active & (w > zero);
       if (!any(m)) continue;
-      const I sample = select(rim[k], index[k], valid_index) + offset;
-      const Vec p{select(rim[k], corner[k].x, valid_corner.x), select(rim[k], corner[k].y, valid_corner.y),
-                  select(rim[k], corner[k].z, valid_corner.z)};
-      vote.add(w, read_direction(f, sample, inward(p), q, m), m);
+      const I sample = select(c.rim[k], c.index[k], valid_index) + offset;
+      const Vec p{select(c.rim[k], c.direction[k].x, valid_corner.x), select(c.rim[k], c.direction[k].y, valid_corner.y),
+                  select(c.rim[k], c.direction[k].z, valid_corner.z)};
+      vote.add(w, read_direction(f, sample, inward(c, p), q, m), m);
     }
     return vote.result();
   }
 
-  /// trace_field on lanes (of `valid`).
-  static Answer trace_lanes(const FieldTables& f, const Rays& r, M valid) {
+  /// The ray against the bounding sphere on lanes: which lanes meet it as the scalar query lets them
+  /// (from inside, or entering ahead), where, and the direction the table is read in.
+  struct Geometry {
+    M active, inside;
+    F len, s_min, s_max, s_enter, s_exit;
+    Vec e, q;  // unit point of the sphere (entry, or exit from inside); direction into the sphere
+  };
+
+  [[gnu::always_inline]] static Geometry geometry(const FieldTables& f, const Rays& r, M valid) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
+    Geometry g;
     const Vec dir{r.dx, r.dy, r.dz};
-    const F len = sqrt(dot(dir, dir));
-    const F inv = one / len;
+    g.len = sqrt(dot(dir, dir));
+    const F inv = one / g.len;
     const Vec d{dir.x * inv, dir.y * inv, dir.z * inv};
-    const F s_min = r.tmin * len, s_max = r.tmax * len;
-    const float diameter = 2.0f * f.radius;
+    g.s_min = r.tmin * g.len;
+    g.s_max = r.tmax * g.len;
     const Vec oc{r.ox - L::splat(f.centre.x), r.oy - L::splat(f.centre.y), r.oz - L::splat(f.centre.z)};
     const F b = dot(oc, d), c = dot(oc, oc) - L::splat(f.radius * f.radius);
     const F disc = b * b - c;
-    M active = valid & (disc >= zero);
-    Answer none{L::none(), zero, L::splat(0)};
-    if (!any(active)) return none;
+    g.active = valid & (disc >= zero);
     const F root = sqrt(max(disc, zero));
-    const F s_enter = -b - root, s_exit = -b + root;
-    const M inside = ~(c > zero);
-    active = active & (inside | ~(s_enter < zero));
-    if (!any(active)) return none;
-    const F s_at = select(inside, s_exit, s_enter);
+    g.s_enter = -b - root;
+    g.s_exit = -b + root;
+    g.inside = ~(c > zero);
+    g.active = g.active & (g.inside | ~(g.s_enter < zero));
+    const F s_at = select(g.inside, g.s_exit, g.s_enter);
     Vec e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
     const F e_inv = one / sqrt(dot(e, e));
-    e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
-    const Vec q{select(inside, -d.x, d.x), select(inside, -d.y, d.y), select(inside, -d.z, d.z)};
-    Answer a = read_at(f, e, q, active);
+    g.e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
+    g.q = {select(g.inside, -d.x, d.x), select(g.inside, -d.y, d.y), select(g.inside, -d.z, d.z)};
+    return g;
+  }
+
+  /// The end of trace_field on lanes: the table's answer `a` placed along the ray and held to its range.
+  [[gnu::always_inline]] static Answer place(const FieldTables& f, const Geometry& g, Answer a) {
+    const float diameter = 2.0f * f.radius;
     const F span = a.t * L::splat(diameter);
-    const F s_hit = select(inside, s_exit - span, s_enter + span);
-    a.hit = a.hit & active & (~inside | (s_hit > L::splat(f.self_offset * diameter))) & (s_hit >= s_min) & (s_hit <= s_max);
-    a.t = s_hit / len;
+    const F s_hit = select(g.inside, g.s_exit - span, g.s_enter + span);
+    a.hit = a.hit & g.active & (~g.inside | (s_hit > L::splat(f.self_offset * diameter))) & (s_hit >= g.s_min) & (s_hit <= g.s_max);
+    a.t = s_hit / g.len;
     return a;
   }
 
+  /// trace_field on lanes (of `valid`).
+  [[gnu::always_inline]] static Answer trace_lanes(const FieldTables& f, const Rays& r, M valid) {
+    const Geometry g = geometry(f, r, valid);
+    if (!any(g.active)) return {L::none(), L::splat(0.0f), L::splat(0)};
+    return place(f, g, read_at(f, g.e, g.q, g.active));
+  }
+
+  /// With the paper's lookups (one sample, one cell), trace_lanes() in two halves so that a stream
+  /// can ask for the next rays' cells while it reads this one's: `locate` finds the cell,
+  /// `prefetch` asks the caches for it, `finish` reads it.
+  struct Located {
+    M active, inside;
+    F len, s_min, s_max, s_enter, s_exit;
+    I sample, i, j;
+  };
+
+  [[gnu::always_inline]] static void locate(const FieldTables& f, const Rays& r, M valid, Located& l) {
+    const Geometry g = geometry(f, r, valid);
+    Vec w;
+    nearest_sample(f, corners(f, g.e), g.active, l.sample, w);
+    F s, t;
+    square_point(f, w, g.q, g.active, s, t);
+    l.i = cell_of(s, f.directions);
+    l.j = cell_of(t, f.directions);
+    l.active = g.active;
+    l.inside = g.inside;
+    l.len = g.len;
+    l.s_min = g.s_min;
+    l.s_max = g.s_max;
+    l.s_enter = g.s_enter;
+    l.s_exit = g.s_exit;
+  }
+
+  [[gnu::always_inline]] static void prefetch(const FieldTables& f, const Located& l) {
+    alignas(64) std::int32_t sample[kWidth], cell[kWidth];
+    L::store(sample, l.sample);
+    L::store(cell, l.j * L::splat(f.directions) + l.i);
+    const int shift = f.storage == CellStorage::bit ? -3 : f.storage == CellStorage::u16 ? 1 : f.storage == CellStorage::f32 ? 2 : 0;
+    const int normal_shift = f.normals == NormalStorage::oct16 ? 1 : 2;
+    for (std::uint32_t lanes = L::bits(l.active); lanes != 0; lanes &= lanes - 1) {
+      const int k = std::countr_zero(lanes);
+      const auto at = static_cast<std::size_t>(sample[k]), c = static_cast<std::size_t>(cell[k]);
+      __builtin_prefetch(f.cells + at * f.cell_stride + (shift >= 0 ? c << shift : c >> 3));
+      if (f.normals != NormalStorage::none) __builtin_prefetch(f.normal_cells + at * f.normal_stride + (c << normal_shift));
+    }
+  }
+
+  [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
+    const Geometry g{l.active, l.inside, l.len, l.s_min, l.s_max, l.s_enter, l.s_exit, {}, {}};
+    return place(f, g, read_cell(f, l.sample, l.i, l.j, l.active));
+  }
+
   /// decode_normal on lanes.
-  static Vec decode_normals(const FieldTables& f, I code) {
+  [[gnu::always_inline]] static Vec decode_normals(const FieldTables& f, I code) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
     const int half = f.normals == NormalStorage::oct16 ? 8 : 16;
     const F top = L::splat(static_cast<float>(normal_max_code(f.normals)));

@@ -15,14 +15,16 @@ SpherePositions::SpherePositions(int level) : level_(level) {
                 std::to_string(count(kMaxLevel)) + " samples)");
   n_ = 1 << level;
   upper_.resize(static_cast<std::size_t>(octa::point_count(n_)));
+  upper_float_.resize(upper_.size());
   for (int i = -n_; i <= n_; ++i) {
     const int span = n_ - (i < 0 ? -i : i);
-    for (int j = -span; j <= span; ++j)
-      upper_[static_cast<std::size_t>(octa::point_index(i, j, n_))] = octa::point_direction<double>(i, j, n_);
+    for (int j = -span; j <= span; ++j) {
+      const auto index = static_cast<std::size_t>(octa::point_index(i, j, n_));
+      upper_[index] = octa::point_direction<double>(i, j, n_);
+      // Float directions are computed in float (not rounded from double), as the SIMD lookup computes them.
+      upper_float_[index] = octa::point_direction<float>(i, j, n_);
+    }
   }
-  upper_float_.reserve(upper_.size());
-  for (const hd::Vec3<double>& w : upper_)
-    upper_float_.push_back({static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z)});
 }
 
 hd::Vec3<double> SpherePositions::direction(std::size_t index) const {

@@ -72,6 +72,35 @@ VF_HOST_DEVICE inline float lookup_atan2(float y, float x) {
 /// atan2 in double: the library's.
 VF_HOST_DEVICE inline double lookup_atan2(double y, double x) { return ::atan2(y, x); }
 
+/// sin and cos of phi in [0, π/2] as the lattice directions are computed in float: Taylor
+/// polynomials to x^13 and x^14 (truncation below 1e-9, so float rounding is all the error),
+/// evaluated with separate multiplies and adds so that SIMD lanes and CUDA threads get the same
+/// bits. O(1).
+VF_HOST_DEVICE inline void quadrant_sincos(float phi, float& s, float& c) {
+  const float x2 = phi * phi;
+  float ps = 1.0f / 6227020800.0f;
+  ps = ps * x2 - 1.0f / 39916800.0f;
+  ps = ps * x2 + 1.0f / 362880.0f;
+  ps = ps * x2 - 1.0f / 5040.0f;
+  ps = ps * x2 + 1.0f / 120.0f;
+  ps = ps * x2 - 1.0f / 6.0f;
+  ps = ps * x2 + 1.0f;
+  s = phi * ps;
+  float pc = -1.0f / 87178291200.0f;
+  pc = pc * x2 + 1.0f / 479001600.0f;
+  pc = pc * x2 - 1.0f / 3628800.0f;
+  pc = pc * x2 + 1.0f / 40320.0f;
+  pc = pc * x2 - 1.0f / 720.0f;
+  pc = pc * x2 + 1.0f / 24.0f;
+  pc = pc * x2 - 0.5f;
+  c = pc * x2 + 1.0f;
+}
+/// sin and cos in double: the library's.
+VF_HOST_DEVICE inline void quadrant_sincos(double phi, double& s, double& c) {
+  s = ::sin(phi);
+  c = ::cos(phi);
+}
+
 /// min of two values of one type; host and device.
 template <class T>
 VF_HOST_DEVICE inline T min(T a, T b) { return b < a ? b : a; }

@@ -26,7 +26,9 @@ VF_HOST_DEVICE inline long long point_index(int i, int j, int n) {
 }
 
 /// The unit direction of lattice point (i, j) (z >= 0). Exact zeros where i or j is zero and on
-/// the equator (|i| + |j| = n), so that points mirrored across an axis mirror bit for bit.
+/// the equator (|i| + |j| = n), so that points mirrored across an axis mirror bit for bit. In float
+/// the angle's sine and cosine are hd::quadrant_sincos's polynomials, so that SIMD lanes compute
+/// the same directions without a table.
 template <class Real>
 VF_HOST_DEVICE inline hd::Vec3<Real> point_direction(int i, int j, int n) {
   const Real u = static_cast<Real>(i) / n, v = static_cast<Real>(j) / n;
@@ -34,8 +36,10 @@ VF_HOST_DEVICE inline hd::Vec3<Real> point_direction(int i, int j, int n) {
   if (r == Real(0)) return {Real(0), Real(0), Real(1)};
   const Real phi = (hd::kPi<Real> / 2) * hd::abs(v) / r;
   const Real radial = r * hd::sqrt(Real(2) - r * r);
-  const Real x = i == 0 ? Real(0) : hd::copysign(hd::cos(phi) * radial, u);
-  const Real y = j == 0 ? Real(0) : hd::copysign(hd::sin(phi) * radial, v);
+  Real sin_phi, cos_phi;
+  hd::quadrant_sincos(phi, sin_phi, cos_phi);
+  const Real x = i == 0 ? Real(0) : hd::copysign(cos_phi * radial, u);
+  const Real y = j == 0 ? Real(0) : hd::copysign(sin_phi * radial, v);
   const bool equator = (i < 0 ? -i : i) + (j < 0 ? -j : j) == n;
   return {x, y, equator ? Real(0) : Real(1) - r * r};
 }

@@ -70,6 +70,11 @@ TEST(SpherePositions, SamplesAreUnitAndTheLowerHalfMirrorsTheUpper) {
     EXPECT_EQ(l.x, u.x);
     EXPECT_EQ(l.y, u.y);
     EXPECT_EQ(l.z, -u.z);
+    // The float table is computed in float (polynomial sine and cosine), within float rounding of the double one.
+    const hd::Vec3<float> f = set.upper_table()[k];
+    EXPECT_NEAR(f.x, u.x, 3e-7);
+    EXPECT_NEAR(f.y, u.y, 3e-7);
+    EXPECT_NEAR(f.z, u.z, 3e-7);
   }
 }
 
