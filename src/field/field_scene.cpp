@@ -1,6 +1,7 @@
 #include "visfield/field/field_scene.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -188,6 +189,22 @@ ErrorBounds FieldScene::error_bounds() const {
   return b;
 }
 
+namespace {
+
+constexpr std::size_t kBlock = 1024;  // rays per parallel task: enough for 16-ray steps per object
+
+/// 0, 1, …, kBlock − 1: the candidate list of an object every ray of a block may meet.
+const std::array<std::uint32_t, kBlock>& every_ray() {
+  static const std::array<std::uint32_t, kBlock> all = [] {
+    std::array<std::uint32_t, kBlock> a{};
+    for (std::size_t i = 0; i < kBlock; ++i) a[i] = static_cast<std::uint32_t>(i);
+    return a;
+  }();
+  return all;
+}
+
+}  // namespace
+
 void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const {
   const std::size_t n = rays.size();
   // The exact part first: its hit bounds every field's search (closest) or settles the ray (occlusion).
@@ -198,41 +215,45 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
       occluded[i] = exact_ && exact_->occluded(rays[i]) ? 1 : 0;
   }
   if (objects_.empty()) return;
-  std::vector<std::uint32_t> index(n);
+  std::vector<std::uint32_t> index;
   std::vector<float> limit(closest ? n : 0);
   std::vector<FieldAnswer> answers(closest ? n : 0);
+  // Among several objects each one's rays are culled by its sphere; a lone object takes every ray
+  // still open, and when nothing settled any (no exact part), the block's rays in order.
   const bool cull = objects_.size() > 1;
   for (const Object& o : objects_) {
-    // This object's candidate rays: those still open, and, among several objects, those that may
-    // meet its sphere; a closest-hit search ends at the best hit so far.
-    std::size_t m = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!closest && occluded[i]) continue;
-      if (closest) limit[i] = best[i].found ? best[i].t : rays[i].tmax;
-      if (cull) {
-        Ray ray = rays[i];
-        if (closest) ray.tmax = limit[i];
-        if (!may_meet(o, ray)) continue;
+    // This object's candidate rays; a closest-hit search ends at the best hit so far.
+    if (closest)
+      for (std::size_t i = 0; i < n; ++i) limit[i] = best[i].found ? best[i].t : rays[i].tmax;
+    const std::uint32_t* candidates = every_ray().data();
+    std::size_t m = n;
+    if (cull || (!closest && exact_)) {
+      index.resize(n);
+      m = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!closest && occluded[i]) continue;
+        if (cull) {
+          Ray ray = rays[i];
+          if (closest) ray.tmax = limit[i];
+          if (!may_meet(o, ray)) continue;
+        }
+        index[m++] = static_cast<std::uint32_t>(i);
       }
-      index[m++] = static_cast<std::uint32_t>(i);
+      candidates = index.data();
     }
     if (m == 0) continue;
     if (!closest) {
-      o.field->mark_occluded(rays.data(), index.data(), m, o.to_object, occluded);
+      o.field->mark_occluded(rays.data(), candidates, m, o.to_object, occluded);
       continue;
     }
-    o.field->trace_rays(rays.data(), index.data(), m, o.to_object, limit.data(), answers.data());
+    o.field->trace_rays(rays.data(), candidates, m, o.to_object, limit.data(), answers.data());
     for (std::size_t k = 0; k < m; ++k) {
       if (!answers[k].hit) continue;
-      const std::size_t i = index[k];
+      const std::size_t i = candidates[k];
       if (!best[i].found || answers[k].t < best[i].t) best[i] = field_hit(o, answers[k]);
     }
   }
 }
-
-namespace {
-constexpr std::size_t kBlock = 1024;  // rays per parallel task: enough for 16-ray steps per object
-}  // namespace
 
 void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
   vf::parallel_for(std::size_t{0}, (rays.size() + kBlock - 1) / kBlock, [&](std::size_t block) {
