@@ -218,45 +218,6 @@ class FieldKernel {
     }
   }
 
-  // hd::quadrant_sincos on lanes.
-  [[gnu::always_inline]] static void sincos(F phi, F& s, F& c) {
-    const F x2 = phi * phi;
-    F ps = L::splat(1.0f / 6227020800.0f);
-    ps = ps * x2 - L::splat(1.0f / 39916800.0f);
-    ps = ps * x2 + L::splat(1.0f / 362880.0f);
-    ps = ps * x2 - L::splat(1.0f / 5040.0f);
-    ps = ps * x2 + L::splat(1.0f / 120.0f);
-    ps = ps * x2 - L::splat(1.0f / 6.0f);
-    ps = ps * x2 + L::splat(1.0f);
-    s = phi * ps;
-    F pc = L::splat(-1.0f / 87178291200.0f);
-    pc = pc * x2 + L::splat(1.0f / 479001600.0f);
-    pc = pc * x2 - L::splat(1.0f / 3628800.0f);
-    pc = pc * x2 + L::splat(1.0f / 40320.0f);
-    pc = pc * x2 - L::splat(1.0f / 720.0f);
-    pc = pc * x2 + L::splat(1.0f / 24.0f);
-    pc = pc * x2 - L::splat(0.5f);
-    c = pc * x2 + L::splat(1.0f);
-  }
-
-  // octa::point_direction<float> on lanes: the upper table's entries, computed instead of gathered
-  // (i/n is a product by 1/n, exact for the power of two n).
-  [[gnu::always_inline]] static Vec lattice_direction(I i, I j, int n) {
-    const F zero = L::splat(0.0f), one = L::splat(1.0f), inv_n = L::splat(1.0f / static_cast<float>(n));
-    const F u = to_float(i) * inv_n, v = to_float(j) * inv_n;
-    const F r = abs(u) + abs(v);
-    const F phi = L::splat(hd::kPi<float> / 2) * abs(v) / r;
-    const F radial = r * sqrt(L::splat(2.0f) - r * r);
-    F sin_phi, cos_phi;
-    sincos(phi, sin_phi, cos_phi);
-    const I zero_i = L::splat(0);
-    const M centre = r <= zero, equator = abs(i) + abs(j) == L::splat(n);
-    const F x = select(i == zero_i, zero, copysign(cos_phi * radial, u));
-    const F y = select(j == zero_i, zero, copysign(sin_phi * radial, v));
-    const F z = select(equator, zero, one - r * r);
-    return {select(centre, zero, x), select(centre, zero, y), select(centre, one, z)};
-  }
-
   // octa::point_index on lanes.
   [[gnu::always_inline]] static I point_index(I i, I j, int n) {
     const I n_v = L::splat(n);
@@ -389,25 +350,28 @@ class FieldKernel {
   }
 
   /// The lattice triangle around a unit point of the sphere: its corners (lattice coordinates,
-  /// whether within the rim, upper-hemisphere index, direction), the point folded to the upper
-  /// hemisphere and its hemisphere, and the triangle's barycentric cases and coordinates.
+  /// whether within the rim, upper-hemisphere index, direction as magnitudes |x|, |y|, z: the
+  /// corners share the point's quadrant, so cosines need no signs), the point folded to the upper
+  /// hemisphere with its magnitudes and its hemisphere, and the triangle's barycentric cases and
+  /// coordinates.
   struct Corners {
     M lower, same, case_b, case_c;
     F fa, fb;
-    Vec folded;
+    Vec magnitude_point;
     M rim[3];
-    I index[3];
-    Vec direction[3];
+    I ci[3], cj[3], index[3];
+    Vec magnitude[3];
   };
 
-  /// fold_to_upper, octa::coordinates and octa::containing_triangle on lanes.
+  /// fold_to_upper, octa::coordinates and octa::containing_triangle on lanes; the corners'
+  /// directions gathered from FieldTables::quadrant, with z = 1 − r² computed as point_direction does.
   [[gnu::always_inline]] static Corners corners(const FieldTables& f, const Vec& e) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     const int n = f.lattice_n;
     Corners c;
     c.lower = e.z < zero;
     const F ez = abs(e.z);
-    c.folded = {e.x, e.y, ez};
+    c.magnitude_point = {abs(e.x), abs(e.y), ez};
     const F r = sqrt(max(one - ez, zero));
     const F phi = atan2(abs(e.y), abs(e.x));
     const F v = r * phi / L::splat(hd::kPi<float> / 2), u = r - v;
@@ -424,14 +388,31 @@ class FieldKernel {
     const M case_d = ~c.same & (c.fb > c.fa);
     const I one_i = L::splat(1);
     const I i1 = i0 + one_i, j1 = j0 + one_i;
-    const I ci[3] = {select(c.case_b, i1, i0), select(case_d, i0, i1), select(c.case_c | case_d, i1, i0)};
-    const I cj[3] = {select(c.case_b, j1, j0), select(case_d, j1, j0), j1};
+    c.ci[0] = select(c.case_b, i1, i0);
+    c.ci[1] = select(case_d, i0, i1);
+    c.ci[2] = select(c.case_c | case_d, i1, i0);
+    c.cj[0] = select(c.case_b, j1, j0);
+    c.cj[1] = select(case_d, j1, j0);
+    c.cj[2] = j1;
+    const F inv_n = L::splat(1.0f / static_cast<float>(n));
     for (int k = 0; k < 3; ++k) {
-      c.rim[k] = abs(ci[k]) + abs(cj[k]) <= L::splat(n);
-      c.index[k] = select(c.rim[k], point_index(ci[k], cj[k], n), L::splat(0));
-      c.direction[k] = lattice_direction(ci[k], cj[k], n);
+      const I ai = abs(c.ci[k]), aj = abs(c.cj[k]);
+      c.rim[k] = ai + aj <= L::splat(n);
+      c.index[k] = select(c.rim[k], point_index(c.ci[k], c.cj[k], n), L::splat(0));
+      lanes::gather_pairs(f.quadrant, ai * L::splat(n + 1) + aj, c.magnitude[k].x, c.magnitude[k].y);
+      // r = |i|/n + |j|/n exactly (n a power of two); the centre's 1 − 0 is its z = 1.
+      const F r_k = to_float(ai + aj) * inv_n;
+      c.magnitude[k].z = select(ai + aj == L::splat(n), zero, one - r_k * r_k);
     }
     return c;
+  }
+
+  /// Corner k's direction (the upper table's entry): the magnitudes with the signs of its lattice
+  /// coordinates (+0 where a coordinate is 0, as point_direction writes it).
+  static Vec corner_direction(const Corners& c, int k) {
+    const I zero_i = L::splat(0);
+    return {select(c.ci[k] < zero_i, -c.magnitude[k].x, c.magnitude[k].x), select(c.cj[k] < zero_i, -c.magnitude[k].y, c.magnitude[k].y),
+            c.magnitude[k].z};
   }
 
   /// sample_inward on lanes: the inward normal of the sample in direction `p` of the upper table.
@@ -439,20 +420,24 @@ class FieldKernel {
   /// The index offset of the lanes' hemisphere.
   static I hemisphere_offset(const FieldTables& f, const Corners& c) { return select(c.lower, L::splat(f.upper_count), L::splat(0)); }
 
-  /// nearest_position on lanes: the sample index and its inward normal.
+  /// nearest_position on lanes: the sample index and its inward normal. (The cosine of magnitudes
+  /// is the signed one: the corners lie in the point's quadrant.)
   [[gnu::always_inline]] static void nearest_sample(const FieldTables& f, const Corners& c, M active, I& sample, Vec& w) {
     F best_cos = L::splat(-2.0f);
-    I best = L::splat(0);
-    Vec p = c.direction[0];
+    I best = L::splat(0), best_i = L::splat(0), best_j = L::splat(0);
+    Vec p = c.magnitude[0];
     for (int k = 0; k < 3; ++k) {
-      const F cosine = dot(c.folded, c.direction[k]);
+      const F cosine = dot(c.magnitude_point, c.magnitude[k]);
       const M better = active & c.rim[k] & (cosine > best_cos);
       best_cos = select(better, cosine, best_cos);
       best = select(better, c.index[k], best);
-      p = {select(better, c.direction[k].x, p.x), select(better, c.direction[k].y, p.y), select(better, c.direction[k].z, p.z)};
+      best_i = select(better, c.ci[k], best_i);
+      best_j = select(better, c.cj[k], best_j);
+      p = {select(better, c.magnitude[k].x, p.x), select(better, c.magnitude[k].y, p.y), select(better, c.magnitude[k].z, p.z)};
     }
     sample = best + hemisphere_offset(f, c);
-    w = inward(c, p);
+    const I zero_i = L::splat(0);
+    w = inward(c, {select(best_i < zero_i, -p.x, p.x), select(best_j < zero_i, -p.y, p.y), p.z});
   }
 
   /// read_at on lanes: the unit point `e` of the sphere, direction `q`.
@@ -473,15 +458,17 @@ class FieldKernel {
                    select(c.same, select(c.case_b, one - fa, fb), select(c.case_c, fb, fa))};
     F total = zero, valid_weight = L::splat(-1.0f);
     I valid_index = L::splat(0), valid_k = L::splat(-1);
-    Vec valid_corner = c.direction[0];
+    Vec direction[3];
+    for (int k = 0; k < 3; ++k) direction[k] = corner_direction(c, k);
+    Vec valid_corner = direction[0];
     for (int k = 0; k < 3; ++k) {
       weight[k] = select(c.rim[k], max(weight[k], zero), zero);
       const M take = c.rim[k] & (weight[k] > valid_weight);
       valid_weight = select(take, weight[k], valid_weight);
       valid_index = select(take, c.index[k], valid_index);
       valid_k = select(take, L::splat(k), valid_k);
-      valid_corner = {select(take, c.direction[k].x, valid_corner.x), select(take, c.direction[k].y, valid_corner.y),
-                      select(take, c.direction[k].z, valid_corner.z)};
+      valid_corner = {select(take, direction[k].x, valid_corner.x), select(take, direction[k].y, valid_corner.y),
+                      select(take, direction[k].z, valid_corner.z)};
       total = total + weight[k];
     }
     const I offset = hemisphere_offset(f, c);
@@ -491,8 +478,8 @@ class FieldKernel {
       const M m = active & (w > zero);
       if (!any(m)) continue;
       const I sample = select(c.rim[k], c.index[k], valid_index) + offset;
-      const Vec p{select(c.rim[k], c.direction[k].x, valid_corner.x), select(c.rim[k], c.direction[k].y, valid_corner.y),
-                  select(c.rim[k], c.direction[k].z, valid_corner.z)};
+      const Vec p{select(c.rim[k], direction[k].x, valid_corner.x), select(c.rim[k], direction[k].y, valid_corner.y),
+                  select(c.rim[k], direction[k].z, valid_corner.z)};
       vote.add(w, read_direction(f, sample, inward(c, p), q, m), m);
     }
     return vote.result();

@@ -124,6 +124,14 @@ inline Avx512::F gather(const float* base, Avx512::I index, Avx512::M m) {
 inline Avx512::I gather_bytes(const void* base, Avx512::I offset, Avx512::M m) {
   return {_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m.m, offset.v, base, 1)};
 }
+/// The two floats of table[index] (64 bits each; every lane's index valid): the low one into
+/// `first`, the high one into `second` (two 8-lane 64-bit gathers, then two permutes).
+inline void gather_pairs(const unsigned long long* table, Avx512::I index, Avx512::F& first, Avx512::F& second) {
+  const __m512 lo = _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_castsi512_si256(index.v), table, 8));
+  const __m512 hi = _mm512_castsi512_ps(_mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index.v, 1), table, 8));
+  first.v = _mm512_permutex2var_ps(lo, _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30), hi);
+  second.v = _mm512_permutex2var_ps(lo, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), hi);
+}
 #endif
 
 #if defined(__AVX2__)
@@ -236,6 +244,16 @@ inline Avx2::F gather(const float* base, Avx2::I index, Avx2::M m) {
 /// The 32 bits at byte offset `offset` from `base` for the lanes of `m`, 0 elsewhere.
 inline Avx2::I gather_bytes(const void* base, Avx2::I offset, Avx2::M m) {
   return {_mm256_mask_i32gather_epi32(_mm256_setzero_si256(), static_cast<const int*>(base), offset.v, m.m, 1)};
+}
+/// The two floats of table[index] (64 bits each; every lane's index valid): the low one into
+/// `first`, the high one into `second` (two 4-lane 64-bit gathers, then shuffles).
+inline void gather_pairs(const unsigned long long* table, Avx2::I index, Avx2::F& first, Avx2::F& second) {
+  const auto* base = reinterpret_cast<const long long*>(table);
+  const __m256 lo = _mm256_castsi256_ps(_mm256_i32gather_epi64(base, _mm256_castsi256_si128(index.v), 8));
+  const __m256 hi = _mm256_castsi256_ps(_mm256_i32gather_epi64(base, _mm256_extracti128_si256(index.v, 1), 8));
+  // Per 128-bit half [lo.a, lo.b, hi.a, hi.b], then the 64-bit quarters put back in lane order.
+  first.v = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8));
+  second.v = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
 }
 #endif
 

@@ -1,6 +1,7 @@
 #include "visfield/field/object_field.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -94,7 +95,9 @@ double ObjectField::table_bytes(const ObjectFieldConfig& config) {
   const double positions = static_cast<double>(config.positions);
   const double averages = config.storage == CellStorage::bit ? 4.0 : 0.0;
   const double padding = config.normals == NormalStorage::none ? 4.0 : 8.0;
-  return positions * (static_cast<double>(cell_stride_of(config) + normal_stride_of(config)) + averages + 6.0) + padding;
+  const double lattice_side = static_cast<double>((1 << config.position_level()) + 1);
+  return positions * (static_cast<double>(cell_stride_of(config) + normal_stride_of(config)) + averages + 6.0) + padding +
+         8.0 * lattice_side * lattice_side;
 }
 
 double ObjectField::estimate_build_bytes(std::size_t triangles, const ObjectFieldConfig& config) {
@@ -107,6 +110,15 @@ ObjectField::ObjectField(const ObjectFieldConfig& config, const BoundingSphere& 
   lattice_n_ = positions.lattice_size();
   upper_.reserve(positions.size() / 2);
   upper_.assign(positions.upper_table(), positions.upper_table() + positions.size() / 2);
+  const int side = lattice_n_ + 1;
+  quadrant_.reserve(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
+  quadrant_.assign(static_cast<std::size_t>(side) * static_cast<std::size_t>(side), 0);
+  for (int i = 0; i <= lattice_n_; ++i)
+    for (int j = 0; i + j <= lattice_n_; ++j) {
+      const hd::Vec3<float>& w = upper_[static_cast<std::size_t>(octa::point_index(i, j, lattice_n_))];
+      quadrant_[static_cast<std::size_t>(i * side + j)] =
+          std::bit_cast<std::uint32_t>(w.x) | static_cast<unsigned long long>(std::bit_cast<std::uint32_t>(w.y)) << 32;
+    }
   self_offset_ = 0.5f / static_cast<float>(config.directions) + 0.25f * (std::numbers::pi_v<float> / 2.0f) / static_cast<float>(lattice_n_);
 }
 
@@ -124,6 +136,7 @@ FieldTables ObjectField::tables() const {
   t.radius = sphere_.radius;
   t.self_offset = self_offset_;
   t.upper = upper_.data();
+  t.quadrant = quadrant_.data();
   t.cells = cells_.data();
   t.cell_stride = sample_stride_;
   t.averages = averages_.data();

@@ -55,6 +55,9 @@ struct FieldTables {
   float radius = 0.0f;
   float self_offset = 0.0f;                  ///< Intra-object start-surface offset over 2R.
   const hd::Vec3<float>* upper = nullptr;    ///< Upper samples' unit directions, by octa::point_index.
+  /// The same directions' |x| and |y| (low and high 32 bits) by (|i|, |j|) at |i|·(n + 1) + |j|:
+  /// what the SIMD lookup gathers (one 64-bit read a corner); the scalar query does not read it.
+  const unsigned long long* quadrant = nullptr;
   const unsigned char* cells = nullptr;      ///< Distance tables, sample after sample.
   unsigned long long cell_stride = 0;        ///< Bytes per sample of `cells`.
   const float* averages = nullptr;           ///< CellStorage::bit: mean hit distance per sample.

@@ -81,7 +81,7 @@ class ObjectField {
   /// Bytes a field of `config` holds: positions × N² × (bits per cell + bits per normal) / 8
   /// (each sample's distance table rounded up to whole bytes), plus per position 6 bytes of sample
   /// direction (12 per upper sample) and, for the 1-bit variant, 4 of average distance; 4 bytes of
-  /// padding per table.
+  /// padding per table; 8 bytes per (|i|, |j|) of the lattice for the SIMD lookup, (n + 1)².
   static double table_bytes(const ObjectFieldConfig& config);
   /// Peak bytes build() takes for `triangles` triangles: the tables plus the exact BVH's build.
   static double estimate_build_bytes(std::size_t triangles, const ObjectFieldConfig& config);
@@ -94,7 +94,8 @@ class ObjectField {
   std::size_t position_count() const { return 2 * upper_.size(); }
   /// Bytes held (table_bytes() of the config).
   std::size_t memory_bytes() const {
-    return cells_.capacity() + normals_.capacity() + averages_.capacity() * sizeof(float) + upper_.capacity() * sizeof(upper_[0]);
+    return cells_.capacity() + normals_.capacity() + averages_.capacity() * sizeof(float) + upper_.capacity() * sizeof(upper_[0]) +
+           quadrant_.capacity() * sizeof(quadrant_[0]);
   }
   /// Wall-clock precompute time in milliseconds.
   double build_ms() const { return build_ms_; }
@@ -167,6 +168,7 @@ class ObjectField {
   std::vector<std::uint8_t> normals_;  // the same layout for the normal codes (empty without normals)
   std::vector<float> averages_;        // 1-bit variant: mean normalised hit distance per sample
   std::vector<hd::Vec3<float>> upper_; // upper hemisphere's sample directions, by octa::point_index
+  std::vector<unsigned long long> quadrant_;  // their |x|, |y| by (|i|, |j|) (FieldTables::quadrant)
   float self_offset_ = 0.0f;
   double build_ms_ = 0.0;
   std::size_t rays_traced_ = 0;
