@@ -238,13 +238,13 @@ class FieldKernel {
       case CellStorage::u8: {
         const I code = lanes::gather_bytes(f.cells, base + c, m) & L::splat(0xFF);
         a.hit = m & (code <= L::splat(254));
-        a.t = to_float(code) / L::splat(254.0f);
+        a.t = to_float(code) * L::splat(1.0f / 254.0f);
         break;
       }
       case CellStorage::u16: {
         const I code = lanes::gather_bytes(f.cells, base + c + c, m) & L::splat(0xFFFF);
         a.hit = m & (code <= L::splat(65534));
-        a.t = to_float(code) / L::splat(65534.0f);
+        a.t = to_float(code) * L::splat(1.0f / 65534.0f);
         break;
       }
       case CellStorage::f32: {
@@ -489,7 +489,7 @@ class FieldKernel {
   /// (from inside, or entering ahead), where, and the direction the table is read in.
   struct Geometry {
     M active, inside;
-    F len, s_min, s_max, s_enter, s_exit;
+    F inv, s_min, s_max, s_enter, s_exit;  // inv: 1 / |dir|
     Vec e, q;  // unit point of the sphere (entry, or exit from inside); direction into the sphere
   };
 
@@ -497,11 +497,11 @@ class FieldKernel {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     Geometry g;
     const Vec dir{r.dx, r.dy, r.dz};
-    g.len = sqrt(dot(dir, dir));
-    const F inv = one / g.len;
-    const Vec d{dir.x * inv, dir.y * inv, dir.z * inv};
-    g.s_min = r.tmin * g.len;
-    g.s_max = r.tmax * g.len;
+    const F len = sqrt(dot(dir, dir));
+    g.inv = one / len;
+    const Vec d{dir.x * g.inv, dir.y * g.inv, dir.z * g.inv};
+    g.s_min = r.tmin * len;
+    g.s_max = r.tmax * len;
     const Vec oc{r.ox - L::splat(f.centre.x), r.oy - L::splat(f.centre.y), r.oz - L::splat(f.centre.z)};
     const F b = dot(oc, d), c = dot(oc, oc) - L::splat(f.radius * f.radius);
     const F disc = b * b - c;
@@ -525,7 +525,7 @@ class FieldKernel {
     const F span = a.t * L::splat(diameter);
     const F s_hit = select(g.inside, g.s_exit - span, g.s_enter + span);
     a.hit = a.hit & g.active & (~g.inside | (s_hit > L::splat(f.self_offset * diameter))) & (s_hit >= g.s_min) & (s_hit <= g.s_max);
-    a.t = s_hit / g.len;
+    a.t = s_hit * g.inv;
     return a;
   }
 
@@ -541,7 +541,7 @@ class FieldKernel {
   /// reads it.
   struct Located {
     M active, inside;
-    F len, s_min, s_max, s_enter, s_exit;
+    F inv, s_min, s_max, s_enter, s_exit;
     I sample, i, j;
   };
 
@@ -555,7 +555,7 @@ class FieldKernel {
     l.j = cell_of(t, f.directions);
     l.active = g.active;
     l.inside = g.inside;
-    l.len = g.len;
+    l.inv = g.inv;
     l.s_min = g.s_min;
     l.s_max = g.s_max;
     l.s_enter = g.s_enter;
@@ -563,7 +563,7 @@ class FieldKernel {
   }
 
   [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
-    const Geometry g{l.active, l.inside, l.len, l.s_min, l.s_max, l.s_enter, l.s_exit, {}, {}};
+    const Geometry g{l.active, l.inside, l.inv, l.s_min, l.s_max, l.s_enter, l.s_exit, {}, {}};
     return place(f, g, read_cell(f, l.sample, l.i, l.j, l.active));
   }
 

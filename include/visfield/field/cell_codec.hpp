@@ -44,9 +44,11 @@ VF_HOST_DEVICE inline unsigned encode_quantized(CellStorage storage, bool hit, f
 /// Whether integer `code` of a u8 or u16 table is a hit.
 VF_HOST_DEVICE inline bool quantized_is_hit(CellStorage storage, unsigned code) { return code <= max_hit_code(storage); }
 
-/// The normalised distance of hit code `code` of a u8 or u16 table.
+/// The normalised distance of hit code `code` of a u8 or u16 table: the code times the float
+/// reciprocal of the top code (within 6e-8 of the quotient, exact at 0 and at the top; a product
+/// is what the SIMD and CUDA lookups can afford).
 VF_HOST_DEVICE inline float decode_quantized(CellStorage storage, unsigned code) {
-  return static_cast<float>(code) / static_cast<float>(max_hit_code(storage));
+  return static_cast<float>(code) * (storage == CellStorage::u8 ? 1.0f / 254.0f : 1.0f / 65534.0f);
 }
 
 }  // namespace vf::field

@@ -221,7 +221,7 @@ VF_HOST_DEVICE inline FieldAnswer trace_field(const FieldTables& f, const hd::Ve
   const float s_hit = inside ? s_exit - a.t * diameter : s_enter + a.t * diameter;
   if (inside && !(s_hit > f.self_offset * diameter)) return {};
   if (!(s_hit >= s_min && s_hit <= s_max)) return {};
-  a.t = s_hit / len;
+  a.t = s_hit * inv;
   return a;
 }
 
