@@ -359,8 +359,10 @@ class FieldKernel {
     F fa, fb;
     Vec magnitude_point;
     M rim[3];
-    I ci[3], cj[3], index[3];
+    I ci[3], cj[3];
     Vec magnitude[3];
+    /// Upper-hemisphere index of corner k (0 beyond the rim).
+    I index(int k, int n) const { return select(rim[k], point_index(ci[k], cj[k], n), L::splat(0)); }
   };
 
   /// fold_to_upper, octa::coordinates and octa::containing_triangle on lanes; the corners'
@@ -398,7 +400,6 @@ class FieldKernel {
     for (int k = 0; k < 3; ++k) {
       const I ai = abs(c.ci[k]), aj = abs(c.cj[k]);
       c.rim[k] = ai + aj <= L::splat(n);
-      c.index[k] = select(c.rim[k], point_index(c.ci[k], c.cj[k], n), L::splat(0));
       lanes::gather_pairs(f.quadrant, ai * L::splat(n + 1) + aj, c.magnitude[k].x, c.magnitude[k].y);
       // r = |i|/n + |j|/n exactly (n a power of two); the centre's 1 − 0 is its z = 1.
       const F r_k = to_float(ai + aj) * inv_n;
@@ -424,18 +425,17 @@ class FieldKernel {
   /// is the signed one: the corners lie in the point's quadrant.)
   [[gnu::always_inline]] static void nearest_sample(const FieldTables& f, const Corners& c, M active, I& sample, Vec& w) {
     F best_cos = L::splat(-2.0f);
-    I best = L::splat(0), best_i = L::splat(0), best_j = L::splat(0);
+    I best_i = L::splat(0), best_j = L::splat(0);
     Vec p = c.magnitude[0];
     for (int k = 0; k < 3; ++k) {
       const F cosine = dot(c.magnitude_point, c.magnitude[k]);
       const M better = active & c.rim[k] & (cosine > best_cos);
       best_cos = select(better, cosine, best_cos);
-      best = select(better, c.index[k], best);
       best_i = select(better, c.ci[k], best_i);
       best_j = select(better, c.cj[k], best_j);
       p = {select(better, c.magnitude[k].x, p.x), select(better, c.magnitude[k].y, p.y), select(better, c.magnitude[k].z, p.z)};
     }
-    sample = best + hemisphere_offset(f, c);
+    sample = point_index(best_i, best_j, f.lattice_n) + hemisphere_offset(f, c);
     const I zero_i = L::splat(0);
     w = inward(c, {select(best_i < zero_i, -p.x, p.x), select(best_j < zero_i, -p.y, p.y), p.z});
   }
@@ -465,7 +465,7 @@ class FieldKernel {
       weight[k] = select(c.rim[k], max(weight[k], zero), zero);
       const M take = c.rim[k] & (weight[k] > valid_weight);
       valid_weight = select(take, weight[k], valid_weight);
-      valid_index = select(take, c.index[k], valid_index);
+      valid_index = select(take, c.index(k, f.lattice_n), valid_index);
       valid_k = select(take, L::splat(k), valid_k);
       valid_corner = {select(take, direction[k].x, valid_corner.x), select(take, direction[k].y, valid_corner.y),
                       select(take, direction[k].z, valid_corner.z)};
@@ -477,7 +477,7 @@ class FieldKernel {
       const F w = select(total > zero, weight[k] / total, select(valid_k == L::splat(k), one, zero));
       const M m = active & (w > zero);
       if (!any(m)) continue;
-      const I sample = select(c.rim[k], c.index[k], valid_index) + offset;
+      const I sample = select(c.rim[k], c.index(k, f.lattice_n), valid_index) + offset;
       const Vec p{select(c.rim[k], direction[k].x, valid_corner.x), select(c.rim[k], direction[k].y, valid_corner.y),
                   select(c.rim[k], direction[k].z, valid_corner.z)};
       vote.add(w, read_direction(f, sample, inward(c, p), q, m), m);
