@@ -21,6 +21,8 @@ struct RenderOptions {
   std::string scene;
   std::string accel = "bvh";
   std::string occluder;  // empty: the --accel structure answers the occlusion rays too
+  std::string occluders;  // "field", "exact", or empty: as the scene marks its meshes
+  std::string integrator = "ao";
   std::string out = "visfield-ao.png";
   int spp = 1;
   int ao_rays = 64;
@@ -52,6 +54,18 @@ std::uint64_t rays_of_render(const Camera& camera, const RenderOptions& o) {
          static_cast<std::uint64_t>(o.spp) * (1u + ao_rays_per_hit(o));
 }
 
+// The spec of the structure that answers the AO rays ("" = the --accel one). --occluders field
+// asks for fields (the --occluder field spec, or the default one) for every mesh the scene does not
+// mark exact; --occluders exact for exact geometry only (--occluder, if given, must be exact).
+// Without either option, a scene that marks meshes "occluder": "field" gets fields for those.
+std::string occluder_spec(const RenderOptions& o, const Scene& scene) {
+  if (o.occluders == "field" && o.occluder.empty()) return "field";
+  if (!o.occluders.empty() || !o.occluder.empty()) return o.occluder;
+  for (const TriangleMesh& mesh : scene.meshes)
+    if (mesh.occluder == MeshOccluder::field) return "field:meshes=marked";
+  return "";
+}
+
 std::string structure_summary(const BuiltStructure& built) {
   const AccelStats s = structure_stats(built.structure);
   return built.resolved + " (build " + std::to_string(s.build_ms) + " ms, " +
@@ -70,9 +84,10 @@ int run_render(const RenderOptions& o) {
                  "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
   const BuildContext context{rays_of_render(camera, o), !o.no_progress};
   const BuiltStructure closest = build_structure_for(o.accel, geometry, context, "--accel", o.scene);
+  const std::string occluder_choice = occluder_spec(o, scene);
   std::optional<BuiltStructure> occluder;
-  if (!o.occluder.empty() && o.occluder != o.accel)
-    occluder = build_structure_for(o.occluder, geometry, context, "--occluder", o.scene);
+  if (!occluder_choice.empty() && occluder_choice != o.accel)
+    occluder = build_structure_for(occluder_choice, geometry, context, "--occluder", o.scene);
 
   AoOptions ao;
   ao.spp = o.spp;
@@ -110,6 +125,14 @@ void register_render_command(CLI::App& app, Action& action) {
       ->capture_default_str();
   add_structure_option(*cmd, "--occluder", options->occluder,
                        "Structure for the occlusion (AO) rays, NAME[:key=value,...] (default: the --accel one)");
+  cmd->add_option("--integrator", options->integrator, "What to render: ao (ambient occlusion)")
+      ->check(CLI::IsMember({"ao"}))
+      ->capture_default_str();
+  cmd->add_option("--occluders", options->occluders,
+                  "How the AO rays see the scene's objects: field (ObjectFields for every mesh the scene does not mark "
+                  "exact; --occluder may give the field:... parameters) or exact (exact geometry only). Default: the "
+                  "scene's own marks (meshes with \"occluder\": \"field\" get fields)")
+      ->check(CLI::IsMember({"field", "exact"}));
   cmd->add_option("--spp", options->spp, "Camera samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--ao-rays", options->ao_rays, "AO rays per camera sample")->check(CLI::Range(1, 65536))->capture_default_str();
   cmd->add_option("--ao-directions", options->ao_directions,
@@ -129,6 +152,13 @@ void register_render_command(CLI::App& app, Action& action) {
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float)")->capture_default_str();
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");
   cmd->callback([options, &action] {
+    // --occluders and --occluder must agree; checked while parsing, so a conflict is a usage error.
+    const bool field_spec = !options->occluder.empty() &&
+                            find_structure(parse_spec(options->occluder, "").name).exactness == Exactness::approximate;
+    if (options->occluders == "exact" && field_spec)
+      throw CLI::ValidationError("--occluder", options->occluder + ": --occluders exact needs an exact structure");
+    if (options->occluders == "field" && !options->occluder.empty() && !field_spec)
+      throw CLI::ValidationError("--occluder", options->occluder + ": --occluders field needs a field:... spec");
     action = [options] { return run_render(*options); };
   });
 }

@@ -15,18 +15,20 @@
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/field/field_file.hpp"
+#include "visfield/field/field_params.hpp"
 
 namespace vf::field {
 namespace {
 
-bool is_exact(const TriangleMesh& mesh) { return mesh.occluder == MeshOccluder::exact; }
+bool is_exact(const TriangleMesh& mesh, FieldMeshes meshes) {
+  return mesh.occluder == MeshOccluder::exact || (meshes == FieldMeshes::marked && mesh.occluder != MeshOccluder::field);
+}
 
-/// Mesh indices some object uses, in increasing order: those with a field (or, when `exact`, those
-/// that stay exact).
-std::vector<std::uint32_t> used_meshes(const Scene& scene, bool exact = false) {
+/// Mesh indices some object uses, in increasing order, that get a field.
+std::vector<std::uint32_t> field_meshes(const Scene& scene, FieldMeshes meshes) {
   std::vector<std::uint32_t> used;
   for (const Instance& object : scene.instances())
-    if (is_exact(scene.meshes[object.mesh]) == exact) used.push_back(object.mesh);
+    if (!is_exact(scene.meshes[object.mesh], meshes)) used.push_back(object.mesh);
   std::sort(used.begin(), used.end());
   used.erase(std::unique(used.begin(), used.end()), used.end());
   return used;
@@ -34,22 +36,29 @@ std::vector<std::uint32_t> used_meshes(const Scene& scene, bool exact = false) {
 
 }  // namespace
 
-double FieldScene::estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config) {
+ObjectFieldConfig FieldScene::mesh_config(const TriangleMesh& mesh, const ObjectFieldConfig& config) {
+  return with_table_params(config, mesh.field_params, "mesh " + mesh.name + ": ");
+}
+
+double FieldScene::estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config, FieldMeshes meshes) {
   double tables = 0.0;
   std::size_t largest = 0;
-  for (const std::uint32_t mesh : used_meshes(scene)) {
-    tables += ObjectField::table_bytes(config);
+  for (const std::uint32_t mesh : field_meshes(scene, meshes)) {
+    tables += ObjectField::table_bytes(mesh_config(scene.meshes[mesh], config));
     largest = std::max(largest, scene.meshes[mesh].triangles.size());
   }
   std::size_t exact_triangles = 0;
   for (const Instance& object : scene.instances())
-    if (is_exact(scene.meshes[object.mesh])) exact_triangles += scene.meshes[object.mesh].triangles.size();
+    if (is_exact(scene.meshes[object.mesh], meshes)) exact_triangles += scene.meshes[object.mesh].triangles.size();
   const double exact = exact_triangles > 0 ? 48.0 * static_cast<double>(exact_triangles) + Bvh::estimate_build_bytes(exact_triangles) : 0.0;
   return tables + std::max(Bvh::estimate_build_bytes(largest), exact) + 64.0 * static_cast<double>(scene.instances().size());
 }
 
-std::size_t FieldScene::progress_total(const Scene& scene, const ObjectFieldConfig& config) {
-  return used_meshes(scene).size() * static_cast<std::size_t>(config.positions);
+std::size_t FieldScene::progress_total(const Scene& scene, const ObjectFieldConfig& config, FieldMeshes meshes) {
+  std::size_t total = 0;
+  for (const std::uint32_t mesh : field_meshes(scene, meshes))
+    total += static_cast<std::size_t>(mesh_config(scene.meshes[mesh], config).positions);
+  return total;
 }
 
 namespace {
@@ -92,27 +101,33 @@ std::shared_ptr<const ObjectField> load_or_build_field(const TriangleMesh& mesh,
 
 }  // namespace
 
-FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config,
-                             const std::function<void(std::size_t)>& progress, const std::string& cache_folder) {
+FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config, const std::function<void(std::size_t)>& progress,
+                             const std::string& cache_folder, FieldMeshes meshes) {
   config.validate();
-  require_memory(estimate_build_bytes(scene, config), "the object fields of " + std::to_string(used_meshes(scene).size()) +
-                                                          " meshes (" + std::to_string(config.positions) + " positions x " +
-                                                          std::to_string(config.directions) + "^2 " +
-                                                          storage_name(config.storage) + " cells each)");
+  const std::vector<std::uint32_t> with_fields = field_meshes(scene, meshes);
+  std::vector<ObjectFieldConfig> configs;
+  for (const std::uint32_t mesh : with_fields) {
+    configs.push_back(mesh_config(scene.meshes[mesh], config));
+    configs.back().validate();
+  }
+  require_memory(estimate_build_bytes(scene, config, meshes),
+                 "the object fields of " + std::to_string(with_fields.size()) + " meshes (" + std::to_string(config.positions) +
+                     " positions x " + std::to_string(config.directions) + "^2 " + storage_name(config.storage) + " cells each)");
   const Stopwatch watch;
   FieldScene result;
   result.fields_.resize(scene.meshes.size());
-  for (const std::uint32_t mesh : used_meshes(scene)) {
+  for (std::size_t k = 0; k < with_fields.size(); ++k) {
+    const std::uint32_t mesh = with_fields[k];
     const TriangleSet triangles = mesh_triangles(scene.meshes[mesh]);
     if (triangles.size() == 0) throw Error("mesh " + scene.meshes[mesh].name + ": no triangles of non-zero area for its field");
-    result.fields_[mesh] = load_or_build_field(scene.meshes[mesh], triangles, config, progress, cache_folder);
+    result.fields_[mesh] = load_or_build_field(scene.meshes[mesh], triangles, configs[k], progress, cache_folder);
     result.stats_.memory_bytes += result.fields_[mesh]->memory_bytes();
     result.stats_.reference_count += result.fields_[mesh]->position_count();
     ++result.stats_.node_count;
   }
   TriangleSet exact;
   for (const Instance& object : scene.instances()) {
-    if (is_exact(scene.meshes[object.mesh])) {
+    if (is_exact(scene.meshes[object.mesh], meshes)) {
       const TriangleSet part = object_triangles(scene.meshes[object.mesh], object.transform, object.id);
       exact.triangles.insert(exact.triangles.end(), part.triangles.begin(), part.triangles.end());
       exact.prim.insert(exact.prim.end(), part.prim.begin(), part.prim.end());

@@ -10,6 +10,27 @@
 namespace vf {
 namespace {
 
+// A mesh's "field": a .vfield path, or an object of table parameters (checked when the field is
+// built, against the same table as `field:` specs) with an optional "path". The path is relative to
+// the scene file, like the mesh path; it need not exist yet (a cache).
+void read_mesh_field(const json::JsonField& field, const std::filesystem::path& folder, TriangleMesh& mesh) {
+  if (field.json().is_string()) {
+    mesh.field_file = (folder / field.as_string()).string();
+    return;
+  }
+  if (!field.json().is_object()) field.fail_expected("a .vfield path or an object of field parameters");
+  field.require_object({"path", "positions", "directions", "mapping", "storage", "normals"});
+  if (const std::optional<json::JsonField> path = field.optional_member("path")) mesh.field_file = (folder / path->as_string()).string();
+  for (const char* key : {"positions", "directions", "mapping", "storage", "normals"}) {
+    const std::optional<json::JsonField> value = field.optional_member(key);
+    if (!value) continue;
+    const std::string text = value->json().is_number() ? std::to_string(value->as_uint64(0, 1u << 30)) : value->as_string();
+    if (text.find_first_of(",=:") != std::string::npos) value->fail("expected a single value");
+    if (!mesh.field_params.empty()) mesh.field_params += ',';
+    mesh.field_params.append(key).append("=").append(text);
+  }
+}
+
 // Loads every entry of "meshes" (paths relative to `folder`) into `scene`, recording their names.
 void load_meshes(const json::JsonField& meshes, const std::filesystem::path& folder, Scene& scene,
                  io_detail::SceneNames& names) {
@@ -37,8 +58,7 @@ void load_meshes(const json::JsonField& meshes, const std::filesystem::path& fol
       else
         occluder->fail("expected \"exact\" or \"field\"");
     }
-    // Relative to the scene file, like the mesh path; it need not exist yet (a cache).
-    if (const std::optional<json::JsonField> field = entry.optional_member("field")) loaded.mesh.field_file = (folder / field->as_string()).string();
+    if (const std::optional<json::JsonField> field = entry.optional_member("field")) read_mesh_field(*field, folder, loaded.mesh);
     names.meshes.emplace(name, add_mesh(scene, std::move(loaded)));
   }
 }

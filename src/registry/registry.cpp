@@ -11,6 +11,7 @@
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/field/field_params.hpp"
 #include "visfield/render/progress.hpp"
 #include "visfield/select/calibration.hpp"
 #include "visfield/select/decision.hpp"
@@ -246,46 +247,42 @@ double estimate_beam(const ParamValues& p, const SceneGeometry& geometry) {
   return flattening_bytes(geometry) + BeamField::estimate_build_bytes(geometry.scene(), beam_config(p));
 }
 
-constexpr ParamSpec kFieldParams[] = {
-    {"positions", ParamType::choice, "4226", "positional samples on each mesh's bounding sphere", 0, 0, "290|1090|4226|16642"},
-    {"directions", ParamType::whole, "32", "N: each positional sample holds an NxN table of directions", 8, 256},
-    {"mapping", ParamType::choice, "concentric", "how a table covers the hemisphere (concentric: + Malley, the paper's)", 0, 0,
-     "polar|rejection|concentric|equal-area"},
-    {"storage", ParamType::choice, "u8", "bits of a distance: u8, u16, f32, or bit (visibility + mean distance)", 0, 0,
-     "u8|u16|f32|bit"},
-    {"normals", ParamType::choice, "none", "normal field beside the distances: none, oct16 or oct32 (octahedral, 8 or 16 bits per coordinate)",
-     0, 0, "none|oct16|oct32"},
-    {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0},
-    {"blend", ParamType::boolean, "0", "blend the three positional samples around the entry point", 0, 0},
-    {"cache", ParamType::text, "", "folder where each mesh's .vfield is read from, or written to when missing", 0, 0},
-};
+// The field's table parameters (field_params.hpp), then how it is looked up and cached, and which meshes it takes.
+constexpr auto kFieldParams = [] {
+  std::array<ParamSpec, field::kTableParams.size() + 4> params{};
+  for (std::size_t i = 0; i < field::kTableParams.size(); ++i) params[i] = field::kTableParams[i];
+  std::size_t i = field::kTableParams.size();
+  params[i++] = {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0};
+  params[i++] = {"blend", ParamType::boolean, "0", "blend the three positional samples around the entry point", 0, 0};
+  params[i++] = {"cache", ParamType::text, "", "folder where each mesh's .vfield is read from, or written to when missing", 0, 0};
+  params[i++] = {"meshes", ParamType::choice, "all",
+                 "which meshes get fields: all (but those a scene marks exact) or marked (only those it marks \"occluder\": \"field\")", 0, 0,
+                 "all|marked"};
+  return params;
+}();
 
 field::ObjectFieldConfig field_config(const ParamValues& p) {
-  field::ObjectFieldConfig c;
-  c.positions = static_cast<int>(std::stoul(p.text("positions")));
-  c.directions = static_cast<int>(p.whole("directions"));
-  for (int m = 0; m < field::kMappingCount; ++m)
-    if (field::mapping_name(static_cast<field::HemisphereMapping>(m)) == p.text("mapping")) c.mapping = static_cast<field::HemisphereMapping>(m);
-  for (int s = 0; s < field::kStorageCount; ++s)
-    if (field::storage_name(static_cast<field::CellStorage>(s)) == p.text("storage")) c.storage = static_cast<field::CellStorage>(s);
-  for (int s = 0; s < field::kNormalStorageCount; ++s)
-    if (field::normals_name(static_cast<field::NormalStorage>(s)) == p.text("normals")) c.normals = static_cast<field::NormalStorage>(s);
+  field::ObjectFieldConfig c = field::with_table_params({}, p);
   c.direction_lookup = p.boolean("bilinear") ? field::DirectionLookup::bilinear : field::DirectionLookup::nearest;
   c.position_lookup = p.boolean("blend") ? field::PositionLookup::blend : field::PositionLookup::nearest;
   return c;
 }
 
+field::FieldMeshes field_meshes(const ParamValues& p) {
+  return p.text("meshes") == "marked" ? field::FieldMeshes::marked : field::FieldMeshes::all;
+}
+
 BuiltStructure build_field(const ParamValues& p, SceneGeometry& geometry, const BuildContext& context) {
   const field::ObjectFieldConfig config = field_config(p);
-  ProgressBar bar("field", field::FieldScene::progress_total(geometry.scene(), config), context.progress);
+  ProgressBar bar("field", field::FieldScene::progress_total(geometry.scene(), config, field_meshes(p)), context.progress);
   field::FieldScene fields = field::FieldScene::build(geometry.scene(), config, [&](std::size_t n) { bar.tick(n); },
-                                                     p.has("cache") ? p.text("cache") : std::string());
+                                                     p.has("cache") ? p.text("cache") : std::string(), field_meshes(p));
   bar.finish();
   return {std::move(fields), with_params("field", p.canonical()), object_degenerate_count(geometry.scene())};
 }
 
 double estimate_field(const ParamValues& p, const SceneGeometry& geometry) {
-  return field::FieldScene::estimate_build_bytes(geometry.scene(), field_config(p));
+  return field::FieldScene::estimate_build_bytes(geometry.scene(), field_config(p), field_meshes(p));
 }
 
 constexpr ParamSpec kAutoParams[] = {

@@ -4,11 +4,17 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "approximate/harness.hpp"
 #include "differential/ray_sets.hpp"
 #include "visfield/accel/bvh.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/rng.hpp"
+#include "visfield/core/sampling.hpp"
 #include "visfield/field/field_scene.hpp"
 #include "visfield/scenes/builtin.hpp"
 
@@ -61,12 +67,19 @@ TEST(FieldScene, InstancesOfOneMeshShareOneField) {
   EXPECT_EQ(fields.stats().leaf_count, scene.instances().size() - 1);  // the ground stays exact
 }
 
-// The batch queries answer as the single-ray ones, up to the batch's rounding near cell borders,
-// with instances (boxes) and an exact part (the ground) in the scene.
-TEST(FieldScene, BatchQueriesAnswerAsSingleRays) {
-  const Scene scene = make_builtin_scene("boxes", {.size = 64});
+// The batch queries answer as the single-ray ones bit for bit, with instances (boxes, rotated and
+// scaled below), an exact part (the ground) and a normal field in the scene.
+TEST(FieldScene, BatchQueriesAnswerAsSingleRaysBitForBit) {
+  Scene scene = make_builtin_scene("boxes", {.size = 64});
+  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
+    if (object.id % 3 != 0 || scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
+    Transform t = object.transform;
+    t.rotation = Mat3::rotation(normalize(Vec3f{1.0f, 1.0f, 0.3f}), 25.0f) * t.rotation;
+    t.scale *= 0.8f;
+    scene.set_transform(object.id, t);
+  }
   const TriangleSet set = flatten(scene);
-  const FieldScene fields = FieldScene::build(scene, {.positions = 1090, .directions = 16});
+  const FieldScene fields = FieldScene::build(scene, {.positions = 1090, .directions = 16, .normals = field::NormalStorage::oct16});
   std::vector<Ray> rays = surface_origin_rays(set, 8, 20000);
   for (Ray& ray : rays) ray.tmin = 1e-4f * length(set.bounds.extent());
   const std::vector<Ray> random = random_rays(set, 9, 20000);
@@ -75,17 +88,92 @@ TEST(FieldScene, BatchQueriesAnswerAsSingleRays) {
   std::vector<Hit> hits(rays.size());
   field::occluded_batch(fields, rays, occluded);
   field::intersect_batch(fields, rays, hits);
-  std::size_t occlusion_differs = 0, hit_differs = 0, occluded_count = 0;
+  std::size_t occlusion_differs = 0, hit_differs = 0, occluded_count = 0, field_hits = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const bool one = fields.occluded(rays[i]);
     occluded_count += one ? 1 : 0;
     occlusion_differs += one != (occluded[i] != 0) ? 1 : 0;
     const Hit h = fields.intersect(rays[i]);
-    hit_differs += h.found != hits[i].found || (h.found && (h.t != hits[i].t || h.instance != hits[i].instance)) ? 1 : 0;
+    hit_differs += h.found != hits[i].found ||
+                           (h.found && (h.t != hits[i].t || h.instance != hits[i].instance || h.has_normal != hits[i].has_normal ||
+                                        !(h.normal == hits[i].normal)))
+                       ? 1
+                       : 0;
+    if (h.found && !h.has_triangle()) {
+      ++field_hits;
+      EXPECT_TRUE(h.has_normal);
+    }
   }
   EXPECT_GT(occluded_count, rays.size() / 10);
-  EXPECT_LE(occlusion_differs, rays.size() / 1000);
-  EXPECT_LE(hit_differs, rays.size() / 1000);
+  EXPECT_GT(field_hits, rays.size() / 20);
+  EXPECT_EQ(occlusion_differs, 0u);
+  EXPECT_EQ(hit_differs, 0u);
+}
+
+// A field hit's normal is the surface's: on the boxes, within the normal field's and the sampling's
+// error of the exact hit's normal (measured: most within a degree, a few at box edges far off).
+TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
+  const Scene scene = make_builtin_scene("boxes", {.size = 16});
+  const TriangleSet set = flatten(scene);
+  const Bvh bvh = Bvh::build(set);
+  const FieldScene fields = FieldScene::build(scene, {.positions = 4226, .directions = 32, .normals = field::NormalStorage::oct32});
+  // Rays from 3 radii away aimed at points near the boxes' centres.
+  std::vector<Ray> rays;
+  Rng rng(11);
+  for (const Instance& object : scene.instances()) {
+    if (scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
+    const Bounds3f box = object.transform.apply_bounds(scene.meshes[object.mesh].bounds());
+    const Vec3f centre = (box.lo + box.hi) * 0.5f;
+    const float radius = 0.5f * length(box.extent());
+    for (int k = 0; k < 500; ++k) {
+      const Vec3f org = centre + uniform_sphere(rng.uniform(), rng.uniform()) * (3.0f * radius);
+      const Vec3f target = centre + uniform_sphere(rng.uniform(), rng.uniform()) * (0.3f * radius);
+      rays.push_back(Ray{org, target - org, 0.0f, 10.0f});
+    }
+  }
+  std::size_t compared = 0, close = 0;
+  for (const Ray& ray : rays) {
+    const Hit exact = bvh.intersect(ray), approx = fields.intersect(ray);
+    if (!exact || !approx || approx.has_triangle() || exact.instance != approx.instance) continue;
+    ++compared;
+    close += dot(normalize(exact.normal), normalize(approx.normal)) > std::cos(5.0f * 3.14159265f / 180.0f) ? 1 : 0;
+  }
+  ASSERT_GT(compared, 1000u);
+  std::printf("normals within 5 degrees: %zu of %zu\n", close, compared);
+  EXPECT_GT(static_cast<double>(close) / static_cast<double>(compared), 0.9) << close << " of " << compared;
+}
+
+// meshes=marked keeps every mesh exact but those a scene marks "field"; a mesh's own table
+// parameters (scene JSON "field": {...}) override the structure's.
+TEST(FieldScene, MarkedMeshesAndTheirOwnParameters) {
+  Scene scene = make_builtin_scene("cornell", {.size = 500});
+  std::uint32_t marked = 0;
+  for (std::uint32_t m = 0; m < scene.meshes.size(); ++m)
+    if (scene.meshes[m].occluder != MeshOccluder::exact) {
+      marked = m;
+      break;
+    }
+  scene.meshes[marked].occluder = MeshOccluder::field;
+  scene.meshes[marked].field_params = "positions=1090,directions=16";
+  const FieldScene all = FieldScene::build(scene, {.positions = 290, .directions = 8});
+  const FieldScene only = FieldScene::build(scene, {.positions = 290, .directions = 8}, {}, "", field::FieldMeshes::marked);
+  std::size_t fields_all = 0, fields_only = 0;
+  for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) {
+    fields_all += all.mesh_field(m) != nullptr;
+    fields_only += only.mesh_field(m) != nullptr;
+  }
+  EXPECT_GT(fields_all, 1u);
+  EXPECT_EQ(fields_only, 1u);
+  ASSERT_NE(only.mesh_field(marked), nullptr);
+  EXPECT_EQ(only.mesh_field(marked)->config().positions, 1090);
+  EXPECT_EQ(only.mesh_field(marked)->config().directions, 16);
+  scene.meshes[marked].field_params = "directions=5";
+  try {
+    FieldScene::build(scene, {});
+    ADD_FAILURE() << "a bad mesh parameter was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mesh " + scene.meshes[marked].name), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

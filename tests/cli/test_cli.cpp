@@ -97,6 +97,48 @@ TEST_F(Cli, FieldOccludersRenderCloseToTheExactImage) {
   EXPECT_LT(std::sqrt(sum_sq / static_cast<double>(exact.pixels.size())), 0.05);
 }
 
+TEST_F(Cli, OccludersSwitchAWholeRenderBetweenFieldsAndExactGeometry) {
+  const std::string common = "render builtin:cornell:size=400 --width 32 --height 24 --ao-rays 8 --no-progress --integrator ao --out ";
+  auto r = visfield(common + "field.png --occluders field");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("occluder field"), std::string::npos) << r.out;
+  r = visfield(common + "field2.png --occluders field --occluder field:positions=290,directions=8");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("occluder field:positions=290,directions=8"), std::string::npos) << r.out;
+  r = visfield(common + "exact.png --occluders exact");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("occluder"), std::string::npos) << r.out;  // the --accel BVH answers the AO rays
+  r = visfield(common + "bad.png --occluders exact --occluder field");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--occluders exact needs an exact structure"), std::string::npos) << r.err;
+  r = visfield(common + "bad.png --occluders field --occluder grid");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--occluders field needs a field"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
+}
+
+// A scene file that marks a mesh "occluder": "field" renders its AO through that mesh's field (with
+// its own parameters) and the other meshes exact, unless --occluders exact says otherwise.
+TEST_F(Cli, ASceneMarksWhichMeshesAreFields) {
+  write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  write("ground.obj", "v -3 -0.01 -3\nv 3 -0.01 -3\nv 3 -0.01 3\nv -3 -0.01 3\nf 1 3 2\nf 1 4 3\n");
+  write("scene.json", R"({"meshes": [{"path": "tetra.obj", "occluder": "field", "field": {"positions": 290, "directions": 8}},
+                                     {"path": "ground.obj"}]})");
+  const std::string common = "render scene.json --width 24 --height 24 --ao-rays 8 --no-progress --out ";
+  auto r = visfield(common + "marked.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("occluder field:meshes=marked"), std::string::npos) << r.out;
+  r = visfield(common + "exact.png --occluders exact");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("occluder"), std::string::npos) << r.out;
+  write("bad.json", R"({"meshes": [{"path": "tetra.obj", "occluder": "field", "field": {"directions": 5}}]})");
+  r = visfield("render bad.json --width 8 --height 8 --no-progress --out bad.png");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("mesh tetra: field: directions=5: expected"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
+}
+
 TEST_F(Cli, CompareReportsTheErrorAndWritesTheExaggeratedDifference) {
   const std::string common = "render builtin:cornell:size=400 --width 32 --height 24 --ao-rays 8 --no-progress --out ";
   ASSERT_EQ(visfield(common + "exact.png").exit_code, 0);
@@ -177,7 +219,7 @@ TEST_F(Cli, BadCommandLinesFailWithOneLine) {
   expect_clean_failure("render builtin:cornell --accel octree", "--accel");
   expect_clean_failure("render builtin:cornell --accel bvh:leaf=0", "leaf=0");
   expect_clean_failure("render builtin:cornell --occluder grid:density", "--occluder");
-  expect_clean_failure("render builtin:cornell --integrator ao", "--integrator");
+  expect_clean_failure("render builtin:cornell --integrator whitted", "--integrator");
   expect_clean_failure("render builtin:cornell --max-distance -1", "--max-distance");
   expect_clean_failure("render builtin:cornell --out picture.bmp", "picture.bmp");
   expect_clean_failure("render", "scene");

@@ -29,7 +29,8 @@ struct TriangleMesh {
   std::vector<TriangleIndices> triangles;    ///< Index triples into positions.
   std::vector<std::uint32_t> material_ids;   ///< Per triangle index into Scene::materials, or empty (all use material 0).
   MeshOccluder occluder = MeshOccluder::automatic;  ///< Scene JSON "occluder": "exact" | "field".
-  std::string field_file;  ///< Scene JSON "field": the mesh's .vfield file, read when it exists, written when not ("" = none).
+  std::string field_file;  ///< Scene JSON "field" (or its "path"): the mesh's .vfield file, read when it exists, written when not ("" = none).
+  std::string field_params;  ///< Scene JSON "field" object's table parameters as "key=value,..." (field_params.hpp; "" = none).
 
   /// Bounds of the referenced and unreferenced vertices alike; O(V).
   Bounds3f bounds() const;

@@ -21,12 +21,19 @@
 
 namespace vf::field {
 
+/// Which meshes of a scene a FieldScene represents by fields (the others stay exact triangles).
+enum class FieldMeshes : unsigned char {
+  all,     ///< Every mesh an object uses, except those marked MeshOccluder::exact (`--occluders field`).
+  marked,  ///< Only the meshes marked MeshOccluder::field (a scene JSON's "occluder": "field").
+};
+
 /// Fields of a scene's meshes under a flat list of the objects' world-space spheres. Immutable;
 /// queries are const and thread-safe. Movable.
 class FieldScene {
  public:
-  /// Builds the field of every mesh some object uses (each once, with `config`) unless the mesh is
-  /// marked exact, then the object list, and a BVH over the exact meshes' objects. A mesh with a
+  /// Builds the field of every mesh some object uses (each once, with `config` overridden by the
+  /// mesh's own table parameters, TriangleMesh::field_params) as `meshes` chooses, then the object
+  /// list, and a BVH over the objects of the meshes that stay exact. A mesh with a
   /// `field_file` takes its field from that file when it exists (refused when made for another
   /// mesh; its own parameters then apply, the lookups `config`'s) and writes it there when not; with
   /// a `cache_folder`, every other mesh's field is read from or written to
@@ -34,12 +41,16 @@ class FieldScene {
   /// parameters or memory (checked up front for all fields together), vf::Interrupted on a
   /// signal. `progress(n)`: n more positional samples done, over progress_total(scene, config).
   static FieldScene build(const Scene& scene, const ObjectFieldConfig& config,
-                          const std::function<void(std::size_t)>& progress = {}, const std::string& cache_folder = "");
+                          const std::function<void(std::size_t)>& progress = {}, const std::string& cache_folder = "",
+                          FieldMeshes meshes = FieldMeshes::all);
   /// Peak bytes build() takes: every field's tables, the largest field mesh's BVH build, and the
   /// exact objects' triangles and BVH.
-  static double estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config);
+  static double estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config, FieldMeshes meshes = FieldMeshes::all);
   /// Positional samples build() will precompute (for a progress bar).
-  static std::size_t progress_total(const Scene& scene, const ObjectFieldConfig& config);
+  static std::size_t progress_total(const Scene& scene, const ObjectFieldConfig& config, FieldMeshes meshes = FieldMeshes::all);
+  /// The field parameters mesh `mesh` is built with: `config` with the mesh's own table parameters.
+  /// Throws vf::Error naming the mesh on a bad parameter.
+  static ObjectFieldConfig mesh_config(const TriangleMesh& mesh, const ObjectFieldConfig& config);
 
   /// Closest hit in [tmin, tmax] over every object: the exact part's hit or a nearer field answer
   /// (with the object's id, no triangle, and the world-space normal when the fields have normals).

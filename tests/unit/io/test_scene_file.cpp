@@ -127,6 +127,23 @@ TEST(SceneFile, AMeshSaysHowFieldOccludersTreatIt) {
                      "expected \"exact\" or \"field\"");
 }
 
+TEST(SceneFile, AMeshsFieldMayGiveItsParameters) {
+  SceneDir d;
+  const Scene scene = load_scene_file(d.scene(
+      R"({"meshes": [{"path": "meshes/tetra.obj", "occluder": "field",
+                      "field": {"positions": 1090, "directions": 64, "storage": "u16", "normals": "oct16", "path": "f/t.vfield"}}]})"));
+  EXPECT_EQ(scene.meshes[0].field_params, "positions=1090,directions=64,storage=u16,normals=oct16");
+  EXPECT_EQ(scene.meshes[0].field_file, (d.dir / "f/t.vfield").string());
+  expect_scene_error(R"({"meshes": [{"path": "meshes/tetra.obj", "field": {"resolution": 3}}]})", "meshes[0].field",
+                     "unknown key \"resolution\"");
+  expect_scene_error(R"({"meshes": [{"path": "meshes/tetra.obj", "field": 7}]})", "meshes[0].field",
+                     "expected a .vfield path or an object of field parameters");
+  expect_scene_error(R"({"meshes": [{"path": "meshes/tetra.obj", "field": {"directions": -1}}]})", "meshes[0].field.directions",
+                     "expected");
+  expect_scene_error(R"({"meshes": [{"path": "meshes/tetra.obj", "field": {"mapping": "a,b"}}]})", "meshes[0].field.mapping",
+                     "expected a single value");
+}
+
 TEST(SceneFile, CommentsAreAllowed) {
   SceneDir d;
   const Scene scene = load_scene_file(d.scene("// a comment\n{\"meshes\": [{\"path\": \"meshes/tetra.obj\"}] /* here too */}"));
