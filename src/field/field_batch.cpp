@@ -7,6 +7,8 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
+#include <algorithm>
+
 #include "field_kernel.hpp"
 #include "visfield/field/object_field.hpp"
 
@@ -52,6 +54,36 @@ std::size_t run_lanes(const FieldTables& f, int width, std::size_t count, std::s
   return done;
 }
 
+/// Runs FieldKernel<L>::stream_culled for the width (16 or 8) over the world-space candidates, the
+/// rest (and everything at width 1, or when the kernel cannot read the tables) one at a time through
+/// `one(k)`.
+template <class Emit, class One>
+void run_culled(const FieldTables& f, int width, const Ray* rays, const std::uint32_t* index, std::size_t count, const float* limit,
+                const InverseTransform& to_object, std::size_t cell_bytes, std::size_t normal_bytes, const Emit& emit, const One& one) {
+  bool ran = false;
+  const auto run = [&]<class L>(L) {
+    using Kernel = FieldKernel<L>;
+    if (!Kernel::reads(cell_bytes, normal_bytes)) return;
+    std::uint32_t rest_index[2 * Kernel::kWidth + 16], rest_position[2 * Kernel::kWidth + 16];
+    std::size_t rest = 0;
+    Kernel::stream_culled(f, rays, index, count, limit, to_object, rest_index, rest_position, rest,
+                          [&](const std::uint32_t* packet_index, const std::uint32_t* packet_position, const typename Kernel::Answer& a) {
+                            emit(Kernel{}, packet_index, packet_position, a);
+                          });
+    for (std::size_t k = 0; k < rest; ++k) one(rest_position[k]);
+    ran = true;
+  };
+#if defined(__AVX512F__)
+  if (width == 16) run(lanes::Avx512{});
+#endif
+#if defined(__AVX2__)
+  if (width == 8) run(lanes::Avx2{});
+#endif
+  (void)run;
+  if (!ran)
+    for (std::size_t k = 0; k < count; ++k) one(k);
+}
+
 }  // namespace
 
 void ObjectField::trace_batch(const ObjectRays& rays, FieldAnswer* out, int width) const {
@@ -68,30 +100,32 @@ void ObjectField::trace_batch(const ObjectRays& rays, FieldAnswer* out, int widt
 void ObjectField::trace_rays(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                              const float* limit, FieldAnswer* out, int width) const {
   const FieldTables f = tables();
-  std::size_t done = run_lanes(
-      f, resolved_width(width), count, cells_.size(), normals_.size(),
-      [&]<class K>(K, std::size_t at) { return K::gather(rays, index + at, limit, to_object); },
-      [&]<class K>(K, std::size_t at, const typename K::Answer& a) { K::store(f, a, out + at); });
-  for (; done < count; ++done) {
-    Ray ray = rays[index[done]];
-    if (limit) ray.tmax = limit[index[done]];
-    const Ray local = to_object.apply(ray);
-    out[done] = trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax);
-  }
+  // Rays culled by the sphere are misses; the kernel writes the answers of the others.
+  std::fill(out, out + count, FieldAnswer{});
+  run_culled(
+      f, resolved_width(width), rays, index, count, limit, to_object, cells_.size(), normals_.size(),
+      [&]<class K>(K, const std::uint32_t*, const std::uint32_t* position, const typename K::Answer& a) { K::store_at(f, a, out, position); },
+      [&](std::size_t k) {
+        Ray ray = rays[index[k]];
+        if (limit) ray.tmax = limit[index[k]];
+        const Ray local = to_object.apply(ray);
+        out[k] = trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax);
+      });
 }
 
 void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                                 std::uint8_t* occluded, int width) const {
   const FieldTables f = tables();
-  std::size_t done = run_lanes(
-      f, resolved_width(width), count, cells_.size(), normals_.size(),
-      [&]<class K>(K, std::size_t at) { return K::gather(rays, index + at, nullptr, to_object); },
-      [&]<class K>(K, std::size_t at, const typename K::Answer& a) { K::mark(a, index + at, occluded); });
-  for (; done < count; ++done) {
-    const Ray local = to_object.apply(rays[index[done]]);
-    if (trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax).hit)
-      occluded[index[done]] = 1;
-  }
+  run_culled(
+      f, resolved_width(width), rays, index, count, nullptr, to_object, cells_.size(), normals_.size(),
+      [&]<class K>(K, const std::uint32_t* packet_index, const std::uint32_t*, const typename K::Answer& a) {
+        K::mark(a, packet_index, occluded);
+      },
+      [&](std::size_t k) {
+        const Ray local = to_object.apply(rays[index[k]]);
+        if (trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax).hit)
+          occluded[index[k]] = 1;
+      });
 }
 
 int ObjectField::batch_width(int width) { return resolved_width(width); }

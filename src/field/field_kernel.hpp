@@ -70,6 +70,13 @@ class FieldKernel {
     }
   }
 
+  /// Answers `a` as FieldAnswers into out[position[lane]].
+  static void store_at(const FieldTables& f, const Answer& a, FieldAnswer* out, const std::uint32_t* position) {
+    FieldAnswer packet[kWidth];
+    store(f, a, packet);
+    for (int lane = 0; lane < kWidth; ++lane) out[position[lane]] = packet[lane];
+  }
+
   /// marks[index[lane]] = 1 for the lanes that hit (what an occlusion query needs).
   static void mark(const Answer& a, const std::uint32_t* index, std::uint8_t* marks) {
     for (std::uint32_t hits = L::bits(a.hit); hits != 0; hits &= hits - 1) marks[index[std::countr_zero(hits)]] = 1;
@@ -94,6 +101,91 @@ class FieldKernel {
       }
       emit(k, finish(f, slot[k & 1]));
     }
+  }
+
+  /// The world-space candidates rays[index[k]], k < count, through the query, kWidth at a time,
+  /// culled first: a packet whose rays all may meet the sphere (may_meet) goes through as it is;
+  /// the rays of other packets that may meet it are gathered into new full packets, and the rest
+  /// are misses that are never traced. emit(packet_index, packet_position, answer) takes each
+  /// packet's answers with its rays' indices into `rays` and their k. The candidates left over
+  /// (fewer than 2·kWidth: the last partial packets) go to rest_index / rest_position and their
+  /// number to `rest`, for the caller to trace one by one. Pipelined as stream() is.
+  template <class Emit>
+  static void stream_culled(const FieldTables& f, const Ray* rays, const std::uint32_t* index, std::size_t count, const float* limit,
+                            const InverseTransform& to_object, std::uint32_t* rest_index, std::uint32_t* rest_position,
+                            std::size_t& rest, const Emit& emit) {
+    struct Packet {
+      Located located;
+      Rays rays;
+      alignas(64) std::uint32_t index[kWidth];
+      alignas(64) std::uint32_t position[kWidth];
+    };
+    alignas(64) std::uint32_t pending_index[3 * kWidth], pending_position[3 * kWidth];
+    std::size_t pending = 0, at = 0;
+    // The next full packet of rays that may meet the sphere; false when no full packet is left.
+    const auto next = [&](Packet& p) {
+      while (pending < kWidth && at + kWidth <= count) {
+        const Rays candidate = gather(rays, index + at, limit, to_object);
+        const M m = may_meet(f, candidate);
+        const I position = L::splat(static_cast<int>(at)) + L::lane_index();
+        if (L::bits(m) == L::bits(L::all())) {
+          p.rays = candidate;
+          L::store(reinterpret_cast<std::int32_t*>(p.index), L::load(index + at));
+          L::store(reinterpret_cast<std::int32_t*>(p.position), position);
+          at += kWidth;
+          return true;
+        }
+        L::compress(pending_position + pending, position, m);
+        pending += static_cast<std::size_t>(L::compress(pending_index + pending, L::load(index + at), m));
+        at += kWidth;
+      }
+      if (pending < kWidth) return false;
+      for (int lane = 0; lane < kWidth; ++lane) {
+        p.index[lane] = pending_index[lane];
+        p.position[lane] = pending_position[lane];
+      }
+      pending -= kWidth;
+      for (std::size_t k = 0; k < pending; ++k) {
+        pending_index[k] = pending_index[kWidth + k];
+        pending_position[k] = pending_position[kWidth + k];
+      }
+      p.rays = gather(rays, p.index, limit, to_object);
+      return true;
+    };
+    const bool paper = f.direction_lookup == DirectionLookup::nearest && f.position_lookup == PositionLookup::nearest;
+    Packet packet[2];
+    bool have = next(packet[0]);
+    if (have && paper) locate(f, packet[0].rays, L::all(), packet[0].located);
+    for (int current = 0; have; current ^= 1) {
+      Packet& p = packet[current];
+      Packet& following = packet[current ^ 1];
+      have = next(following);
+      if (have && paper) locate(f, following.rays, L::all(), following.located);
+      emit(p.index, p.position, paper ? finish(f, p.located) : trace_lanes(f, p.rays, L::all()));
+    }
+    rest = 0;
+    for (std::size_t k = 0; k < pending; ++k) {
+      rest_index[rest] = pending_index[k];
+      rest_position[rest++] = pending_position[k];
+    }
+    for (; at < count; ++at) {
+      rest_index[rest] = index[at];
+      rest_position[rest++] = static_cast<std::uint32_t>(at);
+    }
+  }
+
+  /// Lanes whose ray may meet the bounding sphere ahead of its origin: a cheaper test than the
+  /// query's (no square root, no division), with margins so that it never drops a ray the query
+  /// would answer (a dropped ray's answer is a miss). For culling the rays that cannot meet it.
+  static M may_meet(const FieldTables& f, const Rays& r) {
+    const Vec d{r.dx, r.dy, r.dz};
+    const Vec oc{r.ox - L::splat(f.centre.x), r.oy - L::splat(f.centre.y), r.oz - L::splat(f.centre.z)};
+    const F oo = dot(oc, oc), b = dot(oc, d), dd = dot(d, d);
+    const float r2 = f.radius * f.radius;
+    // The query's c = |oc|² − R², made smaller (more rays pass) by more than its rounding.
+    const F c = oo * L::splat(1.0f - 1e-5f) - L::splat(r2 * (1.0f + 1e-3f));
+    const M outside_going_away = (oo > L::splat(r2 * (1.0f + 1e-3f))) & (b > L::splat(0.0f));
+    return (b * b - dd * c >= L::splat(0.0f)) & ~outside_going_away;
   }
 
   /// kWidth consecutive object-space rays from structure-of-arrays rows starting at `at`.

@@ -39,6 +39,13 @@ struct Avx512 {
   static std::uint32_t bits(M a) { return a.m; }
   static M none() { return {0}; }
   static M all() { return {0xFFFF}; }
+  /// Writes the lanes of `m` of `values` to dst[0 ..), in lane order, and may write up to 16 values
+  /// there (dst needs room for 16); returns how many it kept. (A register compress and a plain store:
+  /// the memory form of vpcompressd is microcoded and slow on AMD Zen 4.)
+  static int compress(std::uint32_t* dst, I values, M m) {
+    _mm512_storeu_si512(dst, _mm512_maskz_compress_epi32(m.m, values.v));
+    return __builtin_popcount(m.m);
+  }
   /// The 8 columns of 16 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]):
   /// an in-register transpose (per 128-bit block unpacks and shuffles, then one two-source
   /// permute per column), cheaper than 8 gathers.
@@ -157,6 +164,15 @@ struct Avx2 {
   static std::uint32_t bits(M a) { return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(a.m))); }
   static M none() { return {_mm256_setzero_si256()}; }
   static M all() { return {_mm256_set1_epi32(-1)}; }
+  /// Writes the lanes of `m` of `values` to dst[0 ..), in lane order (dst needs room for 8);
+  /// returns how many it kept.
+  static int compress(std::uint32_t* dst, I values, M m) {
+    alignas(32) std::uint32_t all_values[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(all_values), values.v);
+    int n = 0;
+    for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) dst[n++] = all_values[__builtin_ctz(lanes)];
+    return n;
+  }
   /// The 8 columns of 8 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]): the
   /// classic 8×8 in-register transpose.
   static void transpose_rows(const float* p, F column[8]) {
