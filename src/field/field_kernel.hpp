@@ -605,7 +605,8 @@ class FieldKernel {
     g.active = g.active & (g.inside | ~(g.s_enter < zero));
     const F s_at = select(g.inside, g.s_exit, g.s_enter);
     Vec e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
-    const F e_inv = one / sqrt(dot(e, e));
+    F e_inv = L::splat(1.0f / f.radius);
+    if (any(g.active & ~g.inside)) e_inv = select(g.inside, e_inv, one / sqrt(dot(e, e)));
     g.e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
     g.q = {select(g.inside, -d.x, d.x), select(g.inside, -d.y, d.y), select(g.inside, -d.z, d.z)};
     return g;

@@ -206,7 +206,7 @@ ErrorBounds FieldScene::error_bounds() const {
 
 namespace {
 
-constexpr std::size_t kBlock = 1024;  // rays per parallel task: enough for 16-ray steps per object
+constexpr std::size_t kBlock = 4096;  // rays per parallel task: enough to amortise its scheduling (1024 was 3% slower)
 
 /// 0, 1, …, kBlock − 1: the candidate list of an object every ray of a block may meet.
 const std::array<std::uint32_t, kBlock>& every_ray() {

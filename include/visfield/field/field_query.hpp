@@ -214,7 +214,9 @@ VF_HOST_DEVICE inline FieldAnswer trace_field(const FieldTables& f, const hd::Ve
   if (!inside && s_enter < 0.0f) return {};
   const float s_at = inside ? s_exit : s_enter;
   hd::Vec3<float> e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
-  const float e_inv = 1.0f / hd::sqrt(hd::dot(e, e));
+  // The point on the sphere as a unit vector: from inside, |e| is R to rounding, so a product by
+  // 1/R will do; from outside, far origins cancel digits in e, and its own length is needed.
+  const float e_inv = inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::dot(e, e));
   e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
   FieldAnswer a = read_at(f, e, inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d);
   if (!a.hit) return {};
