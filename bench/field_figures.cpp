@@ -3,10 +3,17 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
+#include <span>
 #include <string>
 
 #include "bench_accel.hpp"
 #include "query_runner.hpp"
+#include "visfield/accel/batch.hpp"
+#include "visfield/accel/bvh.hpp"
+#include "visfield/core/memory.hpp"
+#include "visfield/field/object_field.hpp"
+#include "visfield/render/ray_sets.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/sampling.hpp"
@@ -116,13 +123,15 @@ std::string format(const char* pattern, double a, double b = 0, double c = 0, do
 struct Run {
   double build_s = 0.0, ao_s = 0.0;
   std::vector<double> ao;
+  std::vector<std::uint8_t> occluded;  // the answers themselves
 };
 
 Run run(const std::string& spec, SceneGeometry& geometry, const std::vector<Ray>& rays) {
   BuiltBenchAccel built = build_bench_accel(spec, geometry, {rays.size()}, threads_in_force());
   const BenchAccel* accels[] = {&built.accel};
   const std::vector<QueryMeasurement> m = measure_queries(accels, rays, RayKind::ao, {1, 3});
-  return {bench_accel_stats(built.accel).build_ms / 1000.0, m[0].timings.median_ms() / 1000.0, vertex_ao(m[0].results.occluded)};
+  return {bench_accel_stats(built.accel).build_ms / 1000.0, m[0].timings.median_ms() / 1000.0, vertex_ao(m[0].results.occluded),
+          m[0].results.occluded};
 }
 
 // The paper's Figure 6: precompute s / AO s / RMS for positions x directions (mach. type 2).
@@ -211,9 +220,132 @@ void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostre
     row("three together", corner_scene({found[0], found[1], found[2]}, {{0.6f, 0.8f, 0.8f}, {0.6f, 2.2f, 0.8f}, {0.6f, 0.8f, 2.2f}}));
 }
 
+// The lookup options at equal memory (4226 x 32^2 and 1090 x 64^2 u8 tables): inter-object error on
+// the corner's rays, intra-object error on AO rays from the caster's own surface, and the time per
+// query of each; the error x time product picks the defaults.
+void lookups(const std::string& caster_path, SceneGeometry& corner, const std::vector<Ray>& corner_rays, std::ostream& out) {
+  Scene alone;
+  alone.meshes.push_back(load_mesh(caster_path).mesh);
+  alone.meshes[0].occluder = MeshOccluder::field;
+  alone.add_instance(0);
+  SceneGeometry caster(alone);
+  const Bvh bvh = Bvh::build(flatten(alone));
+  const std::vector<Ray> own = make_ao_rays(bvh, alone, alone.camera_or_default(512, 512), 4,
+                                            std::numeric_limits<float>::infinity(), 1);
+  const Run corner_exact = run("bvh", corner, corner_rays), own_exact = run("bvh", caster, own);
+  const auto disagreement = [&](const Run& r) {
+    // run() keeps per-vertex AO for the corner; for the caster's own rays compare the answers.
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < r.occluded.size(); ++i) differ += r.occluded[i] != own_exact.occluded[i] ? 1 : 0;
+    return static_cast<double>(differ) / static_cast<double>(r.occluded.size());
+  };
+  out << "Inter-object: " << corner_rays.size() << " rays from the corner's vertices, RMS (0-255) of the per-vertex AO. "
+      << "Intra-object: " << own.size() << " AO rays (4 per pixel of a 512x512 view) from the caster's own surface, the "
+      << "fraction of occlusion answers that differ from the exact ones. ns: wall time per ray over the threads.\n\n"
+      << "| table | lookup | inter RMS | inter ns/ray | intra differ | intra ns/ray | RMS x ns | differ x ns |\n"
+      << "|---|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const char* table : {"positions=4226,directions=32", "positions=1090,directions=64"})
+    for (const char* lookup : {"", ",bilinear=1", ",blend=1", ",bilinear=1,blend=1"}) {
+      const std::string spec = std::string("field:") + table + lookup;
+      const Run inter = run(spec, corner, corner_rays), intra = run(spec, caster, own);
+      const double inter_ns = inter.ao_s * 1e9 / static_cast<double>(corner_rays.size());
+      const double intra_ns = intra.ao_s * 1e9 / static_cast<double>(own.size());
+      const double inter_rms = rms(inter.ao, corner_exact.ao), intra_differ = disagreement(intra);
+      out << "| " << table << " | " << (lookup[0] ? lookup + 1 : "nearest (paper)") << " | " << format("%.3f", inter_rms) << " | "
+          << format("%.2f", inter_ns) << " | " << format("%.4f", intra_differ) << " | " << format("%.2f", intra_ns) << " | "
+          << format("%.2f", inter_rms * inter_ns) << " | " << format("%.4f", intra_differ * intra_ns) << " |\n";
+    }
+}
+
+// The GPU paper's Figure 3: the caster on a ground plane, AO of the ground (inter-object; the caster
+// itself is shaded flat, as the paper draws it with the fixed pipeline) from 256 rays per pixel of a
+// 256x256 view, fields at {1090, 4226, 16642} x {32^2, 64^2, 128^2} against the exact image: RMS over
+// all pixels on the 0-255 scale (the paper's measure), time of the AO rays, memory.
+void gpu_figure3(const std::string& caster_path, std::ostream& out) {
+  Scene scene;
+  TriangleMesh caster = load_mesh(caster_path).mesh;
+  const TriangleSet set = mesh_triangles(caster);
+  if (set.size() == 0) throw Error(caster_path + ": no triangles of non-zero area");
+  const field::BoundingSphere sphere = field::bounding_sphere_of(set);
+  caster.occluder = MeshOccluder::field;
+  scene.meshes.push_back(std::move(caster));
+  scene.add_instance(0);
+  // The ground: a square of 6 radii under the caster's lowest point, exact (the receiver).
+  TriangleMesh ground;
+  ground.name = "ground";
+  ground.occluder = MeshOccluder::exact;
+  const float y = set.bounds.lo.y, half = 3.0f * sphere.radius;
+  const Vec3f c = sphere.centre;
+  ground.positions = {{c.x - half, y, c.z - half}, {c.x + half, y, c.z - half}, {c.x + half, y, c.z + half}, {c.x - half, y, c.z + half}};
+  ground.triangles = {{0, 2, 1}, {0, 3, 2}};
+  scene.meshes.push_back(std::move(ground));
+  const ObjectId ground_id = scene.add_instance(1);
+  scene.name = "gpu-figure-3";
+  Camera camera = scene.camera_or_default(256, 256);
+  SceneGeometry geometry(scene);
+  const Bvh bvh = Bvh::build(flatten(scene));
+  const std::vector<Ray> primary = make_primary_rays(scene, camera);
+  std::vector<Hit> hits(primary.size());
+  intersect_batch(bvh, std::span<const Ray>(primary), std::span<Hit>(hits));
+  // AO rays from the ground's pixels only.
+  std::vector<Hit> ground_hits = hits;
+  for (Hit& h : ground_hits)
+    if (h.found && h.instance != ground_id) h = Hit{};
+  constexpr int kRaysPerPixel = 256;
+  const std::vector<Ray> rays = ao_rays_from_hits(scene, primary, ground_hits, kRaysPerPixel, std::numeric_limits<float>::infinity(), 1);
+  const auto image = [&](const std::vector<double>& ao) {
+    std::vector<double> pixels(hits.size());
+    std::size_t next = 0;
+    for (std::size_t p = 0; p < hits.size(); ++p)
+      pixels[p] = !hits[p].found ? 255.0 : hits[p].instance == ground_id ? ao[next++] : 128.0;
+    return pixels;
+  };
+  const auto per_pixel_ao = [&](const std::vector<std::uint8_t>& occluded) {
+    std::vector<double> ao(occluded.size() / kRaysPerPixel);
+    for (std::size_t v = 0; v < ao.size(); ++v) {
+      std::size_t clear = 0;
+      for (std::size_t k = 0; k < kRaysPerPixel; ++k) clear += occluded[v * kRaysPerPixel + k] ? 0 : 1;
+      ao[v] = 255.0 * static_cast<double>(clear) / kRaysPerPixel;
+    }
+    return ao;
+  };
+  const auto measure = [&](const std::string& spec, double& build_s, double& ao_s, std::size_t& bytes) {
+    BuiltBenchAccel built = build_bench_accel(spec, geometry, {rays.size()}, threads_in_force());
+    const BenchAccel* accels[] = {&built.accel};
+    const std::vector<QueryMeasurement> m = measure_queries(accels, rays, RayKind::ao, {1, 3});
+    build_s = bench_accel_stats(built.accel).build_ms / 1000.0;
+    bytes = bench_accel_stats(built.accel).memory_bytes;
+    ao_s = m[0].timings.median_ms() / 1000.0;
+    return image(per_pixel_ao(m[0].results.occluded));
+  };
+  double build_s = 0.0, exact_s = 0.0, embree_s = 0.0;
+  std::size_t bytes = 0;
+  const std::vector<double> exact = measure("bvh", build_s, exact_s, bytes);
+  if (kHaveEmbree) measure(kEmbreeName, build_s, embree_s, bytes);
+  out << rays.size() << " AO rays (" << kRaysPerPixel << " per ground pixel of a 256x256 view). Exact: our BVH "
+      << format("%.3f s", exact_s) << (kHaveEmbree ? ", Embree " + format("%.3f s", embree_s) : std::string()) << ".\n\n"
+      << "Each cell: AO time s / RMS (0-255, all pixels) / field memory; the GPU paper's draw time (on its 2010 GPU) and RMS below.\n\n"
+      << "| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
+  const char* const paper[3][3] = {{"81.2 ms / 0.596", "82.7 ms / 0.589", "82.9 ms / 0.586"},
+                                   {"83.2 ms / 0.454", "83.3 ms / 0.424", "-"},
+                                   {"84.2 ms / 0.421", "-", "-"}};
+  const int positions[] = {1090, 4226, 16642};
+  for (int p = 0; p < 3; ++p) {
+    out << "| " << positions[p];
+    for (const int n : {32, 64, 128}) {
+      double field_build = 0.0, field_s = 0.0;
+      std::size_t field_bytes = 0;
+      const std::vector<double> field =
+          measure("field:positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(n), field_build, field_s, field_bytes);
+      out << " | " << format("%.4f s / %.3f / ", field_s, rms(field, exact)) << format_bytes(static_cast<double>(field_bytes));
+    }
+    out << " |\n| paper | " << paper[p][0] << " | " << paper[p][1] << " | " << paper[p][2] << " |\n";
+  }
+}
+
 }  // namespace
 
-std::vector<std::string> field_figure_names() { return {"fig6", "fig5", "fig8"}; }
+std::vector<std::string> field_figure_names() { return {"fig6", "fig5", "fig8", "lookups", "gpu3"}; }
 
 void run_field_figure(const std::string& name, const std::string& caster_path, std::ostream& out) {
   if (name == "fig8") {
@@ -221,6 +353,12 @@ void run_field_figure(const std::string& name, const std::string& caster_path, s
     out << "## fig8: the models of " << caster_path << " in a corner of 3 x " << kCornerVertices << " x " << kCornerVertices
         << " receiver vertices, " << kRaysPerSide * kRaysPerSide << " concentric rays each, " << threads_in_force() << " threads\n\n";
     figure8(caster_path, rays, out);
+    return;
+  }
+  if (name == "gpu3") {
+    out << "## gpu3: the GPU paper's Figure 3 on the CPU: " << caster_path << " on a ground plane, inter-object AO, "
+        << threads_in_force() << " threads\n\n";
+    gpu_figure3(caster_path, out);
     return;
   }
   const Scene scene = corner_scene(caster_path);
@@ -233,6 +371,8 @@ void run_field_figure(const std::string& name, const std::string& caster_path, s
     figure6(geometry, rays, out);
   else if (name == "fig5")
     figure5(geometry, rays, out);
+  else if (name == "lookups")
+    lookups(caster_path, geometry, rays, out);
   else
     throw Error("--figure " + name + ": unknown figure");
 }

@@ -12,7 +12,10 @@ namespace vf::bench {
 /// The figures --figure accepts: "fig6" (positional x directional resolution: precompute, AO time,
 /// RMS; also the GPU paper's 16642-position row), "fig5" (mappings and the 1-bit variant of
 /// Figure 7 at equal memory), "fig8" (cow, bunny, Igea, dragon, Armadillo and three of them
-/// together: exact and field AO times, precompute, RMS; --scene is then the models' folder).
+/// together: exact and field AO times, precompute, RMS; --scene is then the models' folder),
+/// "lookups" (nearest, bilinear, blend and both at equal memory: inter- and intra-object error
+/// and time per query, which set the defaults), "gpu3" (the GPU paper's Figure 3: AO of a ground
+/// under the caster, image RMS at {1090, 4226, 16642} x {32^2, 64^2, 128^2}).
 std::vector<std::string> field_figure_names();
 
 /// Runs figure `name` with `caster_path` (a mesh file, the papers use the Stanford bunny; for fig8
