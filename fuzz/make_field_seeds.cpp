@@ -1,8 +1,11 @@
-// Writes the seed corpus of the field_file fuzz target: four small .vfield files of a tetrahedron
-// (290 positions x 8^2 cells), one per storage and mapping.
+// Writes the seed corpus of the field_file fuzz target: small .vfield files of a tetrahedron
+// (290 positions x 8^2 cells), one per storage and mapping, two with normal fields, and one in the
+// version-1 layout.
 // Usage: build/bin/make_field_seeds fuzz/corpus/field_file
 
 #include <array>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -30,9 +33,23 @@ int main(int argc, char** argv) {
                         Seed{"f32-rejection",
                              {.positions = 290, .directions = 8, .mapping = HemisphereMapping::rejection_malley, .storage = CellStorage::f32}},
                         Seed{"bit-equal-area",
-                             {.positions = 290, .directions = 8, .mapping = HemisphereMapping::concentric_equal_area, .storage = CellStorage::bit}}}) {
+                             {.positions = 290, .directions = 8, .mapping = HemisphereMapping::concentric_equal_area, .storage = CellStorage::bit}},
+                        Seed{"u8-oct16-normals", {.positions = 290, .directions = 8, .normals = field::NormalStorage::oct16}},
+                        Seed{"u16-oct32-normals",
+                             {.positions = 290, .directions = 8, .storage = CellStorage::u16, .normals = field::NormalStorage::oct32}}}) {
     const field::ObjectField f = field::ObjectField::build(set, s.config);
     std::ofstream(std::string(argv[1]) + "/" + s.name, std::ios::binary) << field::encode_field(f, field::mesh_hash(set));
   }
+  // A version-1 file (no normal field): the version-2 layout without the normal byte count.
+  std::string old = field::encode_field(field::ObjectField::build(set, {.positions = 290, .directions = 8}), field::mesh_hash(set));
+  old.erase(64, 8);
+  old[8] = 1;
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i + 8 < old.size(); ++i) {
+    h ^= static_cast<unsigned char>(old[i]);
+    h *= 0x100000001b3ull;
+  }
+  std::memcpy(old.data() + old.size() - 8, &h, 8);
+  std::ofstream(std::string(argv[1]) + "/u8-version1", std::ios::binary) << old;
   return 0;
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Regenerates the ObjectField measurements (docs/objectfield-measurements.md): the 2008 paper's
-# Figures 6, 5/7 and 8 with visfield-bench --figure, and the GPU paper's intra-object AO (121 rays
-# per pixel at 16642 positions x 64^2) as renders compared with the exact ones.
+# Regenerates the ObjectField measurements (docs/objectfield-measurements.md): the speed against
+# Embree on the same AO rays, the 2008 paper's Figures 6, 5/7 and 8 and the lookup options with
+# visfield-bench --figure, and the GPU paper's Figures 3 and 5 on the CPU.
 # Usage: scripts/field-figures.sh MODELS_DIR [OUT.md]   (MODELS_DIR holds bun_zipper.ply, cow.obj, ...)
+# Takes about 15 minutes on 2 cores (the 16642 x 256^2 fields of Figure 6 most of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 models=${1:?usage: scripts/field-figures.sh MODELS_DIR [OUT.md]}
@@ -10,25 +11,48 @@ out=${2:-docs/objectfield-measurements.md}
 bin=build/bin
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+threads=$(nproc)
 {
   echo "# ObjectField measurements"
   echo
-  echo "Written by \`scripts/field-figures.sh MODELS_DIR\` on $(date -u +%Y-%m-%d), $(nproc) threads."
+  echo "Written by \`scripts/field-figures.sh MODELS_DIR\` on $(date -u +%Y-%m-%d), $threads threads, $(lscpu | sed -n 's/^Model name: *//p' | head -1)."
+  echo "Times are medians of three runs after a warm-up; on a shared machine single figures read up to 10% apart."
+  echo "The README's ObjectField section says what they mean."
   echo
+  echo "## Speed against Embree on the same rays"
+  echo
+  echo "Intra-object AO: 1M rays, 4 per pixel, from each model's own surface (unlimited length);"
+  echo "\`visfield-bench --scene MODEL --rays ao --accel field,bvh,embree --count 1000000 --threads $threads --reps 5\`."
+  echo "Inter-object AO from the Figure-6 corner is the fig8 table below (field vs Embree column)."
+  echo
+  for model in cow.obj bun_zipper.ply dragon_vrip_res2.ply Armadillo.ply; do
+    echo '```'
+    "$bin/visfield-bench" --scene "$models/$model" --rays ao --accel field,bvh,embree --count 1000000 --threads "$threads" --reps 5
+    echo '```'
+    echo
+  done
   "$bin/visfield-bench" --figure fig6 --scene "$models/bun_zipper.ply"
+  echo
+  "$bin/visfield-bench" --figure lookups --scene "$models/bun_zipper.ply"
   echo
   "$bin/visfield-bench" --figure fig5 --scene "$models/bun_zipper.ply"
   echo
   "$bin/visfield-bench" --figure fig8 --scene "$models"
   echo
+  "$bin/visfield-bench" --figure gpu3 --scene "$models/bun_zipper.ply"
+  echo
   echo "## GPU paper, Figure 5 on the CPU: intra-object AO, 256x256 pixels, 121 rays per pixel, 16642 x 64x64"
+  echo
+  echo "\`visfield render MODEL --width 256 --height 256 --ao-rays 121\` with the exact BVH, then with"
+  echo "\`--occluders field --occluder field:positions=16642,directions=64\`, and \`visfield compare\`. The render"
+  echo "traces its AO rays one at a time (the scalar query), not through the batch kernel."
   echo
   for model in igea-triangles.ply Armadillo.ply; do
     echo "### $model"
     echo
     echo '```'
     "$bin/visfield" render "$models/$model" --width 256 --height 256 --ao-rays 121 --no-progress --out "$work/exact.png" | tail -1
-    "$bin/visfield" render "$models/$model" --width 256 --height 256 --ao-rays 121 --no-progress \
+    "$bin/visfield" render "$models/$model" --width 256 --height 256 --ao-rays 121 --no-progress --occluders field \
       --occluder field:positions=16642,directions=64 --out "$work/field.png" | tail -1
     "$bin/visfield" compare "$work/field.png" "$work/exact.png"
     echo '```'
