@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -98,6 +99,19 @@ std::string field_file(std::size_t flip_at = 0) {
   }
   std::string bytes = field::encode_field(field::ObjectField::build(set, {.positions = 290, .directions = 8}), field::mesh_hash(set));
   if (flip_at > 0) bytes[flip_at] ^= 0x01;
+  return bytes;
+}
+
+// field_file() rewritten as format version `version`, its checksum recomputed.
+std::string field_file_of_version(std::uint32_t version) {
+  std::string bytes = field_file();
+  std::memcpy(bytes.data() + 8, &version, 4);
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
+    h ^= static_cast<unsigned char>(bytes[i]);
+    h *= 0x100000001b3ull;
+  }
+  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
   return bytes;
 }
 
@@ -233,6 +247,16 @@ std::vector<Row> catalogue() {
       {"FieldOutputNotVfield", {tri}, "field build tri.obj -o tri.png", 1, "-o tri.png: the file name must end in .vfield"},
       {"FieldDirectionsOutOfRange", {tri}, "field build tri.obj --directions 4 -o tri.vfield", 2,
        "--directions: Value 4 not in range 8 to 256"},
+      {"FieldFileOfAnotherVersion", {{"old.vfield", field_file_of_version(3)}}, "field info old.vfield", 1,
+       "old.vfield: .vfield version 3, this visfield reads versions 1 and 2 (rebuild it with visfield field build)"},
+      {"FieldNormalsUnknown", {tri}, "field build tri.obj --normals oct8 -o tri.vfield", 2, "--normals: oct8 not in {none,oct16,oct32}"},
+      {"SceneFieldParameterOutOfRange",
+       {tri, {"f.json", R"({"meshes": [{"path": "tri.obj", "occluder": "field", "field": {"directions": 5}}]})"}}, render + "f.json", 1,
+       "mesh tri: field: directions=5: expected a non-negative integer in 8..256"},
+      {"SceneFieldUnknownKey", {tri, {"k.json", R"({"meshes": [{"path": "tri.obj", "field": {"resolution": 3}}]})"}}, render + "k.json", 1,
+       "k.json: meshes[0].field: unknown key \"resolution\" (expected one of: path, positions, directions, mapping, storage, normals)"},
+      {"OccludersExactWithAField", {}, render + "builtin:cornell --occluders exact --occluder field", 2,
+       "--occluder: field: --occluders exact needs an exact structure"},
       {"FieldOverMaxMemory", {}, render + "builtin:cornell --occluder field:positions=16642,directions=256,storage=f32 --max-memory 100M", 1,
        "--occluder field:positions=16642,directions=256,storage=f32: the build would need about 12.19 GiB, more than --max-memory 100.00 MiB"},
       // Resources and output.
