@@ -4,8 +4,6 @@
 // Usage: build/bin/make_field_seeds fuzz/corpus/field_file
 
 #include <array>
-#include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -44,12 +42,6 @@ int main(int argc, char** argv) {
   std::string old = field::encode_field(field::ObjectField::build(set, {.positions = 290, .directions = 8}), field::mesh_hash(set));
   old.erase(64, 8);
   old[8] = 1;
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (std::size_t i = 0; i + 8 < old.size(); ++i) {
-    h ^= static_cast<unsigned char>(old[i]);
-    h *= 0x100000001b3ull;
-  }
-  std::memcpy(old.data() + old.size() - 8, &h, 8);
-  std::ofstream(std::string(argv[1]) + "/u8-version1", std::ios::binary) << old;
+  std::ofstream(std::string(argv[1]) + "/u8-version1", std::ios::binary) << field::with_field_checksum(old);
   return 0;
 }

@@ -3,8 +3,8 @@
 // a field that parses answers a few rays, singly and as a batch (its tables may hold any codes).
 
 #include <cstdint>
-#include <cstring>
 #include <string>
+#include <utility>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
@@ -16,12 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::string bytes(reinterpret_cast<const char*>(data), size);
   if (size > 8 && (data[0] & 1u)) {
     bytes[0] = 'V';  // keep the signature the seeds start with
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
-      h ^= static_cast<unsigned char>(bytes[i]);
-      h *= 0x100000001b3ull;
-    }
-    std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
+    bytes = vf::field::with_field_checksum(std::move(bytes));
   }
   try {
     const vf::field::StoredField stored = vf::field::decode_field(bytes, "fuzz.vfield");

@@ -28,6 +28,19 @@ int resolved_width(int width) {
   return width >= 16 ? 16 : width >= 8 ? 8 : 1;
 }
 
+/// Calls run(lanes::Avx512{}) for width 16 or run(lanes::Avx2{}) for width 8, where this build
+/// has them; nothing otherwise.
+template <class Run>
+void at_width(int width, const Run& run) {
+#if defined(__AVX512F__)
+  if (width == 16) run(lanes::Avx512{});
+#endif
+#if defined(__AVX2__)
+  if (width == 8) run(lanes::Avx2{});
+#endif
+  (void)width, (void)run;
+}
+
 /// Streams the first count − count % width rays through FieldKernel<L> for the width (16 or 8):
 /// `load(kernel, k)` gives packet k's rays and `emit(kernel, k, answer)` takes its answers. Returns
 /// how many rays it took (0 when the width is 1 or the kernel cannot read the tables).
@@ -44,13 +57,7 @@ std::size_t run_lanes(const FieldTables& f, int width, std::size_t count, std::s
         [&](std::size_t k, const typename Kernel::Answer& a) { emit(Kernel{}, k * Kernel::kWidth, a); });
     done = packets * Kernel::kWidth;
   };
-#if defined(__AVX512F__)
-  if (width == 16) run(lanes::Avx512{});
-#endif
-#if defined(__AVX2__)
-  if (width == 8) run(lanes::Avx2{});
-#endif
-  (void)width, (void)run;
+  at_width(width, run);
   return done;
 }
 
@@ -73,13 +80,7 @@ void run_culled(const FieldTables& f, int width, const Ray* rays, const std::uin
     for (std::size_t k = 0; k < rest; ++k) one(rest_position[k]);
     ran = true;
   };
-#if defined(__AVX512F__)
-  if (width == 16) run(lanes::Avx512{});
-#endif
-#if defined(__AVX2__)
-  if (width == 8) run(lanes::Avx2{});
-#endif
-  (void)run;
+  at_width(width, run);
   if (!ran)
     for (std::size_t k = 0; k < count; ++k) one(k);
 }

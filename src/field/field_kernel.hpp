@@ -582,10 +582,11 @@ class FieldKernel {
   struct Geometry {
     M active, inside;
     F inv, s_min, s_max, s_enter, s_exit;  // inv: 1 / |dir|
-    Vec e, q;  // unit point of the sphere (entry, or exit from inside); direction into the sphere
   };
 
-  [[gnu::always_inline]] static Geometry geometry(const FieldTables& f, const Rays& r, M valid) {
+  /// The lanes' Geometry, the unit point `e` of the sphere where the table is read (entry, or exit
+  /// from inside) and the direction `q` it is read in (into the sphere).
+  [[gnu::always_inline]] static Geometry geometry(const FieldTables& f, const Rays& r, M valid, Vec& e_unit, Vec& q) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     Geometry g;
     const Vec dir{r.dx, r.dy, r.dz};
@@ -607,8 +608,8 @@ class FieldKernel {
     Vec e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
     F e_inv = L::splat(1.0f / f.radius);
     if (any(g.active & ~g.inside)) e_inv = select(g.inside, e_inv, one / sqrt(dot(e, e)));
-    g.e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
-    g.q = {select(g.inside, -d.x, d.x), select(g.inside, -d.y, d.y), select(g.inside, -d.z, d.z)};
+    e_unit = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
+    q = {select(g.inside, -d.x, d.x), select(g.inside, -d.y, d.y), select(g.inside, -d.z, d.z)};
     return g;
   }
 
@@ -624,40 +625,32 @@ class FieldKernel {
 
   /// trace_field on lanes (of `valid`).
   [[gnu::always_inline]] static Answer trace_lanes(const FieldTables& f, const Rays& r, M valid) {
-    const Geometry g = geometry(f, r, valid);
+    Vec e, q;
+    const Geometry g = geometry(f, r, valid, e, q);
     if (!any(g.active)) return {L::none(), L::splat(0.0f), L::splat(0)};
-    return place(f, g, read_at(f, g.e, g.q, g.active));
+    return place(f, g, read_at(f, e, q, g.active));
   }
 
   /// With the paper's lookups (one sample, one cell), trace_lanes() in two halves so that a stream
   /// can locate the next rays' cells before it reads this one's: `locate` finds the cell, `finish`
   /// reads it.
   struct Located {
-    M active, inside;
-    F inv, s_min, s_max, s_enter, s_exit;
+    Geometry g;
     I sample, i, j;
   };
 
   [[gnu::always_inline]] static void locate(const FieldTables& f, const Rays& r, M valid, Located& l) {
-    const Geometry g = geometry(f, r, valid);
-    Vec w;
-    nearest_sample(f, corners(f, g.e), g.active, l.sample, w);
+    Vec e, q, w;
+    l.g = geometry(f, r, valid, e, q);
+    nearest_sample(f, corners(f, e), l.g.active, l.sample, w);
     F s, t;
-    square_point(f, w, g.q, g.active, s, t);
+    square_point(f, w, q, l.g.active, s, t);
     l.i = cell_of(s, f.directions);
     l.j = cell_of(t, f.directions);
-    l.active = g.active;
-    l.inside = g.inside;
-    l.inv = g.inv;
-    l.s_min = g.s_min;
-    l.s_max = g.s_max;
-    l.s_enter = g.s_enter;
-    l.s_exit = g.s_exit;
   }
 
   [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
-    const Geometry g{l.active, l.inside, l.inv, l.s_min, l.s_max, l.s_enter, l.s_exit, {}, {}};
-    return place(f, g, read_cell(f, l.sample, l.i, l.j, l.active));
+    return place(f, l.g, read_cell(f, l.sample, l.i, l.j, l.g.active));
   }
 
   /// decode_normal on lanes.

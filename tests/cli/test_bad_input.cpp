@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/run_command.hpp"
@@ -106,13 +107,7 @@ std::string field_file(std::size_t flip_at = 0) {
 std::string field_file_of_version(std::uint32_t version) {
   std::string bytes = field_file();
   std::memcpy(bytes.data() + 8, &version, 4);
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
-    h ^= static_cast<unsigned char>(bytes[i]);
-    h *= 0x100000001b3ull;
-  }
-  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
-  return bytes;
+  return field::with_field_checksum(std::move(bytes));
 }
 
 std::string scene_json(const std::string& rest) { return R"({"meshes": [{"path": "tri.obj"}])" + rest + "}"; }

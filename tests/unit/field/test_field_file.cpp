@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
@@ -34,15 +35,7 @@ std::string error_of(F&& f) {
 }
 
 // `bytes` with the checksum recomputed, so that a test reaches the checks behind it.
-std::string with_checksum(std::string bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (std::size_t i = 0; i + 8 < bytes.size(); ++i) {
-    h ^= static_cast<unsigned char>(bytes[i]);
-    h *= 0x100000001b3ull;
-  }
-  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);
-  return bytes;
-}
+std::string with_checksum(std::string bytes) { return with_field_checksum(std::move(bytes)); }
 
 TEST(FieldFile, EveryStorageRoundTripsBitForBit) {
   const TriangleSet set = box_object();
