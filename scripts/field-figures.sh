@@ -41,18 +41,18 @@ threads=$(nproc)
   echo
   "$bin/visfield-bench" --figure gpu3 --scene "$models/bun_zipper.ply"
   echo
-  echo "## GPU paper, Figure 5 on the CPU: intra-object AO, 256x256 pixels, 121 rays per pixel, 16642 x 64x64"
+  echo "## GPU paper, Figure 5 on the CPU: intra-object AO, 512x512 pixels, 121 rays per pixel, 16642 x 64x64"
   echo
-  echo "\`visfield render MODEL --width 256 --height 256 --ao-rays 121\` with the exact BVH, then with"
-  echo "\`--occluders field --occluder field:positions=16642,directions=64\`, and \`visfield compare\`. The render"
-  echo "traces its AO rays one at a time (the scalar query), not through the batch kernel."
+  echo "\`visfield render MODEL --width 512 --height 512 --ao-rays 121\` with the exact BVH, then with"
+  echo "\`--occluders field --occluder field:positions=16642,directions=64\`, and \`visfield compare\`. Each tile's"
+  echo "AO rays go through the fields' batch kernel; the camera rays through the BVH."
   echo
   for model in igea-triangles.ply Armadillo.ply; do
     echo "### $model"
     echo
     echo '```'
-    "$bin/visfield" render "$models/$model" --width 256 --height 256 --ao-rays 121 --no-progress --out "$work/exact.png" | tail -1
-    "$bin/visfield" render "$models/$model" --width 256 --height 256 --ao-rays 121 --no-progress --occluders field \
+    "$bin/visfield" render "$models/$model" --width 512 --height 512 --ao-rays 121 --no-progress --out "$work/exact.png" | tail -1
+    "$bin/visfield" render "$models/$model" --width 512 --height 512 --ao-rays 121 --no-progress --occluders field \
       --occluder field:positions=16642,directions=64 --out "$work/field.png" | tail -1
     "$bin/visfield" compare "$work/field.png" "$work/exact.png"
     echo '```'

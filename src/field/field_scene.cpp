@@ -278,6 +278,13 @@ void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::sp
   });
 }
 
+void occluded_block(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  for (std::size_t begin = 0; begin < rays.size(); begin += kBlock) {
+    const std::size_t count = std::min(kBlock, rays.size() - begin);
+    fields.trace_block(rays.subspan(begin, count), false, nullptr, occluded.data() + begin);
+  }
+}
+
 void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits) {
   vf::parallel_for(std::size_t{0}, (rays.size() + kBlock - 1) / kBlock, [&](std::size_t block) {
     check_interrupt();

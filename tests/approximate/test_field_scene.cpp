@@ -143,6 +143,38 @@ TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
   EXPECT_GT(static_cast<double>(close) / static_cast<double>(compared), 0.9) << close << " of " << compared;
 }
 
+// Occlusion only through single rays: what render_ao did before it traced a tile's AO rays as a batch.
+struct RayByRay {
+  const FieldScene& fields;
+  bool occluded(const Ray& ray) const { return fields.occluded(ray); }
+  const AccelStats& stats() const { return fields.stats(); }
+  static std::string name() { return "ray by ray"; }
+  static constexpr Exactness exactness = Exactness::approximate;
+};
+
+// A render's AO rays go through the fields' batch kernel (occluded_block) and give the same image,
+// bit for bit, as tracing them one at a time, with random directions and along the line set.
+TEST(FieldScene, RendersTheSameImageThroughTheBatchAsRayByRay) {
+  const Scene scene = make_builtin_scene("cornell", {.size = 800});
+  const Bvh bvh = Bvh::build(flatten(scene));
+  const FieldScene fields = FieldScene::build(scene, {.positions = 1090, .directions = 16});
+  const Camera camera = scene.camera_or_default(40, 30);
+  for (const int psf_level : {0, 3}) {
+    AoOptions options;
+    options.spp = 2;
+    options.ao_rays = 24;
+    options.psf_level = psf_level;
+    options.progress = false;
+    const Image batched = render_ao(bvh, fields, scene, camera, options);
+    const Image single = render_ao(bvh, RayByRay{fields}, scene, camera, options);
+    ASSERT_EQ(batched.pixels.size(), single.pixels.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < batched.pixels.size(); ++i) differ += batched.pixels[i] == single.pixels[i] ? 0 : 1;
+    EXPECT_EQ(differ, 0u) << "psf level " << psf_level;
+    EXPECT_GT(compare_images(batched, render_ao(bvh, bvh, scene, camera, options)).rms, 0.0);  // the fields did answer
+  }
+}
+
 // meshes=marked keeps every mesh exact but those a scene marks "field"; a mesh's own table
 // parameters (scene JSON "field": {...}) override the structure's.
 TEST(FieldScene, MarkedMeshesAndTheirOwnParameters) {

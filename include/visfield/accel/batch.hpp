@@ -35,4 +35,12 @@ void occluded_batch(const S& structure, std::span<const Ray> rays, std::span<std
   });
 }
 
+/// occluded[i] = 1 when rays[i] hits anything, on the calling thread: the batch for callers that are
+/// parallel already (a renderer's tiles). Structures with a faster way through many rays overload it
+/// (FieldScene). Spans of equal size.
+template <OcclusionQuery S>
+void occluded_block(const S& structure, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = structure.occluded(rays[i]) ? 1 : 0;
+}
+
 }  // namespace vf

@@ -74,6 +74,7 @@ class FieldScene {
 
  private:
   friend void occluded_batch(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
+  friend void occluded_block(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
   friend void intersect_batch(const FieldScene&, std::span<const Ray>, std::span<Hit>);
   /// Answers for the rays of one block (at most kBlock), into best (closest hits, when `closest`) or
   /// occluded; the batch queries run it per block in parallel.
@@ -103,6 +104,10 @@ class FieldScene {
 /// blocks of rays; each object's candidate rays are traced 16 (AVX-512) or 8 (AVX2) at a time
 /// (ObjectField::trace_rays). Spans of equal size. Throws vf::Interrupted on a signal.
 void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+
+/// occluded_batch() on the calling thread (for callers already parallel, such as a renderer's tiles):
+/// the same answers, the same SIMD kernel, no task of its own.
+void occluded_block(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
 
 /// Batch closest hits through a FieldScene, as occluded_batch() above: hits[i] is intersect(rays[i]).
 void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits);

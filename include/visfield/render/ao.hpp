@@ -8,7 +8,10 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
+#include <vector>
 
+#include "visfield/accel/batch.hpp"
 #include "visfield/accel/query.hpp"
 #include "visfield/core/direction_lines.hpp"
 #include "visfield/core/image.hpp"
@@ -41,41 +44,51 @@ inline constexpr float kAoBackground = 1.0f;
 /// Throws vf::Error naming the field when an option is out of range.
 void validate_ao_options(const AoOptions& options);
 
-/// Ambient occlusion of one primary hit: the fraction of `ao_rays` rays from `point` (drawn from `rng`
-/// by ao_ray()) that occluder.occluded() reports clear.
-template <OcclusionQuery O>
-float ambient_occlusion(const O& occluder, const SurfacePoint& point, Rng& rng, int ao_rays, float max_distance) {
-  int clear = 0;
-  for (int k = 0; k < ao_rays; ++k) clear += occluder.occluded(ao_ray(point, rng, max_distance)) ? 0 : 1;
-  return static_cast<float>(clear) / static_cast<float>(ao_rays);
-}
+namespace detail {
 
-/// Ambient occlusion of one primary hit along the lines of `lines`: every line not perpendicular to the
-/// normal gives one ray along its stored direction or its negation (whichever faces the normal's side),
-/// weighted by |cos| to the normal; the result is the weighted fraction that occluder.occluded()
-/// reports clear. Adds the rays traced to `rays`.
-template <OcclusionQuery O>
-float psf_ambient_occlusion(const O& occluder, const SurfacePoint& point, const DirectionLines& lines, float max_distance,
-                            std::uint64_t& rays) {
-  float clear = 0.0f, total = 0.0f;
-  for (std::size_t k = 0; k < lines.size(); ++k) {
-    const Vec3f& w = lines.direction(k);
-    const float c = dot(point.normal, w);
-    if (c == 0.0f) continue;
-    const Ray ray{point.position, c > 0.0f ? w : -w, 0.0f, max_distance};
-    ++rays;
-    total += std::fabs(c);
-    if (!occluder.occluded(ray)) clear += std::fabs(c);
+/// The AO rays of one tile's pixel samples on their way to a batch query: each ray with the sample
+/// it belongs to and its weight (1 for random directions, |cos| for the line set). Traced
+/// kCapacity at a time through occluded_block(), so an occluder with a batch path (the ObjectFields'
+/// SIMD kernel) runs it; the unoccluded weights are summed per sample in the order the rays were
+/// added, which is the order the per-ray loop always summed them in: images do not change.
+struct AoRayBatch {
+  static constexpr std::size_t kCapacity = 4096;
+  std::vector<Ray> rays;
+  std::vector<std::uint32_t> sample;
+  std::vector<float> weight;
+  std::vector<std::uint8_t> occluded;
+  std::vector<float> clear;  ///< Per sample of the tile: the weight of its unoccluded rays so far.
+
+  template <OcclusionQuery O>
+  void flush(const O& occluder) {
+    occluded.resize(rays.size());
+    occluded_block(occluder, std::span<const Ray>(rays), std::span<std::uint8_t>(occluded));
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      if (!occluded[i]) clear[sample[i]] += weight[i];
+    rays.clear();
+    sample.clear();
+    weight.clear();
   }
-  return total > 0.0f ? clear / total : 1.0f;
-}
+  template <OcclusionQuery O>
+  void add(const O& occluder, const Ray& ray, std::size_t of_sample, float w) {
+    rays.push_back(ray);
+    sample.push_back(static_cast<std::uint32_t>(of_sample));
+    weight.push_back(w);
+    if (rays.size() == kCapacity) flush(occluder);
+  }
+};
+
+}  // namespace detail
 
 /// Renders `camera`'s view of `scene` with ambient occlusion, camera rays traced through `closest` and
 /// AO rays through `occluder` (both built over `scene`; they may be the same structure): per pixel and
 /// sample s, Rng(seed, pixel, s) draws the jitter and the AO directions; the pixel is the mean over
-/// samples of the unoccluded fraction, or kAoBackground on a miss. Parallel over tiles; identical
-/// images for any thread count. `stats` (optional) gets every ray traced and the wall time. Throws
-/// vf::Error on bad options or camera. Cost: width*height*spp*(1 + ao_rays * hit fraction) queries.
+/// samples of the unoccluded fraction (of `ao_rays` cosine-weighted rays, or, with `psf_level`, of
+/// one ray along each line not perpendicular to the normal, weighted by |cos|), or kAoBackground on
+/// a miss. A tile's AO rays are traced together (occluded_block), so occluders with a batch path use
+/// it. Parallel over tiles; identical images for any thread count. `stats` (optional) gets every ray
+/// traced and the wall time. Throws vf::Error on bad options or camera. Cost:
+/// width*height*spp*(1 + ao_rays * hit fraction) queries.
 template <ClosestHitQuery C, OcclusionQuery O>
 Image render_ao(const C& closest, const O& occluder, const Scene& scene, const Camera& camera, const AoOptions& opt,
                 RenderStats* stats = nullptr) {
@@ -87,30 +100,51 @@ Image render_ao(const C& closest, const O& occluder, const Scene& scene, const C
       opt.psf_level > 0 ? std::optional<DirectionLines>(std::in_place, opt.psf_level) : std::nullopt;
   auto shade_tile = [&](const ImageTile& tile) -> std::uint64_t {
     std::uint64_t rays = 0;
+    const std::size_t samples = static_cast<std::size_t>(tile.x1 - tile.x0) * static_cast<std::size_t>(tile.y1 - tile.y0) *
+                                static_cast<std::size_t>(opt.spp);
+    detail::AoRayBatch batch;
+    batch.clear.assign(samples, 0.0f);
+    std::vector<float> total(samples, 0.0f);  // the weight of each sample's AO rays; < 0 for a miss
+    std::size_t slot = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       for (int x = tile.x0; x < tile.x1; ++x) {
         const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) + x;
-        float sum = 0.0f;
-        for (int s = 0; s < opt.spp; ++s) {
+        for (int s = 0; s < opt.spp; ++s, ++slot) {
           Rng rng(opt.seed, pixel, static_cast<std::uint64_t>(s));
           const Ray primary = pixel_ray(pinhole, x, y, opt.spp > 1, rng);
           ++rays;
           const Hit hit = closest.intersect(primary);
           if (!hit) {
-            sum += kAoBackground;
+            total[slot] = -1.0f;
             continue;
           }
           const SurfacePoint point = spawner.surface_point(primary, hit);
           if (lines) {
-            sum += psf_ambient_occlusion(occluder, point, *lines, opt.max_distance, rays);
+            for (std::size_t k = 0; k < lines->size(); ++k) {
+              const Vec3f& w = lines->direction(k);
+              const float c = dot(point.normal, w);
+              if (c == 0.0f) continue;
+              ++rays;
+              total[slot] += std::fabs(c);
+              batch.add(occluder, Ray{point.position, c > 0.0f ? w : -w, 0.0f, opt.max_distance}, slot, std::fabs(c));
+            }
           } else {
-            sum += ambient_occlusion(occluder, point, rng, opt.ao_rays, opt.max_distance);
+            for (int k = 0; k < opt.ao_rays; ++k) batch.add(occluder, ao_ray(point, rng, opt.max_distance), slot, 1.0f);
+            total[slot] = static_cast<float>(opt.ao_rays);
             rays += static_cast<std::uint64_t>(opt.ao_rays);
           }
         }
-        image.at(x, y) = Vec3f(sum / static_cast<float>(opt.spp));
       }
     }
+    batch.flush(occluder);
+    slot = 0;
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        float sum = 0.0f;
+        for (int s = 0; s < opt.spp; ++s, ++slot)
+          sum += total[slot] < 0.0f ? kAoBackground : total[slot] > 0.0f ? batch.clear[slot] / total[slot] : 1.0f;
+        image.at(x, y) = Vec3f(sum / static_cast<float>(opt.spp));
+      }
     return rays;
   };
   for_each_tile(image.width, image.height, opt.tile_size, "ao", opt.progress, shade_tile, stats);
