@@ -13,6 +13,7 @@
 #include "differential/ray_sets.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/field/field_scene.hpp"
@@ -141,6 +142,29 @@ TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
   ASSERT_GT(compared, 1000u);
   std::printf("normals within 5 degrees: %zu of %zu\n", close, compared);
   EXPECT_GT(static_cast<double>(close) / static_cast<double>(compared), 0.9) << close << " of " << compared;
+}
+
+// The batch queries run in parallel over blocks (the ThreadSanitizer step runs this test): the
+// answers do not depend on the thread count.
+TEST(FieldScene, BatchAnswersDoNotDependOnTheThreadCount) {
+  const Scene scene = make_builtin_scene("boxes", {.size = 16});
+  const TriangleSet set = flatten(scene);
+  const FieldScene fields = FieldScene::build(scene, {.positions = 290, .directions = 16, .normals = field::NormalStorage::oct16});
+  std::vector<Ray> rays = surface_origin_rays(set, 12, 30000);
+  for (Ray& ray : rays) ray.tmin = 1e-4f * length(set.bounds.extent());
+  std::vector<std::uint8_t> occluded[2];
+  std::vector<Hit> hits[2];
+  for (const int threads : {1, 2}) {
+    ThreadLimit limit(threads);
+    occluded[threads - 1].resize(rays.size());
+    hits[threads - 1].resize(rays.size());
+    field::occluded_batch(fields, rays, occluded[threads - 1]);
+    field::intersect_batch(fields, rays, hits[threads - 1]);
+  }
+  EXPECT_EQ(occluded[0], occluded[1]);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) differ += hits[0][i].found != hits[1][i].found || hits[0][i].t != hits[1][i].t ? 1 : 0;
+  EXPECT_EQ(differ, 0u);
 }
 
 // Occlusion only through single rays: what render_ao did before it traced a tile's AO rays as a batch.
