@@ -110,7 +110,8 @@ const Material& Scene::material_of(ObjectId id, std::uint32_t prim) const {
   const Instance& inst = instance(id);
   if (inst.material) return materials[*inst.material];
   const TriangleMesh& mesh = meshes[inst.mesh];
-  return mesh.material_ids.empty() ? materials[0] : materials[mesh.material_ids[prim]];
+  if (mesh.material_ids.empty()) return materials[0];
+  return materials[mesh.material_ids[prim == kInvalidId ? 0 : prim]];
 }
 
 Scene scene_from_mesh(TriangleMesh mesh) {

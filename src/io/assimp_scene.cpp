@@ -84,6 +84,19 @@ Material convert_material(const aiMaterial& source, unsigned index, const std::s
     // Phong exponent n to a microfacet roughness with the same lobe width: alpha = sqrt(2 / (n + 2)).
     m.roughness = std::clamp(std::sqrt(2.0f / (shininess + 2.0f)), 0.0f, 1.0f);
   }
+  float emissive_strength = 1.0f;  // glTF KHR_materials_emissive_strength
+  if (source.Get(AI_MATKEY_EMISSIVE_INTENSITY, emissive_strength) == aiReturn_SUCCESS && std::isfinite(emissive_strength) &&
+      emissive_strength > 0.0f)
+    m.emission = m.emission * emissive_strength;
+  // Transmission: glTF's KHR_materials_transmission factor, else MTL's dissolve (d, or 1 - Tr).
+  float transmission = 0.0f, opacity = 1.0f, ior = 0.0f;
+  if (source.Get(AI_MATKEY_TRANSMISSION_FACTOR, transmission) == aiReturn_SUCCESS && std::isfinite(transmission))
+    m.transmission = std::clamp(transmission, 0.0f, 1.0f);
+  else if (source.Get(AI_MATKEY_OPACITY, opacity) == aiReturn_SUCCESS && std::isfinite(opacity))
+    m.transmission = std::clamp(1.0f - opacity, 0.0f, 1.0f);
+  // MTL's Ni (glTF's KHR_materials_ior); 1 and below mean "not given" in most exporters' files.
+  if (source.Get(AI_MATKEY_REFRACTI, ior) == aiReturn_SUCCESS && std::isfinite(ior) && ior > 1.0f)
+    m.ior = std::min(ior, 4.0f);
   return m;
 }
 

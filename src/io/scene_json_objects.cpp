@@ -38,7 +38,7 @@ Mat3 parse_rotation(const JsonField& instance) {
 }  // namespace
 
 Material parse_material(const JsonField& field) {
-  field.require_object({"name", "diffuse", "specular", "roughness", "emission"});
+  field.require_object({"name", "diffuse", "specular", "roughness", "emission", "transmission", "ior"});
   Material m;
   m.name = field.member("name").as_string();
   const NumberRange unit = NumberRange::closed(0.0, 1.0);
@@ -46,6 +46,8 @@ Material parse_material(const JsonField& field) {
   m.specular = vec3_or(field, "specular", m.specular, unit);
   m.roughness = optional_or(field, "roughness", m.roughness, [&](const JsonField& f) { return f.as_float(unit); });
   m.emission = vec3_or(field, "emission", m.emission, NumberRange::non_negative());
+  m.transmission = optional_or(field, "transmission", m.transmission, [&](const JsonField& f) { return f.as_float(unit); });
+  m.ior = optional_or(field, "ior", m.ior, [](const JsonField& f) { return f.as_float(NumberRange::closed(1.0, 4.0)); });
   return m;
 }
 

@@ -398,6 +398,14 @@ std::string structures_help(std::string_view indent) {
   return out;
 }
 
+std::unique_ptr<SceneQueries> scene_queries(const AnyStructure& closest, const AnyStructure& occluder) {
+  return std::visit(
+      [](const auto& c, const auto& o) -> std::unique_ptr<SceneQueries> {
+        return std::make_unique<QueriesOver<std::decay_t<decltype(c)>, std::decay_t<decltype(o)>>>(c, o);
+      },
+      closest, occluder);
+}
+
 AccelStats structure_stats(const AnyStructure& structure) {
   return std::visit([](const auto& s) -> AccelStats { return s.stats(); }, structure);
 }

@@ -19,9 +19,10 @@ std::string short_count(std::uint64_t n) {
 }  // namespace
 
 std::string RenderStats::summary() const {
-  char text[160];
-  std::snprintf(text, sizeof text, "%dx%d, %s rays, %.2f s, %.1f Mrays/s", width, height, short_count(rays).c_str(),
-                seconds, mrays_per_s());
+  char text[256];
+  std::snprintf(text, sizeof text, "%dx%d, %s rays (camera %s, shadow %s, reflection %s, AO %s), %.2f s, %.1f Mrays/s", width,
+                height, short_count(rays).c_str(), short_count(by_kind.camera).c_str(), short_count(by_kind.shadow).c_str(),
+                short_count(by_kind.reflection).c_str(), short_count(by_kind.ao).c_str(), seconds, mrays_per_s());
   return text;
 }
 

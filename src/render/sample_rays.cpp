@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "visfield/core/sampling.hpp"
+#include "visfield/render/lights.hpp"
 
 namespace vf {
 namespace {
@@ -40,10 +41,12 @@ SurfaceSpawner::SurfaceSpawner(const Scene& scene) : scene_(scene), scale_(spawn
 SurfacePoint SurfaceSpawner::surface_point(const Ray& ray, const Hit& hit) const {
   SurfacePoint point;
   point.normal = hit.has_normal ? normalize(hit.normal) : -normalize(ray.dir);
-  if (dot(point.normal, ray.dir) > 0.0f) point.normal = -point.normal;
+  point.entering = dot(point.normal, ray.dir) <= 0.0f;
+  if (!point.entering) point.normal = -point.normal;
   const Vec3f hit_point = ray.org + ray.dir * hit.t;
   const float offset = spawn_offset(ray, hit.t, scale_);
   point.position = hit_point + point.normal * offset;
+  point.behind = hit_point - point.normal * offset;
   if (hit.has_triangle()) {
     const Instance& object = scene_.instance(hit.instance);
     const TriangleMesh& mesh = scene_.meshes[object.mesh];
@@ -52,7 +55,11 @@ SurfacePoint SurfaceSpawner::surface_point(const Ray& ray, const Hit& hit) const
     for (std::uint32_t index : corners) centroid += object.transform.apply_point(mesh.positions[index]);
     const Vec3f inward = centroid * (1.0f / 3.0f) - hit_point;
     const float distance = length(inward);
-    if (distance > 0.0f) point.position += inward * (std::fmin(offset, 0.5f * distance) / distance);
+    if (distance > 0.0f) {
+      const Vec3f toward_centroid = inward * (std::fmin(offset, 0.5f * distance) / distance);
+      point.position += toward_centroid;
+      point.behind += toward_centroid;
+    }
   }
   orthonormal_basis(point.normal, point.tangent, point.bitangent);
   return point;
@@ -69,13 +76,7 @@ Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance) {
 LightTargets::LightTargets(const Scene& scene) {
   for (const PointLight& light : scene.point_lights) targets_.push_back({light.position, 0.0f});
   for (const SphereLight& light : scene.sphere_lights) targets_.push_back({light.center, light.radius});
-  if (targets_.empty()) {
-    const Bounds3f b = scene.bounds();
-    const Vec3f center = b.empty() ? Vec3f{0.0f} : b.center();
-    const float lift = b.empty() ? 1.0f : std::fmax(max_component(b.extent()), 1e-3f);
-    const float top = b.empty() ? 0.0f : b.hi.y;
-    targets_.push_back({{center.x, top + lift, center.z}, 0.0f});
-  }
+  if (targets_.empty()) targets_.push_back({default_point_light(scene).position, 0.0f});
 }
 
 Vec3f LightTargets::sample(const Vec3f& from, Rng& rng) const {

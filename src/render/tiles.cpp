@@ -13,14 +13,14 @@
 namespace vf {
 
 void for_each_tile(int width, int height, int tile_size, const std::string& label, bool progress,
-                   const std::function<std::uint64_t(const ImageTile&)>& shade, RenderStats* stats) {
+                   const std::function<RayCounts(const ImageTile&)>& shade, RenderStats* stats) {
   const Stopwatch watch;
   const int tiles_x = (width + tile_size - 1) / tile_size;
   const int tiles_y = (height + tile_size - 1) / tile_size;
   const auto tile_count = static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y);
   ProgressBar bar(label, tile_count, progress);
   // An integer sum: the total does not depend on the order the tiles finish in.
-  std::atomic<std::uint64_t> rays{0};
+  std::atomic<std::uint64_t> camera{0}, shadow{0}, reflection{0}, ao{0};
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, tile_count, 1), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       check_interrupt();
@@ -28,7 +28,11 @@ void for_each_tile(int width, int height, int tile_size, const std::string& labe
       const int ty = static_cast<int>(i / static_cast<std::size_t>(tiles_x));
       const ImageTile tile{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
                            std::min(height, (ty + 1) * tile_size)};
-      rays.fetch_add(shade(tile), std::memory_order_relaxed);
+      const RayCounts counts = shade(tile);
+      camera.fetch_add(counts.camera, std::memory_order_relaxed);
+      shadow.fetch_add(counts.shadow, std::memory_order_relaxed);
+      reflection.fetch_add(counts.reflection, std::memory_order_relaxed);
+      ao.fetch_add(counts.ao, std::memory_order_relaxed);
       bar.tick();
     }
   });
@@ -36,7 +40,8 @@ void for_each_tile(int width, int height, int tile_size, const std::string& labe
   if (stats) {
     stats->width = width;
     stats->height = height;
-    stats->rays = rays.load();
+    stats->by_kind = RayCounts{camera.load(), shadow.load(), reflection.load(), ao.load()};
+    stats->rays = stats->by_kind.total();
     stats->seconds = watch.elapsed_s();
   }
 }

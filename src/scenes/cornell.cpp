@@ -70,7 +70,7 @@ Scene make_cornell_scene(std::size_t sphere_triangles) {
   camera.fov_degrees = 38.0f;
   scene.camera = camera;
   // Radiant intensity of the light quad along its normal: radiance x area.
-  scene.point_lights.push_back(PointLight{{0.0f, 1.98f, 0.0f}, Vec3f{17.0f, 12.0f, 4.0f} * (4.0f * kLightHalf * kLightHalf)});
+  scene.point_lights.push_back(PointLight{{0.0f, 1.98f, 0.0f}, Vec3f{17.0f, 12.0f, 4.0f} * (4.0f * kLightHalf * kLightHalf), true});
   return scene;
 }
 

@@ -117,6 +117,21 @@ TEST_F(Cli, OccludersSwitchAWholeRenderBetweenFieldsAndExactGeometry) {
   EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
 }
 
+// Every integrator renders from the command line, names its output after itself by default and
+// reports its rays by kind; the shading ones run with field occluders too.
+TEST_F(Cli, EveryIntegratorRendersAndReportsItsRaysByKind) {
+  for (const std::string integrator : {"raycast", "whitted", "ao", "softshadow", "glossy", "path"}) {
+    const auto r = visfield("render builtin:cornell:size=400 --width 16 --height 12 --ao-rays 4 --no-progress --integrator " + integrator);
+    ASSERT_EQ(r.exit_code, 0) << integrator << ": " << r.err;
+    EXPECT_TRUE(fs::exists(dir_ / ("visfield-" + integrator + ".png"))) << integrator;
+    EXPECT_NE(r.out.find("rays (camera 192, shadow "), std::string::npos) << r.out;
+  }
+  const auto r = visfield("render builtin:cornell:size=400 --width 16 --height 12 --no-progress --integrator softshadow "
+                          "--occluders field --occluder field:positions=290,directions=8 --out soft.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("occluder field:positions=290,directions=8"), std::string::npos) << r.out;
+}
+
 // A scene file that marks a mesh "occluder": "field" renders its AO through that mesh's field (with
 // its own parameters) and the other meshes exact, unless --occluders exact says otherwise.
 TEST_F(Cli, ASceneMarksWhichMeshesAreFields) {
@@ -219,7 +234,11 @@ TEST_F(Cli, BadCommandLinesFailWithOneLine) {
   expect_clean_failure("render builtin:cornell --accel octree", "--accel");
   expect_clean_failure("render builtin:cornell --accel bvh:leaf=0", "leaf=0");
   expect_clean_failure("render builtin:cornell --occluder grid:density", "--occluder");
-  expect_clean_failure("render builtin:cornell --integrator whitted", "--integrator");
+  expect_clean_failure("render builtin:cornell --integrator phong", "--integrator");
+  expect_clean_failure("render builtin:cornell --integrator path --depth 0", "--depth");
+  expect_clean_failure("render builtin:cornell --integrator softshadow --shadow-rays 0", "--shadow-rays");
+  expect_clean_failure("render builtin:cornell --integrator glossy --glossy-rays -2", "--glossy-rays");
+  expect_clean_failure("render builtin:cornell --integrator raycast --ambient -0.5", "--ambient");
   expect_clean_failure("render builtin:cornell --max-distance -1", "--max-distance");
   expect_clean_failure("render builtin:cornell --out picture.bmp", "picture.bmp");
   expect_clean_failure("render", "scene");

@@ -12,13 +12,16 @@
 
 namespace vf {
 
-/// Simple material: Lambertian colour plus an optional mirror/glossy lobe and emission.
+/// Simple material: Lambertian colour plus an optional mirror/glossy lobe, refraction and emission
+/// (render/bsdf.hpp says how the integrators combine them).
 struct Material {
   std::string name = "default";
   Vec3f diffuse{0.8f};        ///< Diffuse albedo in [0,1].
   Vec3f specular{0.0f};       ///< Mirror/glossy reflectance in [0,1]; zero means purely diffuse.
-  float roughness = 0.0f;     ///< 0 = perfect mirror, up to 1 = very glossy lobe.
+  float roughness = 0.0f;     ///< 0 = perfect mirror, up to 1 = very glossy lobe (GGX alpha = roughness^2).
   Vec3f emission{0.0f};       ///< Emitted radiance (area lights from meshes).
+  float transmission = 0.0f;  ///< In [0,1]: the fraction that is a smooth dielectric (glass); 0 = opaque.
+  float ior = 1.5f;           ///< Index of refraction of a transmissive material (>= 1).
 };
 
 /// One object of a scene: a placement of a mesh in the world.
@@ -43,6 +46,9 @@ struct Camera {
 struct PointLight {
   Vec3f position;
   Vec3f intensity{1.0f};
+  /// Stands in for an emitting surface of the scene (the Cornell room's ceiling lamp) for the
+  /// integrators that light by point lights; the path tracer, which samples that surface itself, skips it.
+  bool proxy = false;
 };
 
 /// Spherical area light of uniform radiance.
@@ -92,7 +98,9 @@ class Scene {
   /// The scene camera (resized when width/height > 0), or framing_camera() of the bounds from the
   /// front (+z, slightly above and to the right) when the scene has none.
   Camera camera_or_default(int width, int height) const;
-  /// Material of triangle `prim` of object `id` (instance override, else per-triangle id, else 0).
+  /// Material of triangle `prim` of object `id` (instance override, else per-triangle id, else 0). A hit
+  /// without a triangle (prim == kInvalidId, a field's answer) gets the override, else the mesh's first
+  /// triangle's material.
   const Material& material_of(ObjectId id, std::uint32_t prim) const;
 
  private:

@@ -8,6 +8,7 @@
 /// keys, and values of the wrong type or range, are refused with a one-line vf::Error.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,6 +21,7 @@
 #include "visfield/accel/instance_layer.hpp"
 #include "visfield/accel/kdtree.hpp"
 #include "visfield/accel/median_bsp.hpp"
+#include "visfield/accel/scene_queries.hpp"
 #include "visfield/accel/uniform_grid.hpp"
 #include "visfield/core/spec.hpp"
 #include "visfield/field/field_scene.hpp"
@@ -89,5 +91,9 @@ std::string structures_help(std::string_view indent = "  ");
 
 /// Build statistics of whichever structure `structure` holds.
 AccelStats structure_stats(const AnyStructure& structure);
+
+/// The renderers' view of two built structures (they must outlive the result): camera rays through
+/// `closest`, every later ray through `occluder` (which may be the same object).
+std::unique_ptr<SceneQueries> scene_queries(const AnyStructure& closest, const AnyStructure& occluder);
 
 }  // namespace vf

@@ -26,6 +26,8 @@ struct SurfacePoint {
   Vec3f normal;     ///< Unit geometric normal, flipped to face the incoming ray's origin.
   Vec3f tangent;    ///< Completes an orthonormal frame (tangent, bitangent, normal).
   Vec3f bitangent;  ///< Completes an orthonormal frame (tangent, bitangent, normal).
+  Vec3f behind;     ///< The hit point moved the same way to the other side: where refracted rays leave.
+  bool entering = true;  ///< The ray arrived on the side the geometric normal points to (or the hit had no normal).
 };
 
 /// Largest coordinate magnitude of the scene's bounds, the scene-size term of spawn_offset(); O(instances),
@@ -66,8 +68,8 @@ class SurfaceSpawner {
 /// `rng`), unit direction, t in [0, max_distance].
 Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance);
 
-/// The points shadow rays aim at: every point and sphere light of a scene, or, when it has none, one
-/// point above (+y) its bounds, one bounds extent over the top. Immutable; thread-safe.
+/// The points shadow rays aim at: every point and sphere light of a scene, or, when it has none, the
+/// position of default_point_light() (lights.hpp). Immutable; thread-safe.
 class LightTargets {
  public:
   /// Collects the lights of `scene`; O(lights + instances).

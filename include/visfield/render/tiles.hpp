@@ -16,11 +16,11 @@ struct ImageTile {
 };
 
 /// Cuts a width x height image into tile_size x tile_size tiles (row-major, edge tiles clipped) and calls
-/// `shade` once per tile, in parallel over TBB's threads; `shade` returns the rays it traced and must
+/// `shade` once per tile, in parallel over TBB's threads; `shade` returns the rays it traced (by kind) and must
 /// only write its own tile's pixels. Shows a ProgressBar labelled `label` ticking per tile when
 /// `progress` is set and the loop runs over ~1 s. When `stats` is given, sets its resolution, the
 /// total rays and the wall seconds. Exceptions from `shade` propagate. tile_size must be >= 1.
 void for_each_tile(int width, int height, int tile_size, const std::string& label, bool progress,
-                   const std::function<std::uint64_t(const ImageTile&)>& shade, RenderStats* stats);
+                   const std::function<RayCounts(const ImageTile&)>& shade, RenderStats* stats);
 
 }  // namespace vf

@@ -15,6 +15,8 @@
 #include "visfield/io/scene_file.hpp"
 #include "visfield/registry/registry.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/render/camera.hpp"
+#include "visfield/render/sample_rays.hpp"
 #include "visfield/scenes/builtin.hpp"
 
 namespace vf {

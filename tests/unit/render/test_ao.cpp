@@ -8,6 +8,8 @@
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/render/camera.hpp"
+#include "visfield/render/sample_rays.hpp"
 #include "visfield/render/ray_sets.hpp"
 #include "visfield/scenes/builtin.hpp"
 

@@ -44,11 +44,18 @@ TEST(ProgressBar, LongJobsDrawTheBarAndEndAtHundredPercent) {
   EXPECT_EQ(out.find('\n'), out.size() - 1) << out;
 }
 
-TEST(RenderStats, SummaryShowsResolutionRaysTimeAndRate) {
-  EXPECT_EQ((RenderStats{512, 512, 16'800'000, 1.23}).summary(), "512x512, 16.8M rays, 1.23 s, 13.7 Mrays/s");
-  EXPECT_EQ((RenderStats{4, 3, 950, 0.0}).summary(), "4x3, 950 rays, 0.00 s, 0.0 Mrays/s");
-  EXPECT_EQ((RenderStats{64, 64, 12'345, 0.5}).summary(), "64x64, 12.3k rays, 0.50 s, 0.0 Mrays/s");
-  EXPECT_DOUBLE_EQ((RenderStats{1, 1, 3'000'000, 2.0}).mrays_per_s(), 1.5);
+RenderStats stats_of(int width, int height, RayCounts counts, double seconds) {
+  return RenderStats{width, height, counts, counts.total(), seconds};
+}
+
+TEST(RenderStats, SummaryShowsResolutionRaysByKindTimeAndRate) {
+  EXPECT_EQ(stats_of(512, 512, {262'144, 0, 0, 16'537'856}, 1.23).summary(),
+            "512x512, 16.8M rays (camera 262.1k, shadow 0, reflection 0, AO 16.5M), 1.23 s, 13.7 Mrays/s");
+  EXPECT_EQ(stats_of(4, 3, {12, 900, 38, 0}, 0.0).summary(),
+            "4x3, 950 rays (camera 12, shadow 900, reflection 38, AO 0), 0.00 s, 0.0 Mrays/s");
+  EXPECT_EQ(stats_of(64, 64, {4096, 8249, 0, 0}, 0.5).summary(),
+            "64x64, 12.3k rays (camera 4.1k, shadow 8.2k, reflection 0, AO 0), 0.50 s, 0.0 Mrays/s");
+  EXPECT_DOUBLE_EQ(stats_of(1, 1, {3'000'000, 0, 0, 0}, 2.0).mrays_per_s(), 1.5);
 }
 
 TEST(ForEachTile, VisitsEveryPixelOnceAndSumsTheRays) {
@@ -57,15 +64,19 @@ TEST(ForEachTile, VisitsEveryPixelOnceAndSumsTheRays) {
     const int width = 37, height = 23;
     std::vector<int> visits(width * height, 0);
     RenderStats stats;
-    for_each_tile(width, height, 8, "test", false, [&](const ImageTile& tile) -> std::uint64_t {
+    for_each_tile(width, height, 8, "test", false, [&](const ImageTile& tile) -> RayCounts {
       EXPECT_LE(tile.x1 - tile.x0, 8);
       EXPECT_LE(tile.y1 - tile.y0, 8);
       for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) ++visits[y * width + x];
-      return static_cast<std::uint64_t>((tile.x1 - tile.x0) * (tile.y1 - tile.y0)) * 3;
+      const auto pixels = static_cast<std::uint64_t>((tile.x1 - tile.x0) * (tile.y1 - tile.y0));
+      return RayCounts{pixels, 2 * pixels, 0, 5};
     }, &stats);
     for (int v : visits) EXPECT_EQ(v, 1);
-    EXPECT_EQ(stats.rays, 3u * width * height);
+    EXPECT_EQ(stats.rays, 3u * width * height + 5u * 15u);  // 5 x 3 tiles
+    EXPECT_EQ(stats.by_kind.camera, 1u * width * height);
+    EXPECT_EQ(stats.by_kind.shadow, 2u * width * height);
+    EXPECT_EQ(stats.by_kind.ao, 5u * 15u);
     EXPECT_EQ(stats.width, width);
     EXPECT_EQ(stats.height, height);
   }

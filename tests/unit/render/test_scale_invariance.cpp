@@ -12,6 +12,8 @@
 #include "visfield/accel/bvh.hpp"
 #include "visfield/io/scene_file.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/render/camera.hpp"
+#include "visfield/render/sample_rays.hpp"
 #include "visfield/scenes/builtin.hpp"
 
 namespace vf {

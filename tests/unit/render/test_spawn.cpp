@@ -11,6 +11,8 @@
 #include "visfield/core/rng.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/render/camera.hpp"
+#include "visfield/render/sample_rays.hpp"
 #include "visfield/render/sample_rays.hpp"
 
 namespace vf {

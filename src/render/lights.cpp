@@ -1,0 +1,164 @@
+#include "visfield/render/lights.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+
+namespace vf {
+namespace {
+
+float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+// 1 - cos of the half-angle a sphere of radius r subtends at distance d > r, without the
+// cancellation of 1 - sqrt(1 - s) for small lights far away.
+float one_minus_cos_max(float r, float d) {
+  const float sin2 = (r * r) / (d * d);
+  return sin2 / (1.0f + std::sqrt(std::fmax(0.0f, 1.0f - sin2)));
+}
+
+}  // namespace
+
+PointLight default_point_light(const Scene& scene) {
+  const Bounds3f b = scene.bounds();
+  const Vec3f center = b.empty() ? Vec3f{0.0f} : b.center();
+  const float lift = b.empty() ? 1.0f : std::fmax(max_component(b.extent()), 1e-3f);
+  const float top = b.empty() ? 0.0f : b.hi.y;
+  PointLight light;
+  light.position = {center.x, top + lift, center.z};
+  const float d = light.position.y - center.y;
+  light.intensity = Vec3f{std::numbers::pi_v<float> * d * d};
+  return light;
+}
+
+SceneLights::SceneLights(const Scene& scene, bool emitters) {
+  for (const PointLight& light : scene.point_lights)
+    if (!(emitters && light.proxy)) points_.push_back(light);
+  spheres_ = scene.sphere_lights;
+  if (emitters) {
+    for (const Instance& object : scene.instances()) {
+      const TriangleMesh& mesh = scene.meshes[object.mesh];
+      for (std::uint32_t prim = 0; prim < mesh.triangles.size(); ++prim) {
+        const Material& material = scene.material_of(object.id, prim);
+        if (!(max_component(material.emission) > 0.0f)) continue;
+        const TriangleIndices& t = mesh.triangles[prim];
+        Emitter e;
+        e.p0 = object.transform.apply_point(mesh.positions[t[0]]);
+        e.e1 = object.transform.apply_point(mesh.positions[t[1]]) - e.p0;
+        e.e2 = object.transform.apply_point(mesh.positions[t[2]]) - e.p0;
+        e.area = 0.5f * length(cross(e.e1, e.e2));
+        if (!(e.area > 0.0f)) continue;
+        e.radiance = material.emission;
+        e.instance = object.id;
+        e.prim = prim;
+        triangles_.push_back(e);
+      }
+    }
+    double sum = 0.0;
+    for (const Emitter& e : triangles_) {
+      sum += static_cast<double>(e.area) * luminance(e.radiance);
+      triangle_cdf_.push_back(static_cast<float>(sum));
+    }
+    if (sum > 0.0)
+      for (float& c : triangle_cdf_) c = static_cast<float>(c / sum);
+    else
+      triangles_.clear(), triangle_cdf_.clear();
+    if (!triangle_cdf_.empty()) triangle_cdf_.back() = 1.0f;
+  }
+  if (points_.empty() && spheres_.empty() && triangles_.empty()) points_.push_back(default_point_light(scene));
+}
+
+std::optional<LightSample> SceneLights::sample(const Vec3f& from, Rng& rng) const {
+  const std::size_t n = choices();
+  const std::size_t pick = std::min<std::size_t>(static_cast<std::size_t>(rng.uniform() * static_cast<float>(n)), n - 1);
+  const float u = rng.uniform(), v = rng.uniform(), w = rng.uniform();
+  const float choose = 1.0f / static_cast<float>(n);
+  if (pick < points_.size()) {
+    const PointLight& light = points_[pick];
+    const Vec3f to = light.position - from;
+    const float d2 = dot(to, to);
+    if (!(d2 > 0.0f)) return std::nullopt;
+    const float d = std::sqrt(d2);
+    return LightSample{to * (1.0f / d), d, light.intensity * (1.0f / (d2 * choose)), 1.0f, true};
+  }
+  if (pick < points_.size() + spheres_.size()) {
+    std::optional<LightSample> sample = sample_sphere(static_cast<std::uint32_t>(pick - points_.size()), from, u, v);
+    if (sample) sample->pdf *= choose;
+    return sample;
+  }
+  // Emitting triangles: one by the area x luminance table, then a uniform point on it.
+  const auto found = std::lower_bound(triangle_cdf_.begin(), triangle_cdf_.end(), w);
+  const std::size_t index = std::min<std::size_t>(static_cast<std::size_t>(found - triangle_cdf_.begin()), triangles_.size() - 1);
+  const Emitter& e = triangles_[index];
+  const float root = std::sqrt(u);
+  const Vec3f at = e.p0 + e.e1 * (1.0f - v) * root + e.e2 * (v * root);
+  const Vec3f to = at - from;
+  const float d2 = dot(to, to);
+  if (!(d2 > 0.0f)) return std::nullopt;
+  const float d = std::sqrt(d2);
+  const Vec3f wi = to * (1.0f / d);
+  const Vec3f normal = cross(e.e1, e.e2);
+  const float cos_light = std::fabs(dot(normal, wi)) / length(normal);
+  if (!(cos_light > 0.0f)) return std::nullopt;
+  const float chosen = triangle_cdf_[index] - (index ? triangle_cdf_[index - 1] : 0.0f);
+  const float pdf = choose * chosen / e.area * d2 / cos_light;
+  return LightSample{wi, d, e.radiance, pdf, false};
+}
+
+std::optional<LightSample> SceneLights::sample_sphere(std::uint32_t index, const Vec3f& from, float u, float v) const {
+  const SphereLight& light = spheres_[index];
+  const Vec3f to = light.center - from;
+  const float d = length(to);
+  if (!(d > light.radius)) return std::nullopt;
+  const float one_minus = one_minus_cos_max(light.radius, d);
+  const float cos_theta = 1.0f - u * one_minus;
+  const float sin_theta = std::sqrt(std::fmax(0.0f, 1.0f - cos_theta * cos_theta));
+  const float phi = 2.0f * std::numbers::pi_v<float> * v;
+  const Vec3f axis = to * (1.0f / d);
+  Vec3f tangent, bitangent;
+  orthonormal_basis(axis, tangent, bitangent);
+  const Vec3f wi = normalize(tangent * (sin_theta * std::cos(phi)) + bitangent * (sin_theta * std::sin(phi)) + axis * cos_theta);
+  // Entry point along wi: the nearer root of |from + t wi - c| = r.
+  const float inside = light.radius * light.radius - d * d * (1.0f - cos_theta * cos_theta);
+  const float t = d * cos_theta - std::sqrt(std::fmax(0.0f, inside));
+  return LightSample{wi, std::fmax(t, 0.0f), light.radiance, 1.0f / (2.0f * std::numbers::pi_v<float> * one_minus), false};
+}
+
+float SceneLights::sphere_pdf(std::uint32_t light, const Vec3f& from) const {
+  const SphereLight& s = spheres_[light];
+  const float d = length(s.center - from);
+  if (!(d > s.radius)) return 0.0f;
+  return 1.0f / (static_cast<float>(choices()) * 2.0f * std::numbers::pi_v<float> * one_minus_cos_max(s.radius, d));
+}
+
+float SceneLights::emitter_pdf(ObjectId instance, std::uint32_t prim, const Vec3f& from, const Vec3f& at,
+                               const Vec3f& normal) const {
+  const auto found = std::lower_bound(triangles_.begin(), triangles_.end(), std::pair{instance, prim}, [](const Emitter& e, const auto& key) {
+    return e.instance != key.first ? e.instance < key.first : e.prim < key.second;
+  });
+  if (found == triangles_.end() || found->instance != instance || found->prim != prim) return 0.0f;
+  const std::size_t index = static_cast<std::size_t>(found - triangles_.begin());
+  const Vec3f to = at - from;
+  const float d2 = dot(to, to);
+  const float cos_light = std::fabs(dot(normal, to)) / (length(normal) * std::sqrt(d2));
+  if (!(cos_light > 0.0f)) return 0.0f;
+  const float chosen = triangle_cdf_[index] - (index ? triangle_cdf_[index - 1] : 0.0f);
+  return chosen / (static_cast<float>(choices()) * found->area) * d2 / cos_light;
+}
+
+std::optional<SphereLightHit> SceneLights::first_sphere(const Ray& ray, float t_max) const {
+  std::optional<SphereLightHit> best;
+  float nearest = t_max;
+  for (std::uint32_t i = 0; i < spheres_.size(); ++i) {
+    const SphereLight& s = spheres_[i];
+    const Vec3f oc = ray.org - s.center;
+    const float b = dot(oc, ray.dir), c = dot(oc, oc) - s.radius * s.radius;
+    const float disc = b * b - c;
+    if (!(disc >= 0.0f) || c < 0.0f) continue;  // missed, or the origin is inside (the light is seen from outside only)
+    const float t = -b - std::sqrt(disc);
+    if (t > ray.tmin && t < nearest) nearest = t, best = SphereLightHit{t, i};
+  }
+  return best;
+}
+
+}  // namespace vf

@@ -1,0 +1,357 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include "test_scenes.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/io/image_io.hpp"
+#include "visfield/registry/registry.hpp"
+#include "visfield/render/ao.hpp"
+#include "visfield/render/compare.hpp"
+#include "visfield/render/integrators.hpp"
+#include "visfield/scenes/builtin.hpp"
+
+namespace vf {
+namespace {
+
+ShadingOptions quiet(int spp = 1) {
+  ShadingOptions o;
+  o.spp = spp;
+  o.progress = false;
+  return o;
+}
+
+Vec3f mean(const Image& image) {
+  Vec3f sum{0.0f};
+  for (const Vec3f& p : image.pixels) sum += p;
+  return sum * (1.0f / static_cast<float>(image.pixels.size()));
+}
+
+float max_difference(const Image& a, const Image& b) {
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) worst = std::fmax(worst, max_component(abs(a.pixels[i] - b.pixels[i])));
+  return worst;
+}
+
+// A grey (albedo 0.5) ground, 400 units wide, lit by one sphere light of radiance 10 centred `height`
+// above the origin; the camera looks at the origin from the side with a 1-degree field of view.
+Scene lit_ground(float height, float radius, float radiance) {
+  Scene scene = test::plane_scene(200.0f);
+  scene.materials[0].diffuse = Vec3f{0.5f};
+  scene.sphere_lights.push_back(SphereLight{{0.0f, height, 0.0f}, radius, Vec3f{radiance}});
+  return scene;
+}
+Camera side_camera() { return test::camera_looking_at({2.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 9, 9, 1.0f); }
+
+// Radiance of a Lambertian surface of albedo `albedo` under a sphere light of radiance L seen at
+// half-angle asin(r / d) straight above: irradiance pi L (r/d)^2, times albedo / pi.
+float expected_under_sphere(float albedo, float radiance, float radius, float height) {
+  return albedo * radiance * (radius * radius) / (height * height);
+}
+
+struct Built {
+  explicit Built(const Scene& scene, const std::string& spec = "bvh")
+      : geometry(scene), structure(build_structure(spec, geometry)), queries(scene_queries(structure.structure, structure.structure)) {}
+  SceneGeometry geometry;
+  BuiltStructure structure;
+  std::unique_ptr<SceneQueries> queries;
+};
+
+TEST(PathTracer, DirectLightFromASmallSphereMatchesTheAnalyticRadiance) {
+  const Scene scene = lit_ground(1.0f, 0.2f, 10.0f);
+  const Built built(scene);
+  ShadingOptions o = quiet(64);
+  o.max_depth = 4;
+  const float expected = expected_under_sphere(0.5f, 10.0f, 0.2f, 1.0f);  // 0.2
+  const Vec3f got = mean(render_shaded(Integrator::path, *built.queries, scene, side_camera(), o));
+  EXPECT_NEAR(got.x, expected, 0.02f * expected);
+  EXPECT_NEAR(got.y, expected, 0.02f * expected);
+}
+
+TEST(PathTracer, ALargeNearSphereNeedsBothStrategiesAndStillMatches) {
+  // The light fills 42% of the sky's solid-angle weight: Bsdf samples find it often, and MIS must
+  // neither count it twice nor lose it.
+  const Scene scene = lit_ground(1.5f, 1.0f, 1.0f);
+  const Built built(scene);
+  const float expected = expected_under_sphere(0.5f, 1.0f, 1.0f, 1.5f);
+  const Vec3f got = mean(render_shaded(Integrator::path, *built.queries, scene, side_camera(), quiet(64)));
+  EXPECT_NEAR(got.x, expected, 0.02f * expected);
+}
+
+TEST(SoftShadows, ConeSamplesOfASphereLightMatchTheAnalyticRadiance) {
+  const Scene scene = lit_ground(1.0f, 0.2f, 10.0f);
+  const Built built(scene);
+  ShadingOptions o = quiet(4);
+  o.ambient = 0.0f;
+  o.shadow_rays = 32;
+  const float expected = expected_under_sphere(0.5f, 10.0f, 0.2f, 1.0f);
+  RenderStats stats;
+  const Vec3f got = mean(render_shaded(Integrator::softshadow, *built.queries, scene, side_camera(), o, &stats));
+  EXPECT_NEAR(got.x, expected, 0.01f * expected);
+  EXPECT_EQ(stats.by_kind.camera, 9u * 9u * 4u);
+  EXPECT_EQ(stats.by_kind.shadow, 9u * 9u * 4u * 32u);
+}
+
+TEST(SoftShadows, AnOccluderBetweenGroundAndLightDarkensTheGround) {
+  Scene scene = lit_ground(1.0f, 0.2f, 10.0f);
+  TriangleMesh blocker;
+  blocker.name = "blocker";
+  test::add_quad(blocker, {-0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}, {-0.5f, 0.5f, 0.5f});
+  scene.meshes.push_back(blocker);
+  scene.add_instance(1);
+  const Built built(scene);
+  ShadingOptions o = quiet(2);
+  o.ambient = 0.0f;
+  // The camera must see the ground under the blocker: from below the blocker's height, to the side.
+  const Camera camera = test::camera_looking_at({2.0f, 0.3f, 0.0f}, {0.0f, 0.0f, 0.0f}, 9, 9, 1.0f);
+  EXPECT_EQ(mean(render_shaded(Integrator::softshadow, *built.queries, scene, camera, o)).x, 0.0f);
+}
+
+TEST(Raycast, PointLightShadesByDistanceAndAngleWithoutShadows) {
+  Scene scene = test::plane_scene(200.0f);
+  scene.materials[0].diffuse = Vec3f{0.5f};
+  scene.point_lights.push_back(PointLight{{0.0f, 2.0f, 0.0f}, Vec3f{4.0f}});
+  // A blocker right under the light: raycast ignores it for shading (no shadow rays).
+  TriangleMesh blocker;
+  blocker.name = "blocker";
+  test::add_quad(blocker, {-0.1f, 1.0f, -0.1f}, {0.1f, 1.0f, -0.1f}, {0.1f, 1.0f, 0.1f}, {-0.1f, 1.0f, 0.1f});
+  scene.meshes.push_back(blocker);
+  scene.add_instance(1);
+  const Built built(scene);
+  RenderStats stats;
+  const Image image = render_shaded(Integrator::raycast, *built.queries, scene, side_camera(), quiet(), &stats);
+  // E = I / d^2 = 1 at the origin; radiance = albedo / pi * E + ambient 0.1 * albedo.
+  EXPECT_NEAR(image.at(4, 4).x, 0.5f / std::numbers::pi_v<float> + 0.05f, 2e-3f);
+  EXPECT_EQ(stats.rays, 81u);
+  EXPECT_EQ(stats.by_kind.shadow, 0u);
+}
+
+TEST(Whitted, ThePointLightsShadowIsBlack) {
+  Scene scene = test::plane_scene(200.0f);
+  scene.point_lights.push_back(PointLight{{0.0f, 2.0f, 0.0f}, Vec3f{4.0f}});
+  TriangleMesh blocker;
+  blocker.name = "blocker";
+  test::add_quad(blocker, {-0.5f, 1.0f, -0.5f}, {0.5f, 1.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, {-0.5f, 1.0f, 0.5f});
+  scene.meshes.push_back(blocker);
+  scene.add_instance(1);
+  const Built built(scene);
+  ShadingOptions o = quiet();
+  o.ambient = 0.0f;
+  const Camera camera = test::camera_looking_at({2.0f, 0.3f, 0.0f}, {0.0f, 0.0f, 0.0f}, 9, 9, 1.0f);
+  EXPECT_EQ(mean(render_shaded(Integrator::whitted, *built.queries, scene, camera, o)).x, 0.0f);
+}
+
+// A diffuse panel facing down at y = 1, lit by a point light under it, over a perfect mirror floor
+// (or no floor). Looking at the mirror from (2, 0.5, 0) must show what a camera at the mirrored
+// position (2, -0.5, 0), with the mirrored up vector, sees of the panel directly.
+Scene mirror_scene(bool with_mirror) {
+  Scene scene;
+  TriangleMesh panel;
+  panel.name = "panel";
+  test::add_quad(panel, {-6.0f, 1.0f, -3.0f}, {0.0f, 1.0f, -3.0f}, {0.0f, 1.0f, 3.0f}, {-6.0f, 1.0f, 3.0f});
+  scene.meshes.push_back(panel);
+  scene.add_instance(0);
+  if (with_mirror) {
+    Material mirror;
+    mirror.diffuse = Vec3f{0.0f};
+    mirror.specular = Vec3f{1.0f};
+    scene.materials.push_back(mirror);
+    TriangleMesh floor = test::plane_scene(50.0f).meshes[0];
+    scene.meshes.push_back(floor);
+    Instance instance;
+    instance.mesh = 1;
+    instance.material = 1;
+    scene.add_instance(instance);
+  }
+  scene.point_lights.push_back(PointLight{{-2.0f, 0.5f, 0.0f}, Vec3f{3.0f}});
+  return scene;
+}
+
+TEST(Whitted, APerfectMirrorShowsTheMirroredView) {
+  const Scene mirrored = mirror_scene(true), direct = mirror_scene(false);
+  const Built a(mirrored), b(direct);
+  Camera via_mirror = test::camera_looking_at({2.0f, 0.5f, 0.0f}, {0.0f, 0.0f, 0.0f}, 15, 15, 20.0f);
+  via_mirror.up = {0.0f, 1.0f, 0.0f};
+  Camera from_below = via_mirror;
+  from_below.position = {2.0f, -0.5f, 0.0f};
+  from_below.up = {0.0f, -1.0f, 0.0f};
+  ShadingOptions o = quiet();
+  o.ambient = 0.0f;
+  RenderStats stats;
+  const Image seen = render_shaded(Integrator::whitted, *a.queries, mirrored, via_mirror, o, &stats);
+  const Image truth = render_shaded(Integrator::whitted, *b.queries, direct, from_below, o);
+  EXPECT_GT(mean(truth).x, 0.01f);
+  EXPECT_LT(max_difference(seen, truth), 2e-3f);
+  EXPECT_EQ(stats.by_kind.reflection, 15u * 15u);  // every camera ray meets the mirror once
+}
+
+TEST(Whitted, GlassOfIndexOneIsInvisible) {
+  // A closed box of index 1 between the camera and the panel: Fresnel 0, rays pass straight through
+  // (in at the front, out at the back), so the image equals the one without the box.
+  Scene with_box = mirror_scene(false), without = mirror_scene(false);
+  Material glass;
+  glass.diffuse = Vec3f{0.0f};
+  glass.transmission = 1.0f;
+  glass.ior = 1.0f;
+  with_box.materials.push_back(glass);
+  with_box.meshes.push_back(test::closed_box_scene().meshes[0]);
+  Instance box;
+  box.mesh = 1;
+  box.material = 1;
+  box.transform.scale = 0.3f;
+  box.transform.translation = {1.0f, -0.1f, 0.0f};
+  with_box.add_instance(box);
+  const Built a(with_box), b(without);
+  Camera camera = test::camera_looking_at({2.0f, -0.5f, 0.0f}, {0.0f, 0.0f, 0.0f}, 15, 15, 20.0f);
+  camera.up = {0.0f, -1.0f, 0.0f};
+  ShadingOptions o = quiet();
+  o.ambient = 0.0f;
+  RenderStats stats;
+  const Image through = render_shaded(Integrator::whitted, *a.queries, with_box, camera, o, &stats);
+  const Image truth = render_shaded(Integrator::whitted, *b.queries, without, camera, o);
+  EXPECT_GT(stats.by_kind.reflection, 15u * 15u / 2);  // most camera rays cross the box
+  EXPECT_LT(max_difference(through, truth), 2e-3f);
+}
+
+// The Cornell room dressed for every integrator: a mirror tall box, a glass sphere, a glossy short
+// box, and a sphere light beside the ceiling lamp's point-light stand-in.
+Scene dressed_cornell() {
+  Scene scene = make_builtin_scene("cornell");
+  auto add = [&](Material m) {
+    scene.materials.push_back(m);
+    return static_cast<std::uint32_t>(scene.materials.size() - 1);
+  };
+  Material mirror;
+  mirror.name = "mirror";
+  mirror.diffuse = Vec3f{0.1f};
+  mirror.specular = Vec3f{0.85f};
+  Material glass;
+  glass.name = "glass";
+  glass.diffuse = Vec3f{0.0f};
+  glass.transmission = 1.0f;
+  glass.ior = 1.5f;
+  Material glossy;
+  glossy.name = "glossy";
+  glossy.diffuse = Vec3f{0.4f, 0.4f, 0.6f};
+  glossy.specular = Vec3f{0.5f};
+  glossy.roughness = 0.3f;
+  const std::uint32_t ids[] = {add(glossy), add(mirror), add(glass)};
+  std::vector<Instance> objects = scene.instances();
+  for (std::size_t i = 1; i < objects.size() && i <= 3; ++i) {
+    scene.remove_instance(objects[i].id);
+    objects[i].material = ids[i - 1];
+    scene.add_instance(objects[i]);
+  }
+  scene.sphere_lights.push_back(SphereLight{{0.5f, 1.6f, 0.6f}, 0.1f, Vec3f{8.0f}});
+  return scene;
+}
+
+Camera small_camera(const Scene& scene, int size) { return scene.camera_or_default(size, size); }
+
+constexpr Integrator kShaded[] = {Integrator::raycast, Integrator::whitted, Integrator::softshadow, Integrator::glossy,
+                                  Integrator::path};
+
+ShadingOptions golden_options(Integrator integrator) {
+  ShadingOptions o = quiet(integrator == Integrator::path ? 16 : 2);
+  o.shadow_rays = 4;
+  return o;
+}
+
+TEST(Integrators, EveryExactStructureGivesTheSameImages) {
+  const Scene scene = dressed_cornell();
+  const Camera camera = small_camera(scene, 24);
+  const Built reference(scene, "bvh");
+  for (const std::string& name : structure_names()) {
+    if (find_structure(name).exactness != Exactness::exact || name == "bvh" || name == "auto") continue;
+    const Built other(scene, name);
+    for (Integrator integrator : kShaded) {
+      const ShadingOptions o = golden_options(integrator);
+      const Image a = render_shaded(integrator, *reference.queries, scene, camera, o);
+      const Image b = render_shaded(integrator, *other.queries, scene, camera, o);
+      std::size_t differing = 0;
+      for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] == b.pixels[i] ? 0 : 1;
+      // Exact structures agree on every hit but exact ties (two triangles at one t), which may pick
+      // another triangle of a box's edge: at most a pixel or two.
+      EXPECT_LE(differing, 2u) << name << " " << integrator_name(integrator);
+    }
+    AoOptions ao;
+    ao.progress = false;
+    ao.ao_rays = 8;
+    const Image a = render_ao(*reference.queries, scene, camera, ao), b = render_ao(*other.queries, scene, camera, ao);
+    EXPECT_LT(max_difference(a, b), 0.2f) << name;
+  }
+}
+
+TEST(Integrators, ImagesDoNotDependOnTheThreadCount) {
+  const Scene scene = dressed_cornell();
+  const Built built(scene);
+  for (Integrator integrator : kShaded) {
+    Image one, two;
+    {
+      const ThreadLimit limit(1);
+      one = render_shaded(integrator, *built.queries, scene, small_camera(scene, 20), golden_options(integrator));
+    }
+    {
+      const ThreadLimit limit(2);
+      two = render_shaded(integrator, *built.queries, scene, small_camera(scene, 20), golden_options(integrator));
+    }
+    EXPECT_EQ(one.pixels, two.pixels) << integrator_name(integrator);
+  }
+}
+
+// Golden images: the dressed room at 32x32, stored as 8-bit PNGs under tests/data/golden. A render
+// matches when its PNG differs by RMS <= 1.0 and at most 8 levels in any channel (room for other
+// compilers' and ISAs' rounding, far below a visible change). VISFIELD_UPDATE_GOLDEN=1 rewrites them.
+TEST(Integrators, GoldenImagesOfTheDressedCornellRoom) {
+  const Scene scene = dressed_cornell();
+  const Built built(scene);
+  const std::filesystem::path folder = std::filesystem::path(VISFIELD_SOURCE_DIR) / "tests" / "data" / "golden";
+  const bool update = std::getenv("VISFIELD_UPDATE_GOLDEN") != nullptr;
+  for (Integrator integrator : kIntegrators) {
+    Image image;
+    if (integrator == Integrator::ao) {
+      AoOptions ao;
+      ao.progress = false;
+      ao.ao_rays = 16;
+      image = render_ao(*built.queries, scene, small_camera(scene, 32), ao);
+    } else {
+      image = render_shaded(integrator, *built.queries, scene, small_camera(scene, 32), golden_options(integrator));
+    }
+    const std::filesystem::path golden = folder / ("cornell-" + std::string(integrator_name(integrator)) + ".png");
+    const std::filesystem::path rendered =
+        std::filesystem::path(VISFIELD_TEST_BINARY_DIR) / ("cornell-" + std::string(integrator_name(integrator)) + ".png");
+    write_image(rendered, image);
+    if (update) write_image(golden, image);
+    ASSERT_TRUE(std::filesystem::exists(golden)) << golden;
+    const ImageDifference d = compare_images(read_image(rendered), read_image(golden));
+    EXPECT_LE(d.rms * 255.0, 1.0) << integrator_name(integrator);
+    EXPECT_LE(d.max_abs * 255.0, 8.0) << integrator_name(integrator);
+  }
+}
+
+TEST(Integrators, BadOptionsAreRefused) {
+  const Scene scene = test::plane_scene(1.0f);
+  const Built built(scene);
+  const Camera camera = side_camera();
+  for (auto set : {+[](ShadingOptions& o) { o.spp = 0; }, +[](ShadingOptions& o) { o.max_depth = 0; },
+                   +[](ShadingOptions& o) { o.shadow_rays = 0; }, +[](ShadingOptions& o) { o.glossy_rays = -1; },
+                   +[](ShadingOptions& o) { o.ambient = -1.0f; }, +[](ShadingOptions& o) { o.tile_size = 0; }}) {
+    ShadingOptions o = quiet();
+    set(o);
+    EXPECT_THROW(render_shaded(Integrator::raycast, *built.queries, scene, camera, o), Error);
+  }
+  EXPECT_THROW(render_shaded(Integrator::ao, *built.queries, scene, camera, quiet()), Error);
+}
+
+TEST(Integrators, NamesRoundTrip) {
+  for (Integrator integrator : kIntegrators) EXPECT_EQ(parse_integrator(integrator_name(integrator)), integrator);
+  EXPECT_FALSE(parse_integrator("phong"));
+}
+
+}  // namespace
+}  // namespace vf
