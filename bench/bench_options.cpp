@@ -6,6 +6,7 @@
 
 #include "bench_accel.hpp"
 #include "field_figures.hpp"
+#include "render_figures.hpp"
 #include "visfield/core/direction_lines.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
@@ -14,6 +15,14 @@
 namespace vf::bench {
 
 namespace {
+
+// Every --figure name: the ObjectField papers' ray-set figures, then the rendered ones.
+std::vector<std::string> figure_names() {
+  std::vector<std::string> names = field_figure_names();
+  for (const std::string& name : render_figure_names()) names.push_back(name);
+  return names;
+}
+
 
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
@@ -96,8 +105,10 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   app.add_option("--figure", options.figure,
                  "Reproduce an ObjectField paper experiment with --scene as the caster in the Figure-6 corner: fig6 "
                  "(positions x directions: precompute, AO time, RMS), fig5 (mappings, 1-bit variant), fig8 (--scene: a folder "
-                 "of models; each model alone, then three together)")
-      ->check(CLI::IsMember(field_figure_names()));
+                 "of models; each model alone, then three together), lookups, gpu3 (the GPU paper's Figure 3), and "
+                 "with visfield's integrators the GPU paper's gpu7 (soft shadows), gpu8 (--scene: the models' folder; "
+                 "three models' soft shadows) and gpu9 (glossy reflections with normal fields)")
+      ->check(CLI::IsMember(figure_names()));
 
   try {
     app.parse(argc, argv);

@@ -1,5 +1,6 @@
 /// \file visfield-bench: the same rays through visfield's structures and Embree 3, in one process.
 
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -8,6 +9,7 @@
 #include "bench_run.hpp"
 #include "dynamic_run.hpp"
 #include "field_figures.hpp"
+#include "render_figures.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -34,7 +36,11 @@ int main(int argc, char** argv) {
     if (!options) return 0;
     if (!options->figure.empty()) {
       const vf::ThreadLimit limit(options->threads);
-      vf::bench::run_field_figure(options->figure, options->scene, std::cout);
+      const std::vector<std::string> rendered = vf::bench::render_figure_names();
+      if (std::find(rendered.begin(), rendered.end(), options->figure) != rendered.end())
+        vf::bench::run_render_figure(options->figure, options->scene, std::cout);
+      else
+        vf::bench::run_field_figure(options->figure, options->scene, std::cout);
       return 0;
     }
     if (options->dynamic_frames > 0) {

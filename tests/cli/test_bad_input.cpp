@@ -204,6 +204,10 @@ std::vector<Row> catalogue() {
        "ref.json: instances[0].mesh: no mesh named \"bunny\""},
       {"MeshFileMissing", {{"ref.json", R"({"meshes": [{"path": "gone.obj"}]})"}}, render + "ref.json", 1,
        "ref.json: meshes[0].path: gone.obj: no such file"},
+      {"IndexOfRefractionBelowOne", {tri, {"glass.json", scene_json(R"(, "materials": [{"name": "glass", "ior": 0.5}])")}},
+       render + "glass.json", 1, "glass.json: materials[0].ior: expected a number in [1, 4], got 0.5"},
+      {"TransmissionAboveOne", {tri, {"glass.json", scene_json(R"(, "materials": [{"name": "glass", "transmission": 2}])")}},
+       render + "glass.json", 1, "glass.json: materials[0].transmission: expected a number in [0, 1], got 2"},
       // Transforms.
       {"ZeroScale", {tri, {"t.json", scene_json(R"(, "instances": [{"mesh": "tri", "scale": 0}])")}}, render + "t.json", 1,
        "t.json: instances[0].scale: expected a number > 0, got 0"},
