@@ -102,6 +102,15 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
                  "Object id moved by --dynamic (default: the object nearest to 5% of the scene's triangles)")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{0xfffffffe}));
 
+  app.add_option("--walk", options.walk_frames,
+                 "Walkthrough mode: render FRAMES frames of the scene's camera path and object keyframes through each "
+                 "--accel structure in turn (objects moved in place where the structure can, else rebuilt), timing each "
+                 "frame's update and render (the VLF-RT paper's Figure 6); --rays is not needed")
+      ->check(CLI::Range(2, 1000000));
+  app.add_option("--integrator", options.integrator, "What --walk renders")
+      ->check(CLI::IsMember({"raycast", "whitted", "ao", "softshadow", "glossy", "path"}));
+  app.add_option("--walk-csv", options.walk_csv_dir, "--walk: folder to write one CSV of frame times per structure in");
+  app.add_option("--walk-plot", options.walk_plot, "--walk: the plot (.png) of every structure's frame times");
   app.add_option("--figure", options.figure,
                  "Reproduce an ObjectField paper experiment with --scene as the caster in the Figure-6 corner: fig6 "
                  "(positions x directions: precompute, AO time, RMS), fig5 (mappings, 1-bit variant), fig8 (--scene: a folder "
@@ -124,6 +133,12 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
   }
   if (!options.figure.empty()) return options;  // the figure chooses its rays and structures
+  if (options.walk_frames > 0) {
+    if (accel_list.empty()) throw UsageError("--accel is required");
+    options.accels = split_spec_list(accel_list);
+    return options;
+  }
+  if (!options.walk_csv_dir.empty() || !options.walk_plot.empty()) throw UsageError("--walk-csv and --walk-plot: only with --walk");
   if (kind_name.empty()) throw UsageError("--rays is required");
   if (accel_list.empty()) throw UsageError("--accel is required");
   options.kind = *parse_ray_kind(kind_name);

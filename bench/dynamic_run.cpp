@@ -32,18 +32,7 @@ Transform frame_transform(const Transform& start, int frame, float scene_radius)
 // Moves object `id` to `t` in place when `accel` can update; false (untouched) when it cannot.
 bool update_in_place(BenchAccel& accel, ObjectId id, const Transform& t) {
   auto* ours = std::get_if<AnyStructure>(&accel);
-  if (!ours) return false;
-  return std::visit(
-      [&](auto& structure) {
-        if constexpr (UpdatableStructure<std::decay_t<decltype(structure)>>) {
-          structure.move(id, t);
-          structure.commit();
-          return true;
-        } else {
-          return false;
-        }
-      },
-      *ours);
+  return ours && vf::update_in_place(*ours, id, t);
 }
 
 // True when the last commit of a BeamField rebuilt it whole.

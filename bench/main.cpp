@@ -10,6 +10,7 @@
 #include "dynamic_run.hpp"
 #include "field_figures.hpp"
 #include "render_figures.hpp"
+#include "walk_run.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -41,6 +42,10 @@ int main(int argc, char** argv) {
         vf::bench::run_render_figure(options->figure, options->scene, std::cout);
       else
         vf::bench::run_field_figure(options->figure, options->scene, std::cout);
+      return 0;
+    }
+    if (options->walk_frames > 0) {
+      vf::bench::run_walk_bench(*options, std::cout);
       return 0;
     }
     if (options->dynamic_frames > 0) {

@@ -12,6 +12,8 @@ using Action = std::function<int()>;
 
 /// `visfield render <scene> ...`: an ambient-occlusion image with the chosen structures.
 void register_render_command(CLI::App& app, Action& action);
+/// `visfield walk`: a walkthrough rendered frame by frame, its times as CSV and a plot.
+void register_walk_command(CLI::App& app, Action& action);
 /// `visfield info <scene> ...`: counts, bounds, degenerate triangles and the built structure's memory.
 void register_info_command(CLI::App& app, Action& action);
 /// `visfield calibrate <scenes...> -o FILE`: measure grid and kd-tree, write the selection constants.

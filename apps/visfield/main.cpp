@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   vf::cli::Action action;
   vf::cli::register_render_command(app, action);
+  vf::cli::register_walk_command(app, action);
   vf::cli::register_info_command(app, action);
   vf::cli::register_calibrate_command(app, action);
   vf::cli::register_select_command(app, action);

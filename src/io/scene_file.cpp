@@ -78,7 +78,7 @@ void parse_materials(const json::JsonField& materials, Scene& scene, io_detail::
 Scene load_scene_file(const std::filesystem::path& path) {
   const nlohmann::json document = json::parse_json_file(path);
   const json::JsonField root(document, path.string());
-  root.require_object({"name", "meshes", "materials", "instances", "camera", "lights"});
+  root.require_object({"name", "meshes", "materials", "instances", "camera", "lights", "camera_path"});
 
   Scene scene;
   const std::optional<json::JsonField> name = root.optional_member("name");
@@ -90,14 +90,28 @@ Scene load_scene_file(const std::filesystem::path& path) {
   load_meshes(root.member("meshes"), path.parent_path(), scene, names);
 
   if (const std::optional<json::JsonField> instances = root.optional_member("instances")) {
-    for (const json::JsonField& entry : instances->elements(1))
-      scene.add_instance(io_detail::parse_instance(entry, names));
+    for (const json::JsonField& entry : instances->elements(1)) {
+      const ObjectId id = scene.add_instance(io_detail::parse_instance(entry, names));
+      std::vector<PlacementKey> keys = io_detail::parse_keyframes(entry);
+      if (!keys.empty()) scene.animation.objects.push_back(ObjectPath{id, std::move(keys)});
+    }
   } else {
     for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) scene.add_instance(m);
   }
   scene.check_coordinate_range(path.string());
+  // Every key of a moving object must keep it inside the coordinate range too.
+  for (const ObjectPath& moving : scene.animation.objects) {
+    const Transform start = scene.instance(moving.object).transform;
+    for (const PlacementKey& key : moving.keys) {
+      scene.set_transform(moving.object, SceneAnimation::placement_at(moving, key.time));
+      scene.check_coordinate_range(path.string() + " (keyframe at time " + std::to_string(key.time) + ")");
+    }
+    scene.set_transform(moving.object, start);
+  }
   if (const std::optional<json::JsonField> camera = root.optional_member("camera"))
     scene.camera = io_detail::parse_camera(*camera);
+  if (const std::optional<json::JsonField> path_keys = root.optional_member("camera_path"))
+    scene.animation.camera = io_detail::parse_camera_path(*path_keys);
   if (const std::optional<json::JsonField> lights = root.optional_member("lights"))
     for (const json::JsonField& entry : lights->elements()) io_detail::parse_light(entry, scene);
   return scene;

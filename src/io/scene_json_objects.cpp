@@ -52,7 +52,7 @@ Material parse_material(const JsonField& field) {
 }
 
 Instance parse_instance(const JsonField& field, const SceneNames& names) {
-  field.require_object({"mesh", "translate", "rotate_euler_deg", "rotate_axis_angle", "scale", "material"});
+  field.require_object({"mesh", "translate", "rotate_euler_deg", "rotate_axis_angle", "scale", "material", "keyframes"});
   Instance instance;
   instance.mesh = resolve(field.member("mesh"), names.meshes, "mesh");
   instance.transform.translation = vec3_or(field, "translate", Vec3f{0.0f}, NumberRange::any());
@@ -65,6 +65,57 @@ Instance parse_instance(const JsonField& field, const SceneNames& names) {
   if (const std::optional<JsonField> material = field.optional_member("material"))
     instance.material = resolve(*material, names.materials, "material");
   return instance;
+}
+
+namespace {
+
+// The "time" of key `key`, which must come after `previous` (when there is one).
+float key_time(const JsonField& key, const std::optional<float>& previous) {
+  const JsonField time = key.member("time");
+  const float t = time.as_float();
+  if (previous && !(t > *previous)) time.fail("times must increase from key to key, got " + std::to_string(t) + " after " + std::to_string(*previous));
+  return t;
+}
+
+}  // namespace
+
+std::vector<PlacementKey> parse_keyframes(const JsonField& instance) {
+  std::vector<PlacementKey> keys;
+  const std::optional<JsonField> list = instance.optional_member("keyframes");
+  if (!list) return keys;
+  std::optional<float> previous;
+  for (const JsonField& entry : list->elements(2)) {
+    entry.require_object({"time", "translate", "rotate_euler_deg", "scale"});
+    PlacementKey key;
+    key.time = key_time(entry, previous);
+    previous = key.time;
+    key.translate = vec3_or(entry, "translate", key.translate, NumberRange::any());
+    key.rotate_euler_deg = vec3_or(entry, "rotate_euler_deg", key.rotate_euler_deg, NumberRange::any());
+    key.scale = optional_or(entry, "scale", key.scale, [](const JsonField& f) { return f.as_float(NumberRange::positive()); });
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+std::vector<CameraKey> parse_camera_path(const JsonField& field) {
+  std::vector<CameraKey> keys;
+  std::optional<float> previous;
+  for (const JsonField& entry : field.elements(2)) {
+    entry.require_object({"time", "position", "look_at", "up"});
+    CameraKey key;
+    key.time = key_time(entry, previous);
+    previous = key.time;
+    key.position = entry.member("position").as_vec3();
+    const JsonField look_at = entry.member("look_at");
+    key.look_at = look_at.as_vec3();
+    const Vec3f view = key.look_at - key.position;
+    if (!(length(view) > 0.0f)) look_at.fail("must differ from position");
+    key.up = vec3_or(entry, "up", key.up, NumberRange::any());
+    if (!(length(key.up) > 0.0f) || length(cross(normalize(view), normalize(key.up))) < 1e-4f)
+      entry.member("up").fail("must be non-zero and not parallel to the viewing direction");
+    keys.push_back(key);
+  }
+  return keys;
 }
 
 Camera parse_camera(const JsonField& field) {

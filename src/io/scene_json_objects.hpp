@@ -20,12 +20,21 @@ struct SceneNames {
   std::map<std::string, std::uint32_t> materials;  ///< Index into Scene::materials.
 };
 
-/// {"name", "diffuse", "specular", "roughness", "emission"}; colours in [0, 1], emission >= 0.
+/// {"name", "diffuse", "specular", "roughness", "emission", "transmission", "ior"}; colours,
+/// roughness and transmission in [0, 1], emission >= 0, ior in [1, 4].
 Material parse_material(const JsonField& field);
 
 /// {"mesh", "translate", "rotate_euler_deg" | "rotate_axis_angle": {"axis", "degrees"}, "scale",
-/// "material"}; names resolved through `names`.
+/// "material", "keyframes"}; names resolved through `names` (the keyframes are read by parse_keyframes).
 Instance parse_instance(const JsonField& field, const SceneNames& names);
+
+/// An instance's optional "keyframes": [{"time", "translate", "rotate_euler_deg", "scale"}, ...], at
+/// least two, times strictly increasing (empty when the instance has none).
+std::vector<PlacementKey> parse_keyframes(const JsonField& instance);
+
+/// "camera_path": [{"time", "position", "look_at", "up"}, ...], at least two keys, times strictly
+/// increasing, look_at away from position, up not along the view.
+std::vector<CameraKey> parse_camera_path(const JsonField& field);
 
 /// {"position", "look_at", "up", "fov_deg", "width", "height"}.
 Camera parse_camera(const JsonField& field);

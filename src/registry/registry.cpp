@@ -398,6 +398,20 @@ std::string structures_help(std::string_view indent) {
   return out;
 }
 
+bool update_in_place(AnyStructure& structure, ObjectId id, const Transform& t) {
+  return std::visit(
+      [&](auto& s) {
+        if constexpr (UpdatableStructure<std::decay_t<decltype(s)>>) {
+          s.move(id, t);
+          s.commit();
+          return true;
+        } else {
+          return false;
+        }
+      },
+      structure);
+}
+
 std::unique_ptr<SceneQueries> scene_queries(const AnyStructure& closest, const AnyStructure& occluder) {
   return std::visit(
       [](const auto& c, const auto& o) -> std::unique_ptr<SceneQueries> {

@@ -132,6 +132,43 @@ TEST_F(Cli, EveryIntegratorRendersAndReportsItsRaysByKind) {
   EXPECT_NE(r.out.find("occluder field:positions=290,directions=8"), std::string::npos) << r.out;
 }
 
+// `visfield walk` renders a scene's walkthrough, writes its frame times as CSV and plots them beside
+// another run's; what it cannot do it refuses before the first frame.
+TEST_F(Cli, WalkWritesFrameTimesAndAPlot) {
+  write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  write("walk.json", R"({"meshes": [{"name": "t", "path": "tetra.obj"}],
+    "instances": [{"mesh": "t", "keyframes": [{"time": 0}, {"time": 1, "translate": [0.5, 0, 0], "rotate_euler_deg": [0, 45, 0]}]}],
+    "camera_path": [{"time": 0, "position": [0, 1, 4], "look_at": [0, 0.3, 0]}, {"time": 1, "position": [3, 1, 3], "look_at": [0, 0.3, 0]}]})");
+  const std::string common = "walk walk.json --frames 6 --width 24 --height 16 --no-progress ";
+  auto r = visfield(common + "--csv bvh.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("walk: 6 frames of 24x16, bvh:levels=1"), std::string::npos) << r.out;
+  r = visfield(common + "--accel beam:dirs=33,n=16 --integrator whitted --csv beam.csv --plot walk.png --plot-with bvh.csv "
+               "--frames-dir .");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(0 rebuilds)"), std::string::npos) << r.out;  // BeamField moved the object in place
+  EXPECT_TRUE(fs::exists(dir_ / "walk.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "frame-00005.png"));
+  std::ifstream csv(dir_ / "beam.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, 2 + 6);  // title, header, one row per frame
+
+  write("still.json", R"({"meshes": [{"path": "tetra.obj"}]})");
+  r = visfield("walk still.json --no-progress --csv still.csv");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("still.json: the scene has no \"camera_path\""), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "still.csv"));
+  EXPECT_EQ(visfield(common + "--frames 1").exit_code, 2);
+  EXPECT_EQ(visfield(common + "--plot-with bvh.csv").exit_code, 2);
+  write("junk.csv", "not a walk\n");
+  r = visfield(common + "--csv again.csv --plot p.png --plot-with junk.csv");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("junk.csv: line 1: not a visfield walk CSV"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "again.csv"));
+}
+
 // A scene file that marks a mesh "occluder": "field" renders its AO through that mesh's field (with
 // its own parameters) and the other meshes exact, unless --occluders exact says otherwise.
 TEST_F(Cli, ASceneMarksWhichMeshesAreFields) {

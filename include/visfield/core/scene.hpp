@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "visfield/core/animation.hpp"
 #include "visfield/core/mesh.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/transform.hpp"
@@ -69,6 +70,7 @@ class Scene {
   std::optional<Camera> camera;                 ///< When absent, camera_or_default() chooses one.
   std::vector<PointLight> point_lights;
   std::vector<SphereLight> sphere_lights;
+  SceneAnimation animation;  ///< Keyframed camera and object motion for walkthroughs (scene JSON "camera_path", "keyframes").
 
   /// Adds an object (`instance.id` is ignored) and returns its new id, larger than every id given
   /// before. Throws vf::Error when the mesh or material index is out of range or the transform is

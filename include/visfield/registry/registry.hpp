@@ -92,6 +92,10 @@ std::string structures_help(std::string_view indent = "  ");
 /// Build statistics of whichever structure `structure` holds.
 AccelStats structure_stats(const AnyStructure& structure);
 
+/// Moves object `id` to `t` and commits, when `structure` is updatable (UpdatableStructure: BeamField);
+/// returns false, leaving it untouched, when it is not (the caller rebuilds it).
+bool update_in_place(AnyStructure& structure, ObjectId id, const Transform& t);
+
 /// The renderers' view of two built structures (they must outlive the result): camera rays through
 /// `closest`, every later ray through `occluder` (which may be the same object).
 std::unique_ptr<SceneQueries> scene_queries(const AnyStructure& closest, const AnyStructure& occluder);

@@ -1,0 +1,125 @@
+#include "integrator_options.hpp"
+
+#include <algorithm>
+
+#include "cli_support.hpp"
+#include "visfield/core/direction_lines.hpp"
+#include "visfield/core/spec.hpp"
+#include "visfield/registry/registry.hpp"
+
+namespace vf::cli {
+
+void add_integrator_options(CLI::App& cmd, IntegratorOptions& o, const std::string& integrator) {
+  o.integrator = integrator;
+  add_structure_option(cmd, "--accel", o.accel,
+                       "Structure for camera rays (and every later ray unless --occluder), NAME[:key=value,...]; "
+                       "`visfield structures` lists them")
+      ->capture_default_str();
+  add_structure_option(cmd, "--occluder", o.occluder,
+                       "Structure for every ray after the camera's (AO, shadow, reflection), NAME[:key=value,...] "
+                       "(default: the --accel one)");
+  cmd.add_option("--occluders", o.occluders,
+                 "How every ray after the camera's (AO, shadow, reflection) sees the scene's objects: field (ObjectFields "
+                 "for every mesh the scene does not mark exact; --occluder may give the field:... parameters) or exact "
+                 "(exact geometry only). Default: the scene's own marks (meshes with \"occluder\": \"field\" get fields)")
+      ->check(CLI::IsMember({"field", "exact"}));
+  cmd.add_option("--integrator", o.integrator,
+                 "What to render: raycast (camera rays, diffuse colour lit by the lights, no shadows), whitted (hard "
+                 "shadows, mirror reflection and refraction to --depth), ao (ambient occlusion), softshadow (sphere "
+                 "lights by --shadow-rays rays each), glossy (direct light and --glossy-rays reflection rays), path "
+                 "(path tracing: light sampling with MIS, Russian roulette, --depth bounces)")
+      ->check(CLI::IsMember({"raycast", "whitted", "ao", "softshadow", "glossy", "path"}))
+      ->capture_default_str();
+  cmd.add_option("--spp", o.spp, "Camera samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd.add_option("--ao-rays", o.ao_rays, "ao: rays per camera sample")->check(CLI::Range(1, 65536))->capture_default_str();
+  cmd.add_option("--ao-directions", o.ao_directions,
+                 "ao: random (--ao-rays cosine-weighted directions), or 33|129|513|2049|8193: one ray along each line of "
+                 "that octahedral set, cosine-weighted (VLF-RT's AO; a beam:dirs= of the same count traces them on its "
+                 "fast path)")
+      ->check(CLI::IsMember({"random", "33", "129", "513", "2049", "8193"}))
+      ->capture_default_str();
+  cmd.add_option("--max-distance", o.max_distance, "ao: ray length (world units; default unlimited)")
+      ->check(positive_number(/*infinity_allowed=*/true));
+  cmd.add_option("--depth", o.depth, "whitted: reflection/refraction levels; path: bounces")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd.add_option("--shadow-rays", o.shadow_rays, "softshadow: rays per sphere light per camera sample")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  cmd.add_option("--glossy-rays", o.glossy_rays, "glossy: reflection rays per reflective camera sample")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  cmd.add_option("--ambient", o.ambient, "raycast, whitted, softshadow, glossy: ambient light as a fraction of the diffuse colour")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  cmd.add_option("--seed", o.seed, "Random seed (the image depends on it, not on the thread count)")->capture_default_str();
+}
+
+void check_occluder_options(const IntegratorOptions& o) {
+  const bool field_spec =
+      !o.occluder.empty() && find_structure(parse_spec(o.occluder, "").name).exactness == Exactness::approximate;
+  if (o.occluders == "exact" && field_spec)
+    throw CLI::ValidationError("--occluder", o.occluder + ": --occluders exact needs an exact structure");
+  if (o.occluders == "field" && !o.occluder.empty() && !field_spec)
+    throw CLI::ValidationError("--occluder", o.occluder + ": --occluders field needs a field:... spec");
+}
+
+std::string occluder_spec(const IntegratorOptions& o, const Scene& scene) {
+  if (o.occluders == "field" && o.occluder.empty()) return "field";
+  if (!o.occluders.empty() || !o.occluder.empty()) return o.occluder;
+  for (const TriangleMesh& mesh : scene.meshes)
+    if (mesh.occluder == MeshOccluder::field) return "field:meshes=marked";
+  return "";
+}
+
+int psf_level_of(const IntegratorOptions& o) {
+  for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
+    if (o.ao_directions == std::to_string(DirectionLines::count(level))) return level;
+  return 0;
+}
+
+Integrator integrator_of(const IntegratorOptions& o) { return *parse_integrator(o.integrator); }
+
+AoOptions ao_options(const IntegratorOptions& o, bool progress) {
+  AoOptions ao;
+  ao.spp = o.spp;
+  ao.ao_rays = o.ao_rays;
+  ao.psf_level = psf_level_of(o);
+  ao.max_distance = static_cast<float>(o.max_distance);
+  ao.seed = o.seed;
+  ao.progress = progress;
+  return ao;
+}
+
+ShadingOptions shading_options(const IntegratorOptions& o, bool progress) {
+  ShadingOptions s;
+  s.spp = o.spp;
+  s.seed = o.seed;
+  s.progress = progress;
+  s.max_depth = o.depth;
+  s.shadow_rays = o.shadow_rays;
+  s.glossy_rays = o.glossy_rays;
+  s.ambient = static_cast<float>(o.ambient);
+  return s;
+}
+
+std::uint64_t rays_per_hit(const IntegratorOptions& o, const Scene& scene) {
+  const int level = psf_level_of(o);
+  const auto lights = static_cast<std::uint64_t>(std::max<std::size_t>(1, scene.point_lights.size() + scene.sphere_lights.size()));
+  switch (integrator_of(o)) {
+    case Integrator::ao: return level == 0 ? static_cast<std::uint64_t>(o.ao_rays) : DirectionLines::count(level);
+    case Integrator::raycast: return 0;
+    case Integrator::whitted: return lights + 1;
+    case Integrator::softshadow: return lights * static_cast<std::uint64_t>(o.shadow_rays);
+    case Integrator::glossy: return lights + static_cast<std::uint64_t>(o.glossy_rays);
+    case Integrator::path: return 2 * static_cast<std::uint64_t>(o.depth);  // a bounce and a shadow ray per vertex
+  }
+  return 1;
+}
+
+std::string integrator_summary(const IntegratorOptions& o) {
+  if (integrator_of(o) != Integrator::ao) return o.integrator;
+  return psf_level_of(o) ? "AO along " + o.ao_directions + " lines" : std::to_string(o.ao_rays) + " AO rays";
+}
+
+}  // namespace vf::cli

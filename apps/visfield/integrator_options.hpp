@@ -1,0 +1,66 @@
+#pragma once
+/// \file The options `visfield render` and `visfield walk` share: the structures by role, the
+/// integrator and its parameters. One definition, so both commands spell and check them alike.
+
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "visfield/core/scene.hpp"
+#include "visfield/render/ao.hpp"
+#include "visfield/render/integrators.hpp"
+
+namespace vf::cli {
+
+/// The integrator and structure options of a rendering command.
+struct IntegratorOptions {
+  std::string accel = "bvh";
+  std::string occluder;   ///< "" = the --accel structure answers every later ray too.
+  std::string occluders;  ///< "field", "exact", or "" = as the scene marks its meshes.
+  std::string integrator = "ao";
+  int spp = 1;
+  int ao_rays = 64;
+  std::string ao_directions = "random";  ///< "random", or a line count: one AO ray along each line.
+  double max_distance = std::numeric_limits<double>::infinity();
+  int depth = 5;
+  int shadow_rays = 20;
+  int glossy_rays = 4;
+  double ambient = 0.1;
+  std::uint64_t seed = 1;
+};
+
+/// Adds --accel, --occluder, --occluders, --integrator (default `integrator`), --spp, --ao-rays,
+/// --ao-directions, --max-distance, --depth, --shadow-rays, --glossy-rays, --ambient and --seed.
+void add_integrator_options(CLI::App& cmd, IntegratorOptions& options, const std::string& integrator);
+
+/// Throws CLI::ValidationError when --occluders and --occluder disagree (call from the callback).
+void check_occluder_options(const IntegratorOptions& options);
+
+/// The spec of the structure for every ray after the camera's ("" = the --accel one): --occluders
+/// field asks for fields (the --occluder field spec, or the default) for every mesh the scene does
+/// not mark exact, --occluders exact for exact geometry only; without either, a scene that marks
+/// meshes "occluder": "field" gets fields for those.
+std::string occluder_spec(const IntegratorOptions& options, const Scene& scene);
+
+/// Level of the line set --ao-directions names (0 for random directions).
+int psf_level_of(const IntegratorOptions& options);
+
+/// The integrator the options name.
+Integrator integrator_of(const IntegratorOptions& options);
+
+/// AoOptions from the options (`progress` as given).
+AoOptions ao_options(const IntegratorOptions& options, bool progress);
+
+/// ShadingOptions from the options (`progress` as given).
+ShadingOptions shading_options(const IntegratorOptions& options, bool progress);
+
+/// Rays per camera sample that hits, for the structures' expected ray count (auto's R): AO rays, or
+/// what the shading integrator traces on average.
+std::uint64_t rays_per_hit(const IntegratorOptions& options, const Scene& scene);
+
+/// "64 AO rays", "AO along 513 lines", or the integrator's name, for summary lines.
+std::string integrator_summary(const IntegratorOptions& options);
+
+}  // namespace vf::cli
