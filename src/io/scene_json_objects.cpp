@@ -1,5 +1,7 @@
 #include "scene_json_objects.hpp"
 
+#include <cstdio>
+
 #include <cmath>
 
 namespace vf::io_detail {
@@ -73,7 +75,12 @@ namespace {
 float key_time(const JsonField& key, const std::optional<float>& previous) {
   const JsonField time = key.member("time");
   const float t = time.as_float();
-  if (previous && !(t > *previous)) time.fail("times must increase from key to key, got " + std::to_string(t) + " after " + std::to_string(*previous));
+  if (previous && !(t > *previous)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "times must increase from key to key, got %g after %g", static_cast<double>(t),
+                  static_cast<double>(*previous));
+    time.fail(text);
+  }
   return t;
 }
 

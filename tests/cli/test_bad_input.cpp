@@ -208,6 +208,12 @@ std::vector<Row> catalogue() {
        render + "glass.json", 1, "glass.json: materials[0].ior: expected a number in [1, 4], got 0.5"},
       {"TransmissionAboveOne", {tri, {"glass.json", scene_json(R"(, "materials": [{"name": "glass", "transmission": 2}])")}},
        render + "glass.json", 1, "glass.json: materials[0].transmission: expected a number in [0, 1], got 2"},
+      {"KeyTimesOutOfOrder",
+       {tri, {"path.json", scene_json(R"(, "camera_path": [{"time": 1, "position": [0, 0, 5], "look_at": [0, 0, 0]},
+                                                          {"time": 1, "position": [1, 0, 5], "look_at": [0, 0, 0]}])")}},
+       render + "path.json", 1, "path.json: camera_path[1].time: times must increase from key to key, got 1 after 1"},
+      {"WalkOfAStillScene", {tri, {"still.json", scene_json("")}}, "walk --no-progress --csv w.csv still.json", 1,
+       "still.json: the scene has no \"camera_path\" and no object \"keyframes\"; nothing to walk through"},
       // Transforms.
       {"ZeroScale", {tri, {"t.json", scene_json(R"(, "instances": [{"mesh": "tri", "scale": 0}])")}}, render + "t.json", 1,
        "t.json: instances[0].scale: expected a number > 0, got 0"},
