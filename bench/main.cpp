@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
       const vf::ThreadLimit limit(options->threads);
       const std::vector<std::string> rendered = vf::bench::render_figure_names();
       if (std::find(rendered.begin(), rendered.end(), options->figure) != rendered.end())
-        vf::bench::run_render_figure(options->figure, options->scene, std::cout);
+        vf::bench::run_render_figure(options->figure, options->scene, options->figure_images, std::cout);
       else
         vf::bench::run_field_figure(options->figure, options->scene, std::cout);
       return 0;

@@ -9,6 +9,7 @@
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel_threads.hpp"
 #include "visfield/field/object_field.hpp"
+#include "visfield/io/image_io.hpp"
 #include "visfield/io/mesh_loader.hpp"
 #include "visfield/registry/registry.hpp"
 #include "visfield/render/compare.hpp"
@@ -77,6 +78,14 @@ Material diffuse_material(const Vec3f& colour) {
   return m;
 }
 
+/// Where a figure's images go: `folder`/`figure`-WHAT.png, or nowhere when folder is "".
+struct ImageSink {
+  std::string folder, figure;
+  void keep(const std::string& what, const Image& image) const {
+    if (!folder.empty()) write_image(std::filesystem::path(folder) / (figure + "-" + what + ".png"), image);
+  }
+};
+
 /// One render: its image, wall seconds (median of 3 after a warm-up) and rays.
 struct Render {
   Image image;
@@ -134,7 +143,7 @@ Camera view(const Vec3f& position, const Vec3f& target, int size, float fov) {
 
 // GPU paper Figure 7: the caster's soft shadows on the ground from 3 sphere lights, 20 shadow rays
 // per light and pixel, fields at {4226, 16642} x {32^2, 64^2, 128^2}; reference: exact, 256 rays.
-void figure7(const std::string& caster, std::ostream& out) {
+void figure7(const std::string& caster, const ImageSink& sink, std::ostream& out) {
   Scene scene = casters_on_ground({caster}, {{1.0f, 0.0f, 0.0f}}, 6.0f, diffuse_material(Vec3f{0.8f}), diffuse_material(Vec3f{0.7f}));
   add_three_lights(scene, 4.0f, 0.3f, 60.0f);
   const Camera camera = view({0.0f, 2.2f, 3.6f}, {0.0f, 0.7f, 0.0f}, 256, 45.0f);
@@ -143,6 +152,8 @@ void figure7(const std::string& caster, std::ostream& out) {
   const Built exact(geometry, bvh, "bvh");
   const Render reference = render(Integrator::softshadow, *exact.queries, scene, camera, soft_options(256), 0);
   const Render exact20 = render(Integrator::softshadow, *exact.queries, scene, camera, soft_options(20));
+  sink.keep("exact256", reference.image);
+  sink.keep("exact20", exact20.image);
   out << "256x256 pixels, 3 sphere lights, 20 shadow rays per light and pixel (" << exact20.stats.by_kind.shadow
       << " shadow rays). Reference: exact (BVH), 256 rays per light and pixel, " << format("%.2f s", reference.seconds)
       << ". Exact with the same 20 rays: " << format("%.3f s, RMS %.2f", exact20.seconds, rms_255(exact20.image, reference.image))
@@ -157,6 +168,7 @@ void figure7(const std::string& caster, std::ostream& out) {
     for (const int n : {32, 64, 128}) {
       const Built fields(geometry, bvh, "field:meshes=marked,positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(n));
       const Render r = render(Integrator::softshadow, *fields.queries, scene, camera, soft_options(20));
+      sink.keep("field" + std::to_string(positions[p]) + "x" + std::to_string(n), r.image);
       out << " | " << format("%.3f s / %.2f / ", r.seconds, rms_255(r.image, reference.image)) << format_bytes(static_cast<double>(fields.bytes()));
     }
     out << " |\n| paper | " << paper[p][0] << " | " << paper[p][1] << " | " << paper[p][2] << " |\n";
@@ -164,7 +176,7 @@ void figure7(const std::string& caster, std::ostream& out) {
 }
 
 // GPU paper Figure 8: three models together under 3 sphere lights, 20 shadow rays, 4226 x 64^2.
-void figure8(const std::string& folder, std::ostream& out) {
+void figure8(const std::string& folder, const ImageSink& sink, std::ostream& out) {
   std::vector<std::string> paths;
   for (const char* name : {"bun_zipper.ply", "dragon_vrip_res2.ply", "Armadillo.ply"}) {
     const std::filesystem::path path = std::filesystem::path(folder) / name;
@@ -187,6 +199,10 @@ void figure8(const std::string& folder, std::ostream& out) {
   for (const SphereLight& l : scene.sphere_lights)
     sharp_scene.point_lights.push_back(PointLight{l.center, l.radiance * (3.14159265f * l.radius * l.radius)});
   const Render sharp = render(Integrator::softshadow, *exact.queries, sharp_scene, camera, soft_options(1));
+  sink.keep("exact256", reference.image);
+  sink.keep("exact20", exact20.image);
+  sink.keep("field4226x64", field20.image);
+  sink.keep("sharp", sharp.image);
   out << scene.instanced_triangle_count() << " triangles (bunny, dragon, Armadillo on a ground), 256x256 pixels, 3 sphere lights, "
       << "20 shadow rays per light and pixel (" << field20.stats.by_kind.shadow << " shadow rays); fields 4226 x 64x64 u8 ("
       << format_bytes(static_cast<double>(fields.bytes())) << ").\n\n"
@@ -202,7 +218,7 @@ void figure8(const std::string& folder, std::ostream& out) {
 
 // GPU paper Figure 9: a model on a polished floor, 4 reflection rays per reflective pixel; fields
 // with normal fields answer the reflection rays that meet the model.
-void figure9(const std::string& caster, std::ostream& out) {
+void figure9(const std::string& caster, const ImageSink& sink, std::ostream& out) {
   Material floor;
   floor.diffuse = Vec3f{0.25f};
   floor.specular = Vec3f{0.7f};
@@ -218,6 +234,8 @@ void figure9(const std::string& caster, std::ostream& out) {
   o.glossy_rays = 4;
   const Render reference = render(Integrator::glossy, *exact.queries, scene, camera, o);
   const Render raycast = render(Integrator::raycast, *exact.queries, scene, camera, o);
+  const std::string model = std::filesystem::path(caster).stem().string();
+  sink.keep(model + "-exact", reference.image);
   out << "256x256 pixels, " << reference.stats.by_kind.reflection << " reflection rays (4 per reflective pixel). Exact (BVH): "
       << format("%.3f s", reference.seconds) << "; ray casting alone: " << format("%.3f s", raycast.seconds) << ".\n\n"
       << "| fields (u8 distances, oct16 normals) | render s | RMS (0-255) vs exact, same rays | memory |\n|---|---:|---:|---:|\n";
@@ -225,6 +243,7 @@ void figure9(const std::string& caster, std::ostream& out) {
     const std::string spec = "field:meshes=marked,positions=4226,directions=" + std::to_string(n) + ",normals=oct16";
     const Built fields(geometry, bvh, spec);
     const Render r = render(Integrator::glossy, *fields.queries, scene, camera, o);
+    sink.keep(model + "-field4226x" + std::to_string(n), r.image);
     out << "| 4226 x " << n << "x" << n << " | " << format("%.3f | %.2f", r.seconds, rms_255(r.image, reference.image)) << " | "
         << format_bytes(static_cast<double>(fields.bytes())) << " |\n";
   }
@@ -236,12 +255,13 @@ void figure9(const std::string& caster, std::ostream& out) {
 
 std::vector<std::string> render_figure_names() { return {"gpu7", "gpu8", "gpu9"}; }
 
-void run_render_figure(const std::string& name, const std::string& scene_path, std::ostream& out) {
+void run_render_figure(const std::string& name, const std::string& scene_path, const std::string& images, std::ostream& out) {
+  const ImageSink sink{images, name};
   out << "## " << name << ": the GPU paper's Figure " << name.substr(3) << " on the CPU: " << scene_path << ", "
       << threads_in_force() << " threads\n\n";
-  if (name == "gpu7") figure7(scene_path, out);
-  else if (name == "gpu8") figure8(scene_path, out);
-  else if (name == "gpu9") figure9(scene_path, out);
+  if (name == "gpu7") figure7(scene_path, sink, out);
+  else if (name == "gpu8") figure8(scene_path, sink, out);
+  else if (name == "gpu9") figure9(scene_path, sink, out);
   else throw Error("--figure " + name + ": unknown figure");
 }
 

@@ -17,8 +17,9 @@ namespace vf::bench {
 std::vector<std::string> render_figure_names();
 
 /// Runs render figure `name` with `scene_path` (gpu7, gpu9: a mesh file; gpu8: a folder holding
-/// bun_zipper.ply, dragon_vrip_res2.ply and Armadillo.ply) and prints its table to `out`. Throws
-/// vf::Error on a bad mesh or folder.
-void run_render_figure(const std::string& name, const std::string& scene_path, std::ostream& out);
+/// bun_zipper.ply, dragon_vrip_res2.ply and Armadillo.ply) and prints its table to `out`; with
+/// `images` (a folder, "" = none) every rendered image goes there as NAME-WHAT.png, so each RMS can
+/// be checked with `visfield compare`. Throws vf::Error on a bad mesh or folder.
+void run_render_figure(const std::string& name, const std::string& scene_path, const std::string& images, std::ostream& out);
 
 }  // namespace vf::bench

@@ -105,23 +105,36 @@ std::optional<LightSample> SceneLights::sample(const Vec3f& from, Rng& rng) cons
   return LightSample{wi, d, e.radiance, pdf, false};
 }
 
-std::optional<LightSample> SceneLights::sample_sphere(std::uint32_t index, const Vec3f& from, float u, float v) const {
-  const SphereLight& light = spheres_[index];
+std::optional<SphereCone> SphereCone::toward(const SphereLight& light, const Vec3f& from) {
   const Vec3f to = light.center - from;
   const float d = length(to);
   if (!(d > light.radius)) return std::nullopt;
-  const float one_minus = one_minus_cos_max(light.radius, d);
-  const float cos_theta = 1.0f - u * one_minus;
+  SphereCone cone;
+  cone.axis_ = to * (1.0f / d);
+  orthonormal_basis(cone.axis_, cone.tangent_, cone.bitangent_);
+  cone.radiance_ = light.radiance;
+  cone.distance_ = d;
+  cone.radius_ = light.radius;
+  cone.one_minus_cos_max_ = one_minus_cos_max(light.radius, d);
+  cone.pdf_ = 1.0f / (2.0f * std::numbers::pi_v<float> * cone.one_minus_cos_max_);
+  return cone;
+}
+
+LightSample SphereCone::sample(float u, float v) const {
+  const float cos_theta = 1.0f - u * one_minus_cos_max_;
   const float sin_theta = std::sqrt(std::fmax(0.0f, 1.0f - cos_theta * cos_theta));
   const float phi = 2.0f * std::numbers::pi_v<float> * v;
-  const Vec3f axis = to * (1.0f / d);
-  Vec3f tangent, bitangent;
-  orthonormal_basis(axis, tangent, bitangent);
-  const Vec3f wi = normalize(tangent * (sin_theta * std::cos(phi)) + bitangent * (sin_theta * std::sin(phi)) + axis * cos_theta);
+  const Vec3f wi = normalize(tangent_ * (sin_theta * std::cos(phi)) + bitangent_ * (sin_theta * std::sin(phi)) + axis_ * cos_theta);
   // Entry point along wi: the nearer root of |from + t wi - c| = r.
-  const float inside = light.radius * light.radius - d * d * (1.0f - cos_theta * cos_theta);
-  const float t = d * cos_theta - std::sqrt(std::fmax(0.0f, inside));
-  return LightSample{wi, std::fmax(t, 0.0f), light.radiance, 1.0f / (2.0f * std::numbers::pi_v<float> * one_minus), false};
+  const float inside = radius_ * radius_ - distance_ * distance_ * (1.0f - cos_theta * cos_theta);
+  const float t = distance_ * cos_theta - std::sqrt(std::fmax(0.0f, inside));
+  return LightSample{wi, std::fmax(t, 0.0f), radiance_, pdf_, false};
+}
+
+std::optional<LightSample> SceneLights::sample_sphere(std::uint32_t index, const Vec3f& from, float u, float v) const {
+  const std::optional<SphereCone> cone = SphereCone::toward(spheres_[index], from);
+  if (!cone) return std::nullopt;
+  return cone->sample(u, v);
 }
 
 float SceneLights::sphere_pdf(std::uint32_t light, const Vec3f& from) const {

@@ -43,17 +43,20 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
             batch.add(shadow_ray(surface.point, light.position), slot, f_cos * light.intensity * (1.0f / d2));
           }
           const auto spheres = context.lights.sphere_lights();
-          for (std::uint32_t l = 0; l < spheres.size(); ++l)
+          for (const SphereLight& light : spheres) {
+            // The cone is prepared once per point and light; its samples draw two numbers each.
+            const std::optional<SphereCone> cone = SphereCone::toward(light, surface.point.position);
             for (int k = 0; k < options.shadow_rays; ++k) {
               const float u = rng.uniform(), v = rng.uniform();
-              const std::optional<LightSample> sample = context.lights.sample_sphere(l, surface.point.position, u, v);
-              if (!sample) continue;
-              const Vec3f f_cos = surface.bsdf.eval(surface.wo, sample->wi);
+              if (!cone) continue;
+              const LightSample sample = cone->sample(u, v);
+              const Vec3f f_cos = surface.bsdf.eval(surface.wo, sample.wi);
               if (!(max_component(f_cos) > 0.0f)) continue;
               ++rays.shadow;
-              batch.add(Ray{surface.point.position, sample->wi, 0.0f, sample->distance * (1.0f - 1e-4f)}, slot,
-                        f_cos * sample->radiance * (per_ray / sample->pdf));
+              batch.add(Ray{surface.point.position, sample.wi, 0.0f, sample.distance * (1.0f - 1e-4f)}, slot,
+                        f_cos * sample.radiance * (per_ray / sample.pdf));
             }
+          }
         }
       }
     batch.flush();

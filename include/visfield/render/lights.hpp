@@ -28,6 +28,23 @@ struct LightSample {
   bool delta = false;     ///< A point light: no other strategy can reach it (no MIS).
 };
 
+/// The cone of directions from one point into one sphere light, prepared once for many samples.
+/// Plain value.
+class SphereCone {
+ public:
+  /// The cone from `from` into `light`; nothing when `from` is inside the sphere.
+  static std::optional<SphereCone> toward(const SphereLight& light, const Vec3f& from);
+  /// A direction uniform in the cone (two numbers in [0, 1)), its distance to the sphere's surface
+  /// and the light's radiance; pdf = 1 / solid angle.
+  LightSample sample(float u, float v) const;
+  /// 1 / the cone's solid angle.
+  float pdf() const { return pdf_; }
+
+ private:
+  Vec3f axis_, tangent_, bitangent_, radiance_;
+  float distance_ = 0.0f, radius_ = 0.0f, one_minus_cos_max_ = 0.0f, pdf_ = 0.0f;
+};
+
 /// Where a ray meets a sphere light first.
 struct SphereLightHit {
   float t = 0.0f;        ///< Ray parameter of the entry point.
