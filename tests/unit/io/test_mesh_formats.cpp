@@ -66,6 +66,21 @@ TEST(MeshFormats, ObjMaterialsFromMtlWithMissingTextures) {
   EXPECT_EQ(lamp.emission, (Vec3f{5, 4, 3}));
 }
 
+TEST(MeshFormats, MtlGlassGivesTransmissionAndIndexOfRefraction) {
+  TempDir dir;
+  write_file(dir / "glass.mtl", "newmtl glass\nKd 0.1 0.1 0.1\nNi 1.33\nd 0.25\nnewmtl plain\nKd 0.5 0.5 0.5\nNi 1.0\nd 1\n");
+  const LoadedMesh loaded = load_mesh(write_file(dir / "glass.obj",
+                                                 "mtllib glass.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                 "usemtl glass\nf 1 2 3\nusemtl plain\nf 1 3 4\n"));
+  ASSERT_EQ(loaded.materials.size(), 2u);
+  const Material& glass = loaded.materials[loaded.mesh.material_ids[0]];
+  const Material& plain = loaded.materials[loaded.mesh.material_ids[1]];
+  EXPECT_NEAR(glass.transmission, 0.75f, 1e-6f);  // dissolve 0.25
+  EXPECT_NEAR(glass.ior, 1.33f, 1e-6f);
+  EXPECT_EQ(plain.transmission, 0.0f);
+  EXPECT_EQ(plain.ior, 1.5f);  // Ni 1 reads as "not given": the default
+}
+
 TEST(MeshFormats, ObjWithMissingMtlFileLoads) {
   TempDir dir;
   const auto path = write_file(dir / "nomtl.obj", "mtllib absent.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n");
