@@ -141,6 +141,19 @@ Camera view(const Vec3f& position, const Vec3f& target, int size, float fov) {
   return c;
 }
 
+/// The exact renders a soft-shadow figure compares with: 256 rays per light and pixel (the
+/// reference, rendered once) and the fields' 20 (timed), both kept in `sink`.
+struct ExactSoftShadows {
+  Render reference, same_rays;
+};
+ExactSoftShadows exact_soft_shadows(const SceneQueries& exact, const Scene& scene, const Camera& camera, const ImageSink& sink) {
+  ExactSoftShadows e{render(Integrator::softshadow, exact, scene, camera, soft_options(256), 0),
+                     render(Integrator::softshadow, exact, scene, camera, soft_options(20))};
+  sink.keep("exact256", e.reference.image);
+  sink.keep("exact20", e.same_rays.image);
+  return e;
+}
+
 // GPU paper Figure 7: the caster's soft shadows on the ground from 3 sphere lights, 20 shadow rays
 // per light and pixel, fields at {4226, 16642} x {32^2, 64^2, 128^2}; reference: exact, 256 rays.
 void figure7(const std::string& caster, const ImageSink& sink, std::ostream& out) {
@@ -150,10 +163,7 @@ void figure7(const std::string& caster, const ImageSink& sink, std::ostream& out
   SceneGeometry geometry(scene);
   const BuiltStructure bvh = build_structure("bvh", geometry);
   const Built exact(geometry, bvh, "bvh");
-  const Render reference = render(Integrator::softshadow, *exact.queries, scene, camera, soft_options(256), 0);
-  const Render exact20 = render(Integrator::softshadow, *exact.queries, scene, camera, soft_options(20));
-  sink.keep("exact256", reference.image);
-  sink.keep("exact20", exact20.image);
+  const auto [reference, exact20] = exact_soft_shadows(*exact.queries, scene, camera, sink);
   out << "256x256 pixels, 3 sphere lights, 20 shadow rays per light and pixel (" << exact20.stats.by_kind.shadow
       << " shadow rays). Reference: exact (BVH), 256 rays per light and pixel, " << format("%.2f s", reference.seconds)
       << ". Exact with the same 20 rays: " << format("%.3f s, RMS %.2f", exact20.seconds, rms_255(exact20.image, reference.image))
@@ -190,8 +200,7 @@ void figure8(const std::string& folder, const ImageSink& sink, std::ostream& out
   SceneGeometry geometry(scene);
   const BuiltStructure bvh = build_structure("bvh", geometry);
   const Built exact(geometry, bvh, "bvh");
-  const Render reference = render(Integrator::softshadow, *exact.queries, scene, camera, soft_options(256), 0);
-  const Render exact20 = render(Integrator::softshadow, *exact.queries, scene, camera, soft_options(20));
+  const auto [reference, exact20] = exact_soft_shadows(*exact.queries, scene, camera, sink);
   const Built fields(geometry, bvh, "field:meshes=marked,positions=4226,directions=64");
   const Render field20 = render(Integrator::softshadow, *fields.queries, scene, camera, soft_options(20));
   Scene sharp_scene = scene;  // the paper's BVH comparison: sharp shadows, one ray per light (point lights)
@@ -199,8 +208,6 @@ void figure8(const std::string& folder, const ImageSink& sink, std::ostream& out
   for (const SphereLight& l : scene.sphere_lights)
     sharp_scene.point_lights.push_back(PointLight{l.center, l.radiance * (3.14159265f * l.radius * l.radius)});
   const Render sharp = render(Integrator::softshadow, *exact.queries, sharp_scene, camera, soft_options(1));
-  sink.keep("exact256", reference.image);
-  sink.keep("exact20", exact20.image);
   sink.keep("field4226x64", field20.image);
   sink.keep("sharp", sharp.image);
   out << scene.instanced_triangle_count() << " triangles (bunny, dragon, Armadillo on a ground), 256x256 pixels, 3 sphere lights, "

@@ -84,6 +84,20 @@ float key_time(const JsonField& key, const std::optional<float>& previous) {
   return t;
 }
 
+// "position", "look_at" (away from the position; `position_name` names it in the message) and an
+// optional "up" (not along the view) of a camera or camera key.
+void parse_view(const JsonField& field, const char* position_name, Vec3f& position, Vec3f& look_at, Vec3f& up) {
+  position = field.member("position").as_vec3();
+  const JsonField target = field.member("look_at");
+  look_at = target.as_vec3();
+  const Vec3f view = look_at - position;
+  if (!(length(view) > 0.0f)) target.fail(std::string("must differ from ") + position_name);
+  up = vec3_or(field, "up", up, NumberRange::any());
+  const float up_length = length(up);
+  if (!(up_length > 0.0f) || length(cross(normalize(view), up / up_length)) < 1e-4f)
+    field.member("up").fail("must be non-zero and not parallel to the viewing direction");
+}
+
 }  // namespace
 
 std::vector<PlacementKey> parse_keyframes(const JsonField& instance) {
@@ -112,14 +126,7 @@ std::vector<CameraKey> parse_camera_path(const JsonField& field) {
     CameraKey key;
     key.time = key_time(entry, previous);
     previous = key.time;
-    key.position = entry.member("position").as_vec3();
-    const JsonField look_at = entry.member("look_at");
-    key.look_at = look_at.as_vec3();
-    const Vec3f view = key.look_at - key.position;
-    if (!(length(view) > 0.0f)) look_at.fail("must differ from position");
-    key.up = vec3_or(entry, "up", key.up, NumberRange::any());
-    if (!(length(key.up) > 0.0f) || length(cross(normalize(view), normalize(key.up))) < 1e-4f)
-      entry.member("up").fail("must be non-zero and not parallel to the viewing direction");
+    parse_view(entry, "position", key.position, key.look_at, key.up);
     keys.push_back(key);
   }
   return keys;
@@ -128,15 +135,7 @@ std::vector<CameraKey> parse_camera_path(const JsonField& field) {
 Camera parse_camera(const JsonField& field) {
   field.require_object({"position", "look_at", "up", "fov_deg", "width", "height"});
   Camera c;
-  c.position = field.member("position").as_vec3();
-  const JsonField look_at = field.member("look_at");
-  c.look_at = look_at.as_vec3();
-  const Vec3f view = c.look_at - c.position;
-  if (!(length(view) > 0.0f)) look_at.fail("must differ from camera.position");
-  c.up = vec3_or(field, "up", c.up, NumberRange::any());
-  const float up_length = length(c.up);
-  if (!(up_length > 0.0f) || length(cross(normalize(view), c.up / up_length)) < 1e-4f)
-    field.member("up").fail("must be non-zero and not parallel to the viewing direction");
+  parse_view(field, "camera.position", c.position, c.look_at, c.up);
   c.fov_degrees = optional_or(field, "fov_deg", c.fov_degrees,
                               [](const JsonField& f) { return f.as_float(NumberRange::open(0.0, 180.0)); });
   c.width = optional_or(field, "width", c.width, [](const JsonField& f) { return f.as_int(1, 65536); });
