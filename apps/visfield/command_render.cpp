@@ -87,9 +87,9 @@ void register_render_command(CLI::App& app, Action& action) {
   add_resource_options(*cmd, options->threads);
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float; default visfield-INTEGRATOR.png)");
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");
-  cmd->callback([options, &action] {
+  cmd->callback([options, &action, cmd] {
     // --occluders and --occluder must agree; checked while parsing, so a conflict is a usage error.
-    check_occluder_options(options->shading);
+    check_integrator_options(*cmd, options->shading);
     action = [options] { return run_render(*options); };
   });
 }

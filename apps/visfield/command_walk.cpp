@@ -126,8 +126,8 @@ void register_walk_command(CLI::App& app, Action& action) {
   cmd->add_option("--frames-dir", options->frames_dir, "Folder to keep every frame in as frame-NNNNN.png");
   add_resource_options(*cmd, options->threads);
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");
-  cmd->callback([options, &action] {
-    check_occluder_options(options->shading);
+  cmd->callback([options, &action, cmd] {
+    check_integrator_options(*cmd, options->shading);
     if (!options->plot_with.empty() && options->plot.empty())
       throw CLI::ValidationError("--plot-with", "needs --plot");
     action = [options] { return run_walk(*options); };

@@ -55,7 +55,25 @@ void add_integrator_options(CLI::App& cmd, IntegratorOptions& o, const std::stri
   cmd.add_option("--seed", o.seed, "Random seed (the image depends on it, not on the thread count)")->capture_default_str();
 }
 
-void check_occluder_options(const IntegratorOptions& o) {
+void check_integrator_options(const CLI::App& cmd, const IntegratorOptions& o) {
+  // Which integrators read each integrator-specific option; giving it to another is a mistake.
+  struct Use {
+    const char* option;
+    std::initializer_list<const char*> integrators;
+  };
+  const Use uses[] = {{"--ao-rays", {"ao"}},          {"--ao-directions", {"ao"}},         {"--max-distance", {"ao"}},
+                      {"--depth", {"whitted", "path"}}, {"--shadow-rays", {"softshadow"}},  {"--glossy-rays", {"glossy"}},
+                      {"--ambient", {"raycast", "whitted", "softshadow", "glossy"}}};
+  for (const Use& use : uses) {
+    if (cmd.count(use.option) == 0) continue;
+    const bool used = std::any_of(use.integrators.begin(), use.integrators.end(), [&](const char* i) { return o.integrator == i; });
+    if (!used) {
+      std::string which;
+      for (const char* i : use.integrators) which += (which.empty() ? "" : ", ") + std::string(i);
+      throw CLI::ValidationError(use.option, "only for --integrator " + which + " (this render is " + o.integrator + ")");
+    }
+  }
+
   const bool field_spec =
       !o.occluder.empty() && find_structure(parse_spec(o.occluder, "").name).exactness == Exactness::approximate;
   if (o.occluders == "exact" && field_spec)

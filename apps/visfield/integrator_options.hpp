@@ -35,8 +35,10 @@ struct IntegratorOptions {
 /// --ao-directions, --max-distance, --depth, --shadow-rays, --glossy-rays, --ambient and --seed.
 void add_integrator_options(CLI::App& cmd, IntegratorOptions& options, const std::string& integrator);
 
-/// Throws CLI::ValidationError when --occluders and --occluder disagree (call from the callback).
-void check_occluder_options(const IntegratorOptions& options);
+/// Throws CLI::ValidationError when --occluders and --occluder disagree, or when `cmd`'s command line
+/// gives an option the chosen integrator does not use (--ao-rays with path, --shadow-rays with
+/// whitted, ...). Call from the command's callback.
+void check_integrator_options(const CLI::App& cmd, const IntegratorOptions& options);
 
 /// The spec of the structure for every ray after the camera's ("" = the --accel one): --occluders
 /// field asks for fields (the --occluder field spec, or the default) for every mesh the scene does

@@ -121,7 +121,8 @@ TEST_F(Cli, OccludersSwitchAWholeRenderBetweenFieldsAndExactGeometry) {
 // reports its rays by kind; the shading ones run with field occluders too.
 TEST_F(Cli, EveryIntegratorRendersAndReportsItsRaysByKind) {
   for (const std::string integrator : {"raycast", "whitted", "ao", "softshadow", "glossy", "path"}) {
-    const auto r = visfield("render builtin:cornell:size=400 --width 16 --height 12 --ao-rays 4 --no-progress --integrator " + integrator);
+    const auto r = visfield("render builtin:cornell:size=400 --width 16 --height 12 --no-progress --integrator " + integrator +
+                            (integrator == "ao" ? " --ao-rays 4" : ""));
     ASSERT_EQ(r.exit_code, 0) << integrator << ": " << r.err;
     EXPECT_TRUE(fs::exists(dir_ / ("visfield-" + integrator + ".png"))) << integrator;
     EXPECT_NE(r.out.find("rays (camera 192, shadow "), std::string::npos) << r.out;
@@ -276,6 +277,10 @@ TEST_F(Cli, BadCommandLinesFailWithOneLine) {
   expect_clean_failure("render builtin:cornell --integrator softshadow --shadow-rays 0", "--shadow-rays");
   expect_clean_failure("render builtin:cornell --integrator glossy --glossy-rays -2", "--glossy-rays");
   expect_clean_failure("render builtin:cornell --integrator raycast --ambient -0.5", "--ambient");
+  expect_clean_failure("render builtin:cornell --integrator path --ao-rays 8", "--ao-rays: only for --integrator ao");
+  expect_clean_failure("render builtin:cornell --integrator whitted --shadow-rays 8", "--shadow-rays: only for --integrator softshadow");
+  expect_clean_failure("render builtin:cornell --depth 3", "--depth: only for --integrator whitted, path");
+  expect_clean_failure("walk builtin:cornell --max-distance 2", "--max-distance: only for --integrator ao");
   expect_clean_failure("render builtin:cornell --max-distance -1", "--max-distance");
   expect_clean_failure("render builtin:cornell --out picture.bmp", "picture.bmp");
   expect_clean_failure("render", "scene");
