@@ -141,7 +141,8 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     options.accels = split_spec_list(accel_list);
     return options;
   }
-  if (!options.walk_csv_dir.empty() || !options.walk_plot.empty()) throw UsageError("--walk-csv and --walk-plot: only with --walk");
+  if (!options.walk_csv_dir.empty() || !options.walk_plot.empty() || app.count("--integrator") > 0)
+    throw UsageError("--integrator, --walk-csv and --walk-plot: only with --walk");
   if (kind_name.empty()) throw UsageError("--rays is required");
   if (accel_list.empty()) throw UsageError("--accel is required");
   options.kind = *parse_ray_kind(kind_name);

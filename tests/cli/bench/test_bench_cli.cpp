@@ -216,6 +216,7 @@ TEST_F(BenchCli, WalkRefusesStillScenesAndBadFrames) {
   expect_refused("--walk 4 --scene builtin:boxes:size=12 --accel bvh", 1, "nothing moves");
   expect_refused("--walk 1 --scene " + scene.string() + " --accel bvh", 2, "--walk");
   expect_refused(kScene + "--rays primary --accel bvh --walk-plot p.png", 2, "only with --walk");
+  expect_refused(kScene + "--rays primary --accel bvh --integrator path", 2, "only with --walk");
 }
 
 TEST_F(BenchCli, EmbreeWithoutEmbreeIsAUsageError) {
