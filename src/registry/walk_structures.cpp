@@ -16,15 +16,19 @@ void RegistryWalkStructures::build(const Scene& scene, bool closest, bool occlud
 
 bool RegistryWalkStructures::follow(const Scene& scene, std::span<const ObjectId> moved) {
   // Try the in-place update object by object; a structure that cannot update is rebuilt once.
+  // A BeamField whose object left its bounding sphere rebuilt itself inside commit(): that counts too.
+  bool rebuilt_inside = false;
   auto updated = [&](BuiltStructure& built) {
-    for (const ObjectId id : moved)
+    for (const ObjectId id : moved) {
       if (!update_in_place(built.structure, id, scene.instance(id).transform)) return false;
+      if (const auto* beam = std::get_if<BeamField>(&built.structure)) rebuilt_inside |= beam->beam_stats().last_commit_rebuilt;
+    }
     return true;
   };
   const bool rebuild_closest = !updated(*closest_);
   const bool rebuild_occluder = occluder_ && !updated(*occluder_);
   if (rebuild_closest || rebuild_occluder) build(scene, rebuild_closest, rebuild_occluder);
-  return rebuild_closest || rebuild_occluder;
+  return rebuild_closest || rebuild_occluder || rebuilt_inside;
 }
 
 std::string RegistryWalkStructures::label() const {

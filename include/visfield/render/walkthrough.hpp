@@ -24,8 +24,8 @@ class WalkStructures {
  public:
   virtual ~WalkStructures() = default;
   /// Brings the structures to `scene`'s current placements after the objects `moved` changed (none
-  /// in a camera-only walk: nothing to do). Returns true when it rebuilt, false when it updated in
-  /// place (or had nothing to do).
+  /// in a camera-only walk: nothing to do). Returns true when it rebuilt (a BeamField that rebuilt
+  /// itself because an object left its sphere included), false when it updated in place.
   virtual bool follow(const Scene& scene, std::span<const ObjectId> moved) = 0;
   /// The queries of the current structures (valid until the next follow()).
   virtual const SceneQueries& queries() const = 0;
