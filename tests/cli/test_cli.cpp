@@ -137,8 +137,10 @@ TEST_F(Cli, EveryIntegratorRendersAndReportsItsRaysByKind) {
 // another run's; what it cannot do it refuses before the first frame.
 TEST_F(Cli, WalkWritesFrameTimesAndAPlot) {
   write("tetra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
-  write("walk.json", R"({"meshes": [{"name": "t", "path": "tetra.obj"}],
-    "instances": [{"mesh": "t", "keyframes": [{"time": 0}, {"time": 1, "translate": [0.5, 0, 0], "rotate_euler_deg": [0, 45, 0]}]}],
+  // A ground around the moving tetrahedron keeps it inside the scene's sphere, so BeamField moves it in place.
+  write("ground.obj", "v -3 -0.01 -3\nv 3 -0.01 -3\nv 3 -0.01 3\nv -3 -0.01 3\nf 1 3 2\nf 1 4 3\n");
+  write("walk.json", R"({"meshes": [{"name": "t", "path": "tetra.obj"}, {"name": "g", "path": "ground.obj"}],
+    "instances": [{"mesh": "g"}, {"mesh": "t", "keyframes": [{"time": 0}, {"time": 1, "translate": [0.5, 0, 0], "rotate_euler_deg": [0, 45, 0]}]}],
     "camera_path": [{"time": 0, "position": [0, 1, 4], "look_at": [0, 0.3, 0]}, {"time": 1, "position": [3, 1, 3], "look_at": [0, 0.3, 0]}]})");
   const std::string common = "walk walk.json --frames 6 --width 24 --height 16 --no-progress ";
   auto r = visfield(common + "--csv bvh.csv");
