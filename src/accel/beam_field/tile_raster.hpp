@@ -28,4 +28,7 @@ struct TileGrid {
 /// triangle's shape. O(tiles of the bounding box). Thread-safe (no state).
 void rasterize_triangle(const TileGrid& grid, Point2 a, Point2 b, Point2 c, double slack, std::vector<std::uint32_t>& tiles);
 
+/// Same contract, by rows: per row of tiles the extent of the edges inside the row, filled.
+void rasterize_triangle_rows(const TileGrid& grid, Point2 a, Point2 b, Point2 c, double slack, std::vector<std::uint32_t>& tiles);
+
 }  // namespace vf::beam
