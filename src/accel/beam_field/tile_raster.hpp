@@ -1,7 +1,7 @@
 #pragma once
 // Private to accel (BeamField, issue 8): conservative rasterisation of a triangle projected along a
-// beam direction into the n×n tiles of that direction's parallel subfield, by an exact
-// polygon–square overlap test (separating axes) over the tiles of the triangle's bounding box.
+// beam direction into the n×n tiles of that direction's parallel subfield: the paper's edge walk
+// with interior fill (VLF-RT Figure 1), done a row of tiles at a time.
 
 #include <cstdint>
 #include <vector>
@@ -22,13 +22,10 @@ struct TileGrid {
 };
 
 /// Appends to `tiles`, in increasing index order, every tile of `grid` that the closed triangle
-/// (a, b, c) comes within `slack` of (slack = 0: every tile it touches, borders and corners
-/// included). A triangle seen edge-on (zero projected area) is its longest edge; a point, itself.
-/// Parts outside the grid are ignored. Conservative: no touched tile is left out, whatever the
-/// triangle's shape. O(tiles of the bounding box). Thread-safe (no state).
+/// (a, b, c) comes within `slack` of in s and in t (slack = 0: every tile it touches, borders and
+/// corners included; degenerate triangles are their segments or their point). Parts outside the
+/// grid are ignored. Conservative: no touched tile is left out, whatever the triangle's shape.
+/// O(rows + tiles). Thread-safe (no state).
 void rasterize_triangle(const TileGrid& grid, Point2 a, Point2 b, Point2 c, double slack, std::vector<std::uint32_t>& tiles);
-
-/// Same contract, by rows: per row of tiles the extent of the edges inside the row, filled.
-void rasterize_triangle_rows(const TileGrid& grid, Point2 a, Point2 b, Point2 c, double slack, std::vector<std::uint32_t>& tiles);
 
 }  // namespace vf::beam
