@@ -60,7 +60,7 @@ void clear_memory_limit() {
 
 void require_memory(double bytes, const std::string& what) {
   const MemoryLimit limit = memory_limit();
-  if (!(bytes <= limit.bytes)) throw Error(what + " would need about " + format_bytes(bytes) + ", more than " + limit.source);
+  if (!(bytes <= limit.bytes)) throw MemoryRefused(what + " would need about " + format_bytes(bytes) + ", more than " + limit.source);
 }
 
 std::string format_bytes(double bytes) {

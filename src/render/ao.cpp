@@ -28,7 +28,8 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
   validate_ao_options(opt);
   const PinholeCamera pinhole(camera);
   const SurfaceSpawner spawner(scene);
-  Image image(pinhole.width(), pinhole.height());
+  const ImageTile region = render_region(opt.region, pinhole.width(), pinhole.height());
+  Image image(region.x1 - region.x0, region.y1 - region.y0);
   const std::optional<DirectionLines> lines =
       opt.psf_level > 0 ? std::optional<DirectionLines>(std::in_place, opt.psf_level) : std::nullopt;
   auto shade_tile = [&](const ImageTile& tile) -> RayCounts {
@@ -40,7 +41,7 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
     std::size_t slot = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
       for (int x = tile.x0; x < tile.x1; ++x) {
-        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) + x;
+        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(pinhole.width()) + x;
         for (int s = 0; s < opt.spp; ++s, ++slot) {
           Rng rng(opt.seed, pixel, static_cast<std::uint64_t>(s));
           const Ray primary = pixel_ray(pinhole, x, y, opt.spp > 1, rng);
@@ -75,11 +76,11 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
         float sum = 0.0f;
         for (int s = 0; s < opt.spp; ++s, ++slot)
           sum += total[slot] < 0.0f ? kAoBackground : total[slot] > 0.0f ? batch.sum(slot).x / total[slot] : 1.0f;
-        image.at(x, y) = Vec3f(sum / static_cast<float>(opt.spp));
+        image.at(x - region.x0, y - region.y0) = Vec3f(sum / static_cast<float>(opt.spp));
       }
     return rays;
   };
-  for_each_tile(image.width, image.height, opt.tile_size, "ao", opt.progress, shade_tile, stats);
+  for_each_tile(region, opt.tile_size, "ao", opt.progress, shade_tile, stats);
   return image;
 }
 

@@ -42,12 +42,13 @@ Vec3f local_lighting(const ShadingContext& context, const SurfaceHit& surface, b
 Image render_pixels(const char* label, const Camera& camera, const ShadingOptions& options, RenderStats* stats,
                     const SampleShader& shade) {
   const PinholeCamera pinhole(camera);
-  Image image(pinhole.width(), pinhole.height());
+  const ImageTile region = render_region(options.region, pinhole.width(), pinhole.height());
+  Image image(region.x1 - region.x0, region.y1 - region.y0);
   auto shade_tile = [&](const ImageTile& tile) -> RayCounts {
     RayCounts rays;
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
-        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) + x;
+        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(pinhole.width()) + x;
         Vec3f sum{0.0f};
         for (int s = 0; s < options.spp; ++s) {
           Rng rng(options.seed, pixel, static_cast<std::uint64_t>(s));
@@ -55,11 +56,11 @@ Image render_pixels(const char* label, const Camera& camera, const ShadingOption
           ++rays.camera;
           sum += shade(camera_ray, rng, rays);
         }
-        image.at(x, y) = sum * (1.0f / static_cast<float>(options.spp));
+        image.at(x - region.x0, y - region.y0) = sum * (1.0f / static_cast<float>(options.spp));
       }
     return rays;
   };
-  for_each_tile(image.width, image.height, options.tile_size, label, options.progress, shade_tile, stats);
+  for_each_tile(region, options.tile_size, label, options.progress, shade_tile, stats);
   return image;
 }
 

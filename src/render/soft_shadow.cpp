@@ -14,7 +14,8 @@ namespace vf::render_detail {
 Image render_soft_shadows(const ShadingContext& context, const Camera& camera, RenderStats* stats) {
   const ShadingOptions& options = context.options;
   const PinholeCamera pinhole(camera);
-  Image image(pinhole.width(), pinhole.height());
+  const ImageTile region = render_region(options.region, pinhole.width(), pinhole.height());
+  Image image(region.x1 - region.x0, region.y1 - region.y0);
   const float per_ray = 1.0f / static_cast<float>(options.shadow_rays);
   auto shade_tile = [&](const ImageTile& tile) -> RayCounts {
     RayCounts rays;
@@ -25,7 +26,7 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
     std::size_t slot = 0;
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
-        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) + x;
+        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(pinhole.width()) + x;
         for (int s = 0; s < options.spp; ++s, ++slot) {
           Rng rng(options.seed, pixel, static_cast<std::uint64_t>(s));
           const Ray primary = pixel_ray(pinhole, x, y, options.spp > 1, rng);
@@ -65,11 +66,11 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
       for (int x = tile.x0; x < tile.x1; ++x) {
         Vec3f sum{0.0f};
         for (int s = 0; s < options.spp; ++s, ++slot) sum += base[slot] + batch.sum(slot);
-        image.at(x, y) = sum * (1.0f / static_cast<float>(options.spp));
+        image.at(x - region.x0, y - region.y0) = sum * (1.0f / static_cast<float>(options.spp));
       }
     return rays;
   };
-  for_each_tile(image.width, image.height, options.tile_size, "softshadow", options.progress, shade_tile, stats);
+  for_each_tile(region, options.tile_size, "softshadow", options.progress, shade_tile, stats);
   return image;
 }
 

@@ -5,6 +5,7 @@
 
 #include <tbb/blocked_range.h>
 
+#include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/render/progress.hpp"
 #include "visfield/core/parallel.hpp"
@@ -12,9 +13,19 @@
 
 namespace vf {
 
-void for_each_tile(int width, int height, int tile_size, const std::string& label, bool progress,
+ImageTile render_region(const ImageTile& region, int width, int height) {
+  if (region.x1 <= region.x0 && region.y1 <= region.y0 && region.x0 == 0 && region.y0 == 0) return ImageTile{0, 0, width, height};
+  if (!(0 <= region.x0 && region.x0 < region.x1 && region.x1 <= width && 0 <= region.y0 && region.y0 < region.y1 && region.y1 <= height))
+    throw Error("render: region [" + std::to_string(region.x0) + ", " + std::to_string(region.x1) + ") x [" + std::to_string(region.y0) +
+                ", " + std::to_string(region.y1) + ") is empty or not inside the " + std::to_string(width) + "x" +
+                std::to_string(height) + " image");
+  return region;
+}
+
+void for_each_tile(const ImageTile& region, int tile_size, const std::string& label, bool progress,
                    const std::function<RayCounts(const ImageTile&)>& shade, RenderStats* stats) {
   const Stopwatch watch;
+  const int width = region.x1 - region.x0, height = region.y1 - region.y0;
   const int tiles_x = (width + tile_size - 1) / tile_size;
   const int tiles_y = (height + tile_size - 1) / tile_size;
   const auto tile_count = static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y);
@@ -26,8 +37,8 @@ void for_each_tile(int width, int height, int tile_size, const std::string& labe
       check_interrupt();
       const int tx = static_cast<int>(i % static_cast<std::size_t>(tiles_x));
       const int ty = static_cast<int>(i / static_cast<std::size_t>(tiles_x));
-      const ImageTile tile{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
-                           std::min(height, (ty + 1) * tile_size)};
+      const ImageTile tile{region.x0 + tx * tile_size, region.y0 + ty * tile_size, region.x0 + std::min(width, (tx + 1) * tile_size),
+                           region.y0 + std::min(height, (ty + 1) * tile_size)};
       const RayCounts counts = shade(tile);
       camera.fetch_add(counts.camera, std::memory_order_relaxed);
       shadow.fetch_add(counts.shadow, std::memory_order_relaxed);

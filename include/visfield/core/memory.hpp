@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "visfield/core/error.hpp"
+
 namespace vf {
 
 /// Physical memory of this machine in bytes; 0 when the system does not say. O(1), thread-safe.
@@ -32,7 +34,13 @@ void set_memory_limit(double bytes, const std::string& source);
 /// Forgets set_memory_limit(): back to the available memory (for tests).
 void clear_memory_limit();
 
-/// Refuses, before allocating, a request beyond memory_limit(): throws vf::Error "<what> would need
+/// What require_memory() throws: a vf::Error that callers may tell apart (the C API's VF_ERROR_OUT_OF_MEMORY).
+class MemoryRefused : public Error {
+ public:
+  explicit MemoryRefused(const std::string& message) : Error(message) {}
+};
+
+/// Refuses, before allocating, a request beyond memory_limit(): throws vf::MemoryRefused "<what> would need
 /// about <bytes>, more than <source>". Thread-safe.
 void require_memory(double bytes, const std::string& what);
 

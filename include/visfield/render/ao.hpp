@@ -12,6 +12,7 @@
 #include "visfield/core/image.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/render/render_stats.hpp"
+#include "visfield/render/tiles.hpp"
 
 namespace vf {
 
@@ -28,6 +29,9 @@ struct AoOptions {
   /// hemisphere and weighted by the cosine (VLF-RT §7: a BeamField of the same level answers every
   /// one of them on its single-tile fast path). Deterministic; no random numbers.
   int psf_level = 0;
+  /// The pixels to render (render_region(): unset = all); the image returned is the region, each
+  /// pixel equal to the whole image's at the same place.
+  ImageTile region{};
 };
 
 /// Value of a pixel sample whose primary ray misses everything: an unoccluded white sky.

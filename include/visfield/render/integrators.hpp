@@ -16,6 +16,7 @@
 #include "visfield/core/image.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/render/render_stats.hpp"
+#include "visfield/render/tiles.hpp"
 
 namespace vf {
 
@@ -63,6 +64,9 @@ struct ShadingOptions {
   int shadow_rays = 20;      ///< softshadow: rays per sphere light per sample (>= 1; the GPU paper uses 20).
   int glossy_rays = 4;       ///< glossy: reflection rays per reflective sample (>= 1; the GPU paper uses 4).
   float ambient = 0.1f;      ///< raycast, whitted, softshadow, glossy: ambient light as a fraction of the diffuse colour (>= 0).
+  /// The pixels to render (render_region(): unset = all); the image returned is the region, each
+  /// pixel equal to the whole image's at the same place.
+  ImageTile region{};
 };
 
 /// Throws vf::Error naming the field when an option is out of range.

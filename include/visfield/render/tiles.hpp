@@ -15,12 +15,16 @@ struct ImageTile {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-/// Cuts a width x height image into tile_size x tile_size tiles (row-major, edge tiles clipped) and calls
+/// The pixels a render of a width x height image computes: `region` when it is set (x1 > x0 or
+/// y1 > y0), else the whole image. Throws vf::Error when a set region is empty or leaves the image.
+ImageTile render_region(const ImageTile& region, int width, int height);
+
+/// Cuts `region` into tile_size x tile_size tiles (row-major from its corner, edge tiles clipped) and calls
 /// `shade` once per tile, in parallel over TBB's threads; `shade` returns the rays it traced (by kind) and must
 /// only write its own tile's pixels. Shows a ProgressBar labelled `label` ticking per tile when
-/// `progress` is set and the loop runs over ~1 s. When `stats` is given, sets its resolution, the
+/// `progress` is set and the loop runs over ~1 s. When `stats` is given, sets its resolution (the region's), the
 /// total rays and the wall seconds. Exceptions from `shade` propagate. tile_size must be >= 1.
-void for_each_tile(int width, int height, int tile_size, const std::string& label, bool progress,
+void for_each_tile(const ImageTile& region, int tile_size, const std::string& label, bool progress,
                    const std::function<RayCounts(const ImageTile&)>& shade, RenderStats* stats);
 
 }  // namespace vf

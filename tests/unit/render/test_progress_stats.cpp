@@ -64,7 +64,7 @@ TEST(ForEachTile, VisitsEveryPixelOnceAndSumsTheRays) {
     const int width = 37, height = 23;
     std::vector<int> visits(width * height, 0);
     RenderStats stats;
-    for_each_tile(width, height, 8, "test", false, [&](const ImageTile& tile) -> RayCounts {
+    for_each_tile(ImageTile{0, 0, width, height}, 8, "test", false, [&](const ImageTile& tile) -> RayCounts {
       EXPECT_LE(tile.x1 - tile.x0, 8);
       EXPECT_LE(tile.y1 - tile.y0, 8);
       for (int y = tile.y0; y < tile.y1; ++y)

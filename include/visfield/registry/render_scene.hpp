@@ -1,0 +1,70 @@
+#pragma once
+/// \file One render of a scene from structure specs, as `visfield render` does it: the structures
+/// are built by role from the registry (camera rays through `accel`, every later ray through the
+/// occluder), then the integrator runs. For library callers that do not want to wire the roles
+/// themselves: the Python module's render() and the distributed renders.
+
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "visfield/core/image.hpp"
+#include "visfield/core/scene.hpp"
+#include "visfield/render/ao.hpp"
+#include "visfield/render/integrators.hpp"
+#include "visfield/render/render_stats.hpp"
+
+namespace vf {
+
+/// What to render and through which structures. Defaults are `visfield render`'s.
+struct RenderSettings {
+  Integrator integrator = Integrator::ao;
+  std::string accel = "bvh";  ///< Structure spec for camera rays (registry syntax).
+  std::string occluder;       ///< Structure spec for every later ray; "" = see `occluders`, else `accel`'s structure.
+  std::string occluders;      ///< "field" (fields for every mesh not marked exact), "exact", or "" (fields where the scene marks meshes).
+  int width = 0;              ///< Image width in pixels; 0 = the scene camera's (else 512).
+  int height = 0;             ///< Image height in pixels; 0 = the scene camera's (else 512).
+  ImageTile region{};         ///< Pixels to render (unset = all); the result is the region (render_region()).
+  int spp = 1;                ///< Camera samples per pixel.
+  int ao_rays = 64;           ///< ao: random rays per hit.
+  int psf_level = 0;          ///< ao: 0, or one ray along each line of the level-L octahedral set (AoOptions::psf_level).
+  float max_distance = std::numeric_limits<float>::infinity();  ///< ao: ray length.
+  int depth = 5;              ///< whitted levels, path bounces.
+  int shadow_rays = 20;       ///< softshadow: rays per sphere light per sample.
+  int glossy_rays = 4;        ///< glossy: reflection rays per reflective sample.
+  float ambient = 0.1f;       ///< raycast, whitted, softshadow, glossy: ambient fraction of the diffuse colour.
+  std::uint64_t seed = 1;     ///< The image depends on it, never on the thread count or the region.
+  bool progress = false;      ///< Progress bars on stderr (precomputes, long renders).
+};
+
+/// The occluder spec `settings` choose for `scene` ("" = the accel structure answers every ray):
+/// occluders "field" asks for fields (the `occluder` field spec, or the default) for every mesh
+/// the scene does not mark exact, "exact" for exact geometry only; with neither, a scene that marks
+/// meshes "occluder": "field" gets fields for those. Throws vf::Error when `occluders` is not
+/// field, exact or empty, or contradicts `occluder` (an exact spec with "field", a field spec with "exact").
+std::string occluder_spec(const RenderSettings& settings, const Scene& scene);
+
+/// Upper bound of the rays a camera sample that hits traces after the camera ray. O(1).
+std::uint64_t rays_per_hit(const RenderSettings& settings, const Scene& scene);
+
+/// The AO integrator's options from `settings`.
+AoOptions ao_options(const RenderSettings& settings);
+
+/// The shading integrators' options from `settings`.
+ShadingOptions shading_options(const RenderSettings& settings);
+
+/// A render and what it ran on.
+struct RenderResult {
+  Image image;               ///< Linear radiance (AO: unoccluded fraction), the region's size.
+  RenderStats stats;         ///< Rays by kind, seconds.
+  std::string accel;         ///< The camera-ray structure as resolved ("bvh:levels=1").
+  std::string occluder;      ///< The occluder as resolved ("" = the accel structure).
+  double build_ms = 0.0;     ///< Build time of the structures together.
+};
+
+/// Builds the structures `settings` name over `scene` (memory checked first) and renders its camera
+/// with `settings.integrator`. Deterministic per (seed, pixel, sample). Throws vf::Error on bad
+/// settings or a failed build, vf::Interrupted on a signal. Parallel (TBB).
+RenderResult render_scene(const Scene& scene, const RenderSettings& settings);
+
+}  // namespace vf
