@@ -1,10 +1,26 @@
 #!/usr/bin/env bash
-# Installs the build tree into a temporary prefix, then configures, builds and runs a consumer
-# project that finds visfield with find_package.
+# Installs the build tree into a temporary prefix, then configures, builds and runs consumer
+# projects against it: a C++ one that finds visfield with find_package, and the C example built
+# once through find_package and once through pkg-config alone.
 set -euo pipefail
 build_dir=$1 source_dir=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
-cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
-cmake -S "$source_dir/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
+prefix="$work/prefix"
+cmake --install "$build_dir" --prefix "$prefix" >/dev/null
+cmake -S "$source_dir/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$work/consumer" -j2 >/dev/null
 "$work/consumer/consumer"
+
+example="$(cd "$source_dir" && pwd)/examples/c/visfield_example.c"
+cmake -S "$source_dir/tests/install/c_consumer" -B "$work/c_consumer" -DCMAKE_PREFIX_PATH="$prefix" -DEXAMPLE="$example" >/dev/null
+cmake --build "$work/c_consumer" -j2 >/dev/null
+LD_LIBRARY_PATH="$prefix/lib:${LD_LIBRARY_PATH:-}" "$work/c_consumer/c_consumer" >/dev/null
+echo "C example through find_package: ok"
+
+# pkg-config knows the prefix the build was configured with; point it at this one.
+libdir=$(ls -d "$prefix"/lib*/pkgconfig | head -1)
+flags=$(PKG_CONFIG_PATH="$libdir" pkg-config --define-variable=prefix="$prefix" --cflags --libs visfield)
+# shellcheck disable=SC2086
+cc -std=c99 -Wall -Wextra -Werror "$example" $flags -o "$work/c_pkgconfig"
+LD_LIBRARY_PATH="$prefix/lib:${LD_LIBRARY_PATH:-}" "$work/c_pkgconfig" >/dev/null
+echo "C example through pkg-config: ok"
