@@ -66,34 +66,70 @@ ShadingOptions shading_options(const RenderSettings& s) {
   return o;
 }
 
-RenderResult render_scene(const Scene& scene, const RenderSettings& s) {
+namespace {
+
+void validate(const RenderSettings& s) {
   if (s.width < 0 || s.height < 0) throw Error("render: width and height must be positive (or 0 for the scene camera's)");
   if (s.integrator == Integrator::ao)
     validate_ao_options(ao_options(s));
   else
     validate_shading_options(shading_options(s));
+}
+
+}  // namespace
+
+struct SceneRenderer::Built {
+  BuiltStructure closest;
+  std::optional<BuiltStructure> occluder;
+  std::unique_ptr<SceneQueries> queries;
+};
+
+SceneRenderer::SceneRenderer(const Scene& scene, const RenderSettings& s, std::uint64_t rays) : scene_(scene) {
+  validate(s);
   if (scene.instances().empty() || scene.instanced_triangle_count() == 0) throw Error(scene.name + ": the scene has no triangles");
   SceneGeometry geometry(scene);
-  const Camera camera = scene.camera_or_default(s.width, s.height);
+  if (rays == 0) {
+    const Camera camera = scene.camera_or_default(s.width, s.height);
+    const ImageTile region = render_region(s.region, camera.width, camera.height);
+    const auto pixels = static_cast<std::uint64_t>(region.x1 - region.x0) * static_cast<std::uint64_t>(region.y1 - region.y0);
+    rays = pixels * static_cast<std::uint64_t>(s.spp) * (1u + rays_per_hit(s, scene));
+  }
+  const BuildContext context{rays, s.progress};
+  auto built = std::make_unique<Built>(Built{build_structure(s.accel, geometry, context, "accel "), std::nullopt, nullptr});
+  const std::string occluder_choice = occluder_spec(s, scene);
+  if (!occluder_choice.empty() && occluder_choice != s.accel) built->occluder = build_structure(occluder_choice, geometry, context, "occluder ");
+  built->queries = scene_queries(built->closest.structure, built->occluder ? built->occluder->structure : built->closest.structure);
+  built_ = std::move(built);
+}
+
+SceneRenderer::~SceneRenderer() = default;
+
+const std::string& SceneRenderer::accel() const { return built_->closest.resolved; }
+
+const std::string& SceneRenderer::occluder() const {
+  static const std::string none;
+  return built_->occluder ? built_->occluder->resolved : none;
+}
+
+double SceneRenderer::build_ms() const {
+  return structure_stats(built_->closest.structure).build_ms + (built_->occluder ? structure_stats(built_->occluder->structure).build_ms : 0.0);
+}
+
+RenderResult SceneRenderer::render(const RenderSettings& s, const Camera* given) const {
+  validate(s);
+  const Camera camera = given ? *given : scene_.camera_or_default(s.width, s.height);
   const ImageTile region = render_region(s.region, camera.width, camera.height);
   const double pixels = static_cast<double>(region.x1 - region.x0) * static_cast<double>(region.y1 - region.y0);
   require_memory(pixels * sizeof(Vec3f), "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
-  const std::uint64_t rays = static_cast<std::uint64_t>(pixels) * static_cast<std::uint64_t>(s.spp) * (1u + rays_per_hit(s, scene));
-  const BuildContext context{rays, s.progress};
-
-  const BuiltStructure closest = build_structure(s.accel, geometry, context, "accel ");
-  const std::string occluder_choice = occluder_spec(s, scene);
-  std::optional<BuiltStructure> occluder;
-  if (!occluder_choice.empty() && occluder_choice != s.accel) occluder = build_structure(occluder_choice, geometry, context, "occluder ");
-  const std::unique_ptr<SceneQueries> queries = scene_queries(closest.structure, occluder ? occluder->structure : closest.structure);
-
   RenderResult result;
-  result.accel = closest.resolved;
-  result.occluder = occluder ? occluder->resolved : "";
-  result.build_ms = structure_stats(closest.structure).build_ms + (occluder ? structure_stats(occluder->structure).build_ms : 0.0);
-  result.image = s.integrator == Integrator::ao ? render_ao(*queries, scene, camera, ao_options(s), &result.stats)
-                                                : render_shaded(s.integrator, *queries, scene, camera, shading_options(s), &result.stats);
+  result.accel = accel();
+  result.occluder = occluder();
+  result.build_ms = build_ms();
+  result.image = s.integrator == Integrator::ao ? render_ao(*built_->queries, scene_, camera, ao_options(s), &result.stats)
+                                                : render_shaded(s.integrator, *built_->queries, scene_, camera, shading_options(s), &result.stats);
   return result;
 }
+
+RenderResult render_scene(const Scene& scene, const RenderSettings& settings) { return SceneRenderer(scene, settings).render(settings); }
 
 }  // namespace vf

@@ -16,29 +16,35 @@ constexpr const char* kCsvTitle = "# visfield walk: ";
 
 }  // namespace
 
-std::vector<WalkFrame> render_walkthrough(Scene& scene, WalkStructures& structures, const WalkOptions& options) {
-  if (options.frames < 2) throw Error("walk: frames must be at least 2, got " + std::to_string(options.frames));
+Camera place_frame(Scene& scene, const Camera& base, int frame, int frames) {
+  if (frames < 2) throw Error("walk: frames must be at least 2, got " + std::to_string(frames));
+  if (frame < 0 || frame >= frames) throw Error("walk: frame " + std::to_string(frame) + " is not in [0, " + std::to_string(frames) + ")");
   if (scene.animation.empty())
     throw Error("walk: " + (scene.name.empty() ? std::string("the scene") : scene.name) +
                 " has no \"camera_path\" and no object \"keyframes\"; nothing moves");
   const auto [t0, t1] = scene.animation.time_span();
+  const float time = t0 + (t1 - t0) * static_cast<float>(frame) / static_cast<float>(frames - 1);
+  for (const ObjectPath& path : scene.animation.objects) scene.set_transform(path.object, SceneAnimation::placement_at(path, time));
+  Camera camera = base;
+  if (!scene.animation.camera.empty()) {
+    const CameraKey key = scene.animation.camera_at(time);
+    camera.position = key.position;
+    camera.look_at = key.look_at;
+    camera.up = key.up;
+  }
+  return camera;
+}
+
+std::vector<WalkFrame> render_walkthrough(Scene& scene, WalkStructures& structures, const WalkOptions& options) {
+  if (options.frames < 2) throw Error("walk: frames must be at least 2, got " + std::to_string(options.frames));
   const Camera base = scene.camera_or_default(options.width, options.height);
   std::vector<ObjectId> moving;
   for (const ObjectPath& path : scene.animation.objects) moving.push_back(path.object);
   std::vector<WalkFrame> frames;
   for (int f = 0; f < options.frames; ++f) {
-    const float time = t0 + (t1 - t0) * static_cast<float>(f) / static_cast<float>(options.frames - 1);
     WalkFrame frame;
     frame.frame = f;
-    for (const ObjectPath& path : scene.animation.objects)
-      scene.set_transform(path.object, SceneAnimation::placement_at(path, time));
-    Camera camera = base;
-    if (!scene.animation.camera.empty()) {
-      const CameraKey key = scene.animation.camera_at(time);
-      camera.position = key.position;
-      camera.look_at = key.look_at;
-      camera.up = key.up;
-    }
+    const Camera camera = place_frame(scene, base, f, options.frames);
     const Stopwatch update;
     // Every frame follows when anything moves, frame 0 too: the structures were built over the
     // placements the scene file gives, which the first keys may change.

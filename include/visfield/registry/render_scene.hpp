@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "visfield/core/image.hpp"
@@ -62,9 +63,39 @@ struct RenderResult {
   double build_ms = 0.0;     ///< Build time of the structures together.
 };
 
-/// Builds the structures `settings` name over `scene` (memory checked first) and renders its camera
-/// with `settings.integrator`. Deterministic per (seed, pixel, sample). Throws vf::Error on bad
-/// settings or a failed build, vf::Interrupted on a signal. Parallel (TBB).
+/// The structures of one scene, built once by role, rendering any number of images through them:
+/// the frames of a walk whose objects stay put, the regions of one image, several integrators.
+class SceneRenderer {
+ public:
+  /// Builds the structures `settings` name (accel, occluder, occluders) over `scene`, which must
+  /// outlive this and not change while it lives; the memory estimate is checked first. `rays`: what
+  /// the renders will trace, for `auto` (0: one render of `settings`). Throws vf::Error on a bad
+  /// spec or a failed build, vf::Interrupted on a signal.
+  SceneRenderer(const Scene& scene, const RenderSettings& settings, std::uint64_t rays = 0);
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  /// Renders with `settings`' integrator, options and region (its structure specs are ignored)
+  /// from `camera`, or the scene camera at settings' width x height when null. Deterministic per
+  /// (seed, pixel, sample). Thread-safe: renders may run at once. Throws vf::Error on bad settings.
+  RenderResult render(const RenderSettings& settings, const Camera* camera = nullptr) const;
+
+  /// The camera-ray structure as resolved ("bvh:levels=1").
+  const std::string& accel() const;
+  /// The occluder as resolved ("" = the accel structure answers every ray).
+  const std::string& occluder() const;
+  /// Build time of the structures together, in milliseconds.
+  double build_ms() const;
+
+ private:
+  struct Built;
+  const Scene& scene_;
+  std::unique_ptr<Built> built_;
+};
+
+/// SceneRenderer(scene, settings).render(settings): builds the structures `settings` name over `scene`
+/// (memory checked first) and renders its camera with `settings.integrator`. Throws as both do.
 RenderResult render_scene(const Scene& scene, const RenderSettings& settings);
 
 }  // namespace vf

@@ -58,6 +58,13 @@ struct WalkOptions {
   std::function<void(int, const Image&)> on_frame;  ///< Called with each frame's image (optional).
 };
 
+/// Frame `frame` of `frames` (>= 2) of `scene.animation`, at time t0 + (t1 - t0) frame / (frames - 1)
+/// over the animation's time span: places every object that has a path (Scene::set_transform) and
+/// returns the camera at that time (`base`'s field of view and size, the path's position, target and
+/// up; `base` itself when there is no camera path). Throws vf::Error when the scene does not move or
+/// frame is outside [0, frames).
+Camera place_frame(Scene& scene, const Camera& base, int frame, int frames);
+
 /// Renders frames 0 .. frames-1 of `scene.animation`: frame f at time t0 + (t1 - t0) f / (frames - 1)
 /// over the animation's time span. Per frame: every object with a path is placed
 /// (Scene::set_transform), `structures` follow them (timed: update_ms), and the camera at that time
