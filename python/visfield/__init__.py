@@ -1,0 +1,63 @@
+"""visfield from Python: fast ray-scene visibility queries on NumPy arrays.
+
+Scenes come from mesh files, scene .json files, built-in scenes or NumPy arrays; any structure of
+visfield's registry is built by its spec ("bvh", "kdtree:kt=10", "beam:dirs=513", "field:...");
+queries take float32 arrays in place and release the GIL while they run::
+
+    import numpy as np
+    import visfield as vf
+
+    scene = vf.Scene.load("bunny.ply")
+    bvh = vf.build(scene, "bvh")
+    hits = bvh.intersect(origins, directions)          # Hits(t, prim, instance, u, v, normal)
+    blocked = bvh.occluded(origins, directions, tmax=1.0)
+    image = vf.render(scene, integrator="ao", ao_rays=64, width=256, height=256)
+
+Fields (ObjectField), BeamField updates, renders with every integrator, image comparison, and
+renders or field builds spread over a Dask cluster (visfield.distributed) are here too.
+"""
+
+from ._visfield import (  # noqa: F401  (the public API)
+    INVALID_ID,
+    Camera,
+    Error,
+    Field,
+    Renderer,
+    Scene,
+    Structure,
+    __version__,
+    build,
+    compare,
+    read_image,
+    render,
+    set_threads,
+    structures,
+    threads,
+    write_image,
+)
+
+
+def load(path):
+    """A scene from a mesh file, a scene .json file, or "builtin:NAME[:key=value,...]" (Scene.load)."""
+    return Scene.load(str(path))
+
+
+__all__ = [
+    "INVALID_ID",
+    "Camera",
+    "Error",
+    "Field",
+    "Renderer",
+    "Scene",
+    "Structure",
+    "__version__",
+    "build",
+    "compare",
+    "load",
+    "read_image",
+    "render",
+    "set_threads",
+    "structures",
+    "threads",
+    "write_image",
+]

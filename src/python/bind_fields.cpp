@@ -1,0 +1,164 @@
+// visfield.Field: one mesh's ObjectField, built, saved, loaded and queried in the mesh's object space.
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "arrays.hpp"
+#include "handles.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/core/triangle_set.hpp"
+#include "visfield/field/field_file.hpp"
+
+#include <tbb/blocked_range.h>
+
+namespace vf::python {
+namespace {
+
+const TriangleMesh& mesh_of(const Scene& scene, std::uint32_t mesh) {
+  if (mesh >= scene.meshes.size())
+    throw py::value_error("mesh " + std::to_string(mesh) + " does not exist (the scene has " + std::to_string(scene.meshes.size()) + ")");
+  return scene.meshes[mesh];
+}
+
+// The field's answers for `rays` (object space), a block at a time through the SIMD batch.
+std::vector<field::FieldAnswer> trace(const field::ObjectField& f, const RayArrays& rays) {
+  std::vector<field::FieldAnswer> answers(rays.count);
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.count, 4096), [&](const auto& range) {
+    const std::size_t n = range.size();
+    std::vector<float> c(8 * n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const Ray r = rays.at(range.begin() + k);
+      const float v[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
+      for (std::size_t col = 0; col < 8; ++col) c[col * n + k] = v[col];
+    }
+    const field::ObjectRays soa{c.data(), c.data() + n, c.data() + 2 * n, c.data() + 3 * n, c.data() + 4 * n, c.data() + 5 * n,
+                                c.data() + 6 * n, c.data() + 7 * n, n};
+    f.trace_batch(soa, answers.data() + range.begin());
+  });
+  return answers;
+}
+
+}  // namespace
+
+void bind_fields(py::module_& m) {
+  py::class_<FieldHandle>(m, "Field",
+                          "One mesh's ObjectField (approximate, constant time per ray): distances from its bounding sphere inwards, "
+                          "queried in the mesh's object space.")
+      .def_static(
+          "build",
+          [](const SceneHandle& scene, std::uint32_t mesh, int positions, int directions, const std::string& mapping, const std::string& storage,
+             const std::string& normals, bool bilinear, bool blend) {
+            const std::shared_ptr<Scene> s = scene.shared();
+            const TriangleMesh& source = mesh_of(*s, mesh);
+            const std::string spec = "field:positions=" + std::to_string(positions) + ",directions=" + std::to_string(directions) +
+                                     ",mapping=" + mapping + ",storage=" + storage + ",normals=" + normals + ",bilinear=" + (bilinear ? "1" : "0") +
+                                     ",blend=" + (blend ? "1" : "0");
+            field::ObjectFieldConfig config;
+            try {
+              config = field_config_from_spec(spec, "");
+            } catch (const Error& e) {
+              throw py::value_error(e.what());
+            }
+            std::shared_ptr<FieldHolder> holder;
+            {
+              py::gil_scoped_release release;
+              const TriangleSet triangles = mesh_triangles(source);
+              if (triangles.size() == 0) throw Error("mesh " + std::to_string(mesh) + " has no triangles of non-zero area");
+              holder = std::make_shared<FieldHolder>(FieldHolder{field::ObjectField::build(triangles, config), field::mesh_hash(triangles)});
+            }
+            return FieldHandle(std::move(holder), "field");
+          },
+          py::arg("scene"), py::arg("mesh") = 0, py::arg("positions") = 4226, py::arg("directions") = 32, py::arg("mapping") = "concentric",
+          py::arg("storage") = "u8", py::arg("normals") = "none", py::arg("bilinear") = false, py::arg("blend") = false,
+          "Precomputes the field of mesh `mesh` of `scene` (parameters as `visfield field build`). The GIL is released while it runs.")
+      .def_static(
+          "load",
+          [](const std::string& path, const SceneHandle& scene, std::uint32_t mesh) {
+            const std::shared_ptr<Scene> s = scene.shared();
+            const TriangleMesh& source = mesh_of(*s, mesh);
+            std::shared_ptr<FieldHolder> holder;
+            {
+              py::gil_scoped_release release;
+              const std::uint64_t hash = field::mesh_hash(mesh_triangles(source));
+              holder = std::make_shared<FieldHolder>(FieldHolder{field::load_field(path, hash).field, hash});
+            }
+            return FieldHandle(std::move(holder), "field");
+          },
+          py::arg("path"), py::arg("scene"), py::arg("mesh") = 0, "Reads a .vfield file made for mesh `mesh` of `scene` (refused when made for another mesh).")
+      .def(
+          "save",
+          [](const FieldHandle& h, const std::string& path) {
+            const FieldHolder& f = h.get();
+            py::gil_scoped_release release;
+            field::save_field(f.field, f.mesh_hash, path);
+          },
+          py::arg("path"), "Writes the field to a .vfield file atomically (no partial file on failure).")
+      .def_property_readonly("positions", [](const FieldHandle& h) { return h.get().field.position_count(); })
+      .def_property_readonly("directions", [](const FieldHandle& h) { return h.get().field.config().directions; })
+      .def_property_readonly("has_normals", [](const FieldHandle& h) { return h.get().field.config().normals != field::NormalStorage::none; })
+      .def_property_readonly("memory_bytes", [](const FieldHandle& h) { return h.get().field.memory_bytes(); })
+      .def_property_readonly("build_ms", [](const FieldHandle& h) { return h.get().field.build_ms(); })
+      .def_property_readonly(
+          "sphere",
+          [](const FieldHandle& h) {
+            const field::BoundingSphere& s = h.get().field.sphere();
+            return py::make_tuple(py::make_tuple(s.centre.x, s.centre.y, s.centre.z), s.radius);
+          },
+          "The bounding sphere in object space: ((x, y, z), radius).")
+      .def(
+          "intersect",
+          [](const FieldHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+            const FieldHolder& f = h.get();
+            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            py::array_t<float> t(static_cast<py::ssize_t>(rays.count));
+            py::array_t<float> normal({static_cast<py::ssize_t>(rays.count), py::ssize_t{3}});
+            {
+              py::gil_scoped_release release;
+              const std::vector<field::FieldAnswer> answers = trace(f.field, rays);
+              float* tp = t.mutable_data();
+              float* np = normal.mutable_data();
+              for (std::size_t i = 0; i < answers.size(); ++i) {
+                const field::FieldAnswer& a = answers[i];
+                tp[i] = a.hit ? a.t : std::numeric_limits<float>::infinity();
+                np[3 * i] = a.has_normal ? a.normal.x : 0.0f;
+                np[3 * i + 1] = a.has_normal ? a.normal.y : 0.0f;
+                np[3 * i + 2] = a.has_normal ? a.normal.z : 0.0f;
+              }
+            }
+            return py::make_tuple(t, normal);
+          },
+          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Approximate closest hits of object-space rays: (t, normal), t = inf for a miss, the unit normal where the field has a normal field.")
+      .def(
+          "occluded",
+          [](const FieldHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+            const FieldHolder& f = h.get();
+            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            py::array_t<bool> out(static_cast<py::ssize_t>(rays.count));
+            {
+              py::gil_scoped_release release;
+              const std::vector<field::FieldAnswer> answers = trace(f.field, rays);
+              bool* o = out.mutable_data();
+              for (std::size_t i = 0; i < answers.size(); ++i) o[i] = answers[i].hit;
+            }
+            return out;
+          },
+          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Approximate occlusion of object-space rays: a bool array.")
+      .def("close", &FieldHandle::close, "Frees the field now.")
+      .def_property_readonly("closed", &FieldHandle::closed)
+      .def("__enter__", [](FieldHandle& h) -> FieldHandle& { return h; })
+      .def("__exit__", [](FieldHandle& h, const py::args&) { h.close(); })
+      .def("__repr__", [](const FieldHandle& h) {
+        if (h.closed()) return std::string("<visfield.Field (closed)>");
+        const field::ObjectField& f = h.get().field;
+        return "<visfield.Field " + std::to_string(f.position_count()) + " positions x " + std::to_string(f.config().directions) + "^2>";
+      });
+}
+
+}  // namespace vf::python

@@ -1,0 +1,160 @@
+// visfield.Structure, visfield.build() and visfield.structures(): any structure of the registry
+// by spec, queried with NumPy arrays read in place, the GIL released while it works.
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <limits>
+#include <string>
+
+#include "arrays.hpp"
+#include "handles.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/registry/scene_geometry.hpp"
+#include "visfield/registry/structure_queries.hpp"
+
+namespace vf::python {
+namespace {
+
+// The namedtuple intersect() returns: Hits(t, prim, instance, u, v, normal).
+py::object hits_type() {
+  static py::object type = py::module_::import("collections").attr("namedtuple")("Hits", "t prim instance u v normal");
+  return type;
+}
+
+template <class T>
+py::array_t<T> new_array(std::size_t n) {
+  return py::array_t<T>(static_cast<py::ssize_t>(n));
+}
+
+// Runs an edit of an updatable structure; ValueError for an unknown id, TypeError-free otherwise.
+template <class Edit>
+void edit(StructureHandle& h, Edit&& body) {
+  BuiltHandle& b = h.get();
+  if (!is_updatable(b.structure))
+    throw py::value_error("the structure " + b.spec + " cannot be edited after its build (BeamField and two-level structures can)");
+  try {
+    py::gil_scoped_release release;
+    body(b.structure);
+  } catch (const Error& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+}  // namespace
+
+void bind_structures(py::module_& m) {
+  m.def(
+      "structures", [] { return structure_names(); }, "Names of every structure the registry builds (see `visfield structures`).");
+
+  m.def(
+      "build",
+      [](const SceneHandle& scene, const std::string& spec) {
+        const std::shared_ptr<Scene> s = scene.shared();
+        try {
+          check_structure_spec(spec, "spec ");
+        } catch (const Error& e) {
+          throw py::value_error(e.what());
+        }
+        if (s->instances().empty() || s->instanced_triangle_count() == 0) throw py::value_error("build: the scene has no triangles");
+        std::shared_ptr<BuiltHandle> built;
+        {
+          py::gil_scoped_release release;
+          SceneGeometry geometry(*s);
+          BuiltStructure b = build_structure(spec, geometry, {}, "spec ");
+          built = std::make_shared<BuiltHandle>(BuiltHandle{std::move(b.structure), std::move(b.resolved)});
+        }
+        return StructureHandle(std::move(built), "structure");
+      },
+      py::arg("scene"), py::arg("spec") = "bvh",
+      "Builds the structure `spec` names ('bvh', 'kdtree:kt=10', 'beam:dirs=513', 'field:positions=4226', ...) over the scene as it is "
+      "now. The memory estimate is checked first (MemoryError). The GIL is released while it builds.");
+
+  py::class_<StructureHandle>(m, "Structure", "A built structure: exact (bvh, kdtree, grid, median-bsp, beam, brute) or approximate (field).")
+      .def_property_readonly("spec", [](const StructureHandle& h) { return h.get().spec; }, "The spec as resolved ('bvh:levels=1').")
+      .def_property_readonly(
+          "exact",
+          [](const StructureHandle& h) {
+            return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::exactness == Exactness::exact; }, h.get().structure);
+          },
+          "True for an exact structure (answers as brute force does).")
+      .def_property_readonly("updatable", [](const StructureHandle& h) { return is_updatable(h.get().structure); },
+                             "True when objects can be removed, inserted and moved after the build.")
+      .def_property_readonly(
+          "stats",
+          [](const StructureHandle& h) {
+            const AccelStats s = structure_stats(h.get().structure);
+            py::dict d;
+            d["build_ms"] = s.build_ms, d["memory_bytes"] = s.memory_bytes, d["nodes"] = s.node_count, d["leaves"] = s.leaf_count;
+            d["references"] = s.reference_count, d["depth"] = s.max_depth;
+            return d;
+          },
+          "Build time (ms), memory (bytes), nodes, leaves, references, depth.")
+      .def(
+          "intersect",
+          [](const StructureHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+            const BuiltHandle& b = h.get();
+            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            auto t = new_array<float>(rays.count), u = new_array<float>(rays.count), v = new_array<float>(rays.count);
+            auto prim = new_array<std::uint32_t>(rays.count), instance = new_array<std::uint32_t>(rays.count);
+            py::array_t<float> normal({static_cast<py::ssize_t>(rays.count), py::ssize_t{3}});
+            HitArrays out;
+            out.t.data = t.mutable_data(), out.u.data = u.mutable_data(), out.v.data = v.mutable_data();
+            out.prim.data = prim.mutable_data(), out.instance.data = instance.mutable_data();
+            float* n = normal.mutable_data();
+            out.nx = {n, 3 * sizeof(float)}, out.ny = {n + 1, 3 * sizeof(float)}, out.nz = {n + 2, 3 * sizeof(float)};
+            {
+              py::gil_scoped_release release;
+              intersect_arrays(b.structure, rays, out);
+            }
+            return hits_type()(t, prim, instance, u, v, normal);
+          },
+          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Closest hits of rays origins[i] + t*directions[i], t in (tmin, tmax]: origins and directions float32 (N, 3) (read in place), "
+          "tmin/tmax numbers or float32 (N,). Returns Hits(t, prim, instance, u, v, normal): a miss has t = inf and prim = instance = "
+          "INVALID_ID; a field's hit has prim = INVALID_ID. The GIL is released while it runs.")
+      .def(
+          "occluded",
+          [](const StructureHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+            const BuiltHandle& b = h.get();
+            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            py::array_t<bool> out(static_cast<py::ssize_t>(rays.count));
+            static_assert(sizeof(bool) == sizeof(std::uint8_t));
+            {
+              py::gil_scoped_release release;
+              occluded_arrays(b.structure, rays, StridedOut<std::uint8_t>{reinterpret_cast<std::uint8_t*>(out.mutable_data()), 1});
+            }
+            return out;
+          },
+          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Whether each ray hits anything in (tmin, tmax]: a bool array. Arguments as intersect().")
+      .def(
+          "remove", [](StructureHandle& h, ObjectId id) { edit(h, [&](AnyStructure& s) { remove_object(s, id); }); }, py::arg("id"),
+          "Stages removing object `id` (updatable structures; commit() applies).")
+      .def(
+          "insert",
+          [](StructureHandle& h, const SceneHandle& scene, ObjectId id) {
+            const std::shared_ptr<Scene> s = scene.shared();
+            edit(h, [&](AnyStructure& st) { insert_object(st, *s, id); });
+          },
+          py::arg("scene"), py::arg("id"), "Stages inserting object `id` of `scene` as it is there now.")
+      .def(
+          "move",
+          [](StructureHandle& h, ObjectId id, const py::object& transform) {
+            const Transform t = transform_of(transform);
+            edit(h, [&](AnyStructure& st) { move_object(st, id, t); });
+          },
+          py::arg("id"), py::arg("transform"), "Stages placing object `id` by a (3, 4) or (4, 4) matrix [s*R | t].")
+      .def(
+          "commit", [](StructureHandle& h) { edit(h, [](AnyStructure& s) { commit_objects(s); }); },
+          "Applies the staged edits: afterwards the answers equal a fresh build's.")
+      .def("close", &StructureHandle::close, "Frees the structure now.")
+      .def_property_readonly("closed", &StructureHandle::closed)
+      .def("__enter__", [](StructureHandle& h) -> StructureHandle& { return h; })
+      .def("__exit__", [](StructureHandle& h, const py::args&) { h.close(); })
+      .def("__repr__", [](const StructureHandle& h) {
+        return h.closed() ? std::string("<visfield.Structure (closed)>") : "<visfield.Structure " + h.get().spec + ">";
+      });
+}
+
+}  // namespace vf::python

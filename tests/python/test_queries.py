@@ -1,0 +1,141 @@
+"""Answers from Python equal the C++ API's on the same rays, bit for bit, for every kind of structure,
+whatever the memory layout of the NumPy arrays."""
+
+import os
+
+import numpy as np
+import pytest
+
+import visfield as vf
+from conftest import random_rays
+
+SPECS = ["bvh", "kdtree", "grid", "median-bsp", "bvh:levels=2", "beam:dirs=33,n=16", "field:positions=290,directions=16"]
+SCENE = "builtin:boxes:size=40,seed=3"
+EXAMPLE_MESH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "examples", "meshes", "tetra.obj")
+
+
+def hits_as_words(hits):
+    """Python hits as the C++ tool writes them: 8 32-bit words a ray."""
+    words = np.zeros((len(hits.t), 8), dtype=np.uint32)
+    words[:, 0] = hits.t.view(np.uint32)
+    words[:, 1] = hits.prim
+    words[:, 2] = hits.instance
+    words[:, 3] = hits.u.view(np.uint32)
+    words[:, 4] = hits.v.view(np.uint32)
+    words[:, 5:8] = hits.normal.view(np.uint32)
+    return words
+
+
+@pytest.mark.parametrize("spec", SPECS)
+def test_answers_equal_the_cpp_api(spec, cpp_answers):
+    scene = vf.load(SCENE)
+    structure = vf.build(scene, spec)
+    rays = random_rays(scene, 20000, 7, finite_tmax=True)
+    hits = structure.intersect(rays[:, 0:3], rays[:, 3:6], tmin=rays[:, 6], tmax=rays[:, 7])
+    expected = cpp_answers(SCENE, spec, "intersect", rays)
+    assert np.array_equal(hits_as_words(hits), expected)
+    assert (hits.t < np.inf).sum() > 1000  # the rays do hit things
+    occluded = structure.occluded(rays[:, 0:3], rays[:, 3:6], tmin=rays[:, 6], tmax=rays[:, 7])
+    assert occluded.dtype == bool
+    assert np.array_equal(occluded, cpp_answers(SCENE, spec, "occluded", rays))
+
+
+def test_answers_equal_the_cpp_api_on_a_real_mesh(models_dir, cpp_answers):
+    path = f"{models_dir}/bun_zipper.ply"
+    scene = vf.load(path)
+    rays = random_rays(scene, 20000, 3)
+    for spec in ["bvh", "beam:dirs=129,n=32"]:
+        hits = vf.build(scene, spec).intersect(rays[:, 0:3], rays[:, 3:6])
+        assert np.array_equal(hits_as_words(hits), cpp_answers(path, spec, "intersect", rays)), spec
+
+
+def test_any_layout_gives_the_same_answers():
+    scene = vf.load(SCENE)
+    bvh = vf.build(scene, "bvh")
+    rays = random_rays(scene, 5000, 11)
+    origins = np.ascontiguousarray(rays[:, 0:3])
+    directions = np.ascontiguousarray(rays[:, 3:6])
+    reference = bvh.intersect(origins, directions)
+    # Strided views into one (N, 8) array, Fortran order, and every other row of a doubled array.
+    assert np.array_equal(bvh.intersect(rays[:, 0:3], rays[:, 3:6]).t, reference.t)
+    assert np.array_equal(bvh.intersect(np.asfortranarray(origins), np.asfortranarray(directions)).t, reference.t)
+    doubled = np.repeat(rays, 2, axis=0)
+    assert np.array_equal(bvh.intersect(doubled[::2, 0:3], doubled[::2, 3:6]).prim, reference.prim)
+    # Scalars for the range, or arrays.
+    limit = np.full(len(rays), 5.0, dtype=np.float32)
+    assert np.array_equal(bvh.occluded(origins, directions, tmax=5.0), bvh.occluded(origins, directions, tmax=limit))
+    assert np.array_equal(bvh.occluded(origins, directions, tmin=0.0, tmax=np.inf), bvh.occluded(origins, directions))
+
+
+def test_misses_and_empty_batches():
+    scene = vf.load(SCENE)
+    bvh = vf.build(scene, "bvh")
+    lo, hi = scene.bounds
+    away = np.array([[0, hi[1] + 10, 0]], dtype=np.float32)
+    up = np.array([[0, 1, 0]], dtype=np.float32)
+    hits = bvh.intersect(away, up)
+    assert hits.t[0] == np.inf and hits.prim[0] == vf.INVALID_ID and hits.instance[0] == vf.INVALID_ID
+    empty = np.zeros((0, 3), dtype=np.float32)
+    assert len(bvh.intersect(empty, empty).t) == 0
+    assert len(bvh.occluded(empty, empty)) == 0
+
+
+def test_scenes_from_arrays_and_instances():
+    # A unit square floor; two objects of it, one lifted by 1 and scaled by 2.
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]], dtype=np.float32)
+    indices = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+    scene = vf.Scene()
+    mesh = scene.add_mesh(vertices, indices)
+    low = scene.add_instance(mesh)
+    high = scene.add_instance(mesh, np.array([[2, 0, 0, 0], [0, 2, 0, 1], [0, 0, 2, 0]]))
+    assert scene.object_count == 2 and scene.triangle_count == 4
+    bvh = vf.build(scene, "bvh")
+    origins = np.array([[0.5, 3, 0.5], [1.5, 3, 1.5]], dtype=np.float32)
+    down = np.array([[0, -1, 0], [0, -1, 0]], dtype=np.float32)
+    hits = bvh.intersect(origins, down)
+    assert list(hits.instance) == [high, high]
+    assert hits.t[0] == pytest.approx(2.0)
+    scene.remove_instance(high)
+    assert list(vf.build(scene, "bvh").intersect(origins, down).instance) == [low, vf.INVALID_ID]
+
+
+def test_beamfield_updates_equal_a_fresh_build():
+    scene = vf.load("builtin:boxes:size=12,seed=5")
+    beam = vf.build(scene, "beam:dirs=33,n=16")
+    assert beam.updatable and beam.exact
+    moved = scene.objects[3]
+    transform = np.array([[0, -1, 0, 0.3], [1, 0, 0, 0.1], [0, 0, 1, -0.2]])
+    beam.move(moved, transform)
+    beam.commit()
+    scene.set_transform(moved, transform)
+    rays = random_rays(scene, 10000, 5)
+    fresh = vf.build(scene, "beam:dirs=33,n=16").intersect(rays[:, 0:3], rays[:, 3:6])
+    got = beam.intersect(rays[:, 0:3], rays[:, 3:6])
+    assert np.array_equal(got.t, fresh.t) and np.array_equal(got.instance, fresh.instance)
+    beam.remove(moved)
+    beam.commit()
+    beam.insert(scene, moved)
+    beam.commit()
+    assert np.array_equal(beam.intersect(rays[:, 0:3], rays[:, 3:6]).t, fresh.t)
+
+
+def test_fields_build_save_load_and_answer_as_the_field_structure(tmp_path):
+    scene = vf.load(EXAMPLE_MESH)
+    field = vf.Field.build(scene, 0, positions=290, directions=16, normals="oct16")
+    assert field.positions == 290 and field.directions == 16 and field.has_normals
+    path = tmp_path / "sphere.vfield"
+    field.save(str(path))
+    loaded = vf.Field.load(str(path), scene, 0)
+    rays = random_rays(scene, 5000, 9)
+    t, normal = field.intersect(rays[:, 0:3], rays[:, 3:6])
+    t2, normal2 = loaded.intersect(rays[:, 0:3], rays[:, 3:6])
+    assert np.array_equal(t, t2) and np.array_equal(normal, normal2)
+    assert 100 < (t < np.inf).sum() < len(t)
+    # The scene's fields as a structure (one identity object): the same distances.
+    structure = vf.build(scene, "field:positions=290,directions=16,normals=oct16")
+    assert not structure.exact
+    assert np.array_equal(structure.intersect(rays[:, 0:3], rays[:, 3:6]).t, t)
+    assert np.array_equal(field.occluded(rays[:, 0:3], rays[:, 3:6]), t < np.inf)
+    other = vf.load("builtin:boxes:size=2,seed=1")
+    with pytest.raises(vf.Error, match="another mesh"):
+        vf.Field.load(str(path), other, 0)
