@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package visfield needs to build, test, benchmark and fuzz (Debian 12, as root;
-# clang-14 and its runtime are for the libFuzzer targets, see docs/fuzzing.md).
+# clang-14 and its runtime are for the libFuzzer targets, see docs/fuzzing.md; the python3 packages
+# for the Python module, its tests, its Dask renders and its examples).
 # Safe to run twice: when everything is already installed it only checks and returns.
 set -euo pipefail
 
@@ -8,6 +9,7 @@ packages=(
   build-essential cmake pkg-config python3
   libtbb-dev libassimp-dev libstb-dev libopenexr-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libembree-dev pybind11-dev
+  python3-dev python3-numpy python3-pytest python3-distributed python3-matplotlib
   clang-14 libclang-rt-14-dev
 )
 

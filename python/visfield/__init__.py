@@ -17,6 +17,7 @@ Fields (ObjectField), BeamField updates, renders with every integrator, image co
 renders or field builds spread over a Dask cluster (visfield.distributed) are here too.
 """
 
+from . import _visfield
 from ._visfield import (  # noqa: F401  (the public API)
     INVALID_ID,
     Camera,
@@ -30,11 +31,18 @@ from ._visfield import (  # noqa: F401  (the public API)
     compare,
     read_image,
     render,
-    set_threads,
     structures,
     threads,
     write_image,
 )
+
+
+def set_threads(threads):
+    """Worker threads for every build, query and render from now on (0 = all hardware threads).
+
+    A Python function (not the extension's own) so that it pickles by name: client.run(visfield.set_threads, 1)
+    sets it on every Dask worker."""
+    _visfield.set_threads(threads)
 
 
 def load(path):

@@ -24,3 +24,10 @@ flags=$(PKG_CONFIG_PATH="$libdir" pkg-config --define-variable=prefix="$prefix" 
 cc -std=c99 -Wall -Wextra -Werror "$example" $flags -o "$work/c_pkgconfig"
 LD_LIBRARY_PATH="$prefix/lib:${LD_LIBRARY_PATH:-}" "$work/c_pkgconfig" >/dev/null
 echo "C example through pkg-config: ok"
+
+# The Python package, when the build made it: importable from the installed tree alone.
+if [ -d "$build_dir/python/visfield" ]; then
+  site=$(ls -d "$prefix"/lib*/python3/dist-packages | head -1)
+  python=$(sed -n 's/^PYTHON_EXECUTABLE:FILEPATH=//p' "$build_dir/CMakeCache.txt")
+  (cd "$work" && PYTHONPATH="$site" "${python:-python3}" -c 'import visfield; assert visfield.__file__.startswith("'"$prefix"'"); print("python package:", visfield.__version__)')
+fi
