@@ -1,10 +1,10 @@
 #pragma once
 /// \file Watertight ray–triangle intersection (Woop, Benthin, Wald, JCGT 2013), shared by every
-/// exact structure so that they agree bit for bit with the brute-force oracle.
+/// exact structure so that they agree bit for bit with the brute-force oracle. Host and device: the
+/// CUDA BVH (include/visfield/gpu/bvh_traversal.hpp) runs this very test (its Vec3f operators are
+/// constexpr, which nvcc's --expt-relaxed-constexpr admits in device code).
 
-#include <cmath>
-#include <utility>
-
+#include "visfield/core/host_device.hpp"
 #include "visfield/core/ray.hpp"
 
 namespace vf {
@@ -17,12 +17,16 @@ struct WatertightRay {
   float sx = 0, sy = 0, sz = 1;
 
   /// Precomputes the shear for `ray`; dir must be non-zero.
-  explicit WatertightRay(const Ray& ray) : org(ray.org) {
-    const Vec3f a = abs(ray.dir);
+  VF_HOST_DEVICE explicit WatertightRay(const Ray& ray) : org(ray.org) {
+    const Vec3f a{hd::abs(ray.dir.x), hd::abs(ray.dir.y), hd::abs(ray.dir.z)};
     kz = max_axis(a);
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
-    if (ray.dir[kz] < 0.0f) std::swap(kx, ky);
+    if (ray.dir[kz] < 0.0f) {
+      const int k = kx;
+      kx = ky;
+      ky = k;
+    }
     sx = ray.dir[kx] / ray.dir[kz];
     sy = ray.dir[ky] / ray.dir[kz];
     sz = 1.0f / ray.dir[kz];
@@ -37,7 +41,7 @@ struct TriangleHit {
 /// Watertight test of triangle (p0, p1, p2) against the ray for t in (tmin, tmax]; true and `out`
 /// filled on a hit. Edges shared by two triangles are never missed by both. Both sides hit. tmin is
 /// exclusive (as in Embree and pbrt): a ray that starts on a triangle does not hit it at t = tmin.
-inline bool intersect_triangle(const WatertightRay& r, const Vec3f& p0, const Vec3f& p1, const Vec3f& p2,
+VF_HOST_DEVICE inline bool intersect_triangle(const WatertightRay& r, const Vec3f& p0, const Vec3f& p1, const Vec3f& p2,
                                float tmin, float tmax, TriangleHit& out) {
   const Vec3f a = p0 - r.org, b = p1 - r.org, c = p2 - r.org;
   const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
