@@ -1,0 +1,111 @@
+#pragma once
+/// \file A scene's ObjectFields as a GPU reads them, host and device: every field's tables in one
+/// contiguous buffer (FieldSlot: the tables' parameters and byte offsets, rebased to FieldTables
+/// pointers wherever the buffer lives), the field objects with their inverse transforms, and the
+/// exact meshes in the GPU BVH layout. occluded() and intersect() answer as FieldScene does, bit for
+/// bit: the same objects in the same order, the same culling test, the same ray transform and the
+/// same trace_field() (field/field_query.hpp), then the exact part through bvh_traversal.hpp.
+
+#include "visfield/core/host_device.hpp"
+#include "visfield/core/ray.hpp"
+#include "visfield/core/transform.hpp"
+#include "visfield/field/field_query.hpp"
+#include "visfield/gpu/bvh_traversal.hpp"
+
+namespace vf::gpu {
+
+/// No table: an offset that FieldSlot::rebase turns into a null pointer.
+inline constexpr unsigned long long kNoTable = ~0ull;
+
+/// One field in the packed buffer: its FieldTables with null pointers, and where each table starts
+/// (bytes from the buffer's start, or kNoTable).
+struct FieldSlot {
+  field::FieldTables tables;
+  unsigned long long upper = kNoTable, quadrant = kNoTable, cells = kNoTable, averages = kNoTable, normal_cells = kNoTable;
+
+  /// The tables with pointers into the buffer at `base` (host or device memory). O(1).
+  VF_HOST_DEVICE field::FieldTables rebase(const unsigned char* base) const {
+    field::FieldTables t = tables;
+    t.upper = upper == kNoTable ? nullptr : reinterpret_cast<const hd::Vec3<float>*>(base + upper);
+    t.quadrant = quadrant == kNoTable ? nullptr : reinterpret_cast<const unsigned long long*>(base + quadrant);
+    t.cells = cells == kNoTable ? nullptr : base + cells;
+    t.averages = averages == kNoTable ? nullptr : reinterpret_cast<const float*>(base + averages);
+    t.normal_cells = normal_cells == kNoTable ? nullptr : base + normal_cells;
+    return t;
+  }
+};
+
+/// One object of a field mesh: FieldScene's Object as plain data.
+struct FieldObject {
+  ObjectId id;
+  unsigned int field;          ///< Index of its FieldSlot (one per mesh, shared by the mesh's objects).
+  InverseTransform to_object;  ///< World to object space.
+  Mat3 rotation;               ///< Object to world rotation, for field normals.
+  Vec3f centre;                ///< World-space sphere.
+  float radius;
+};
+
+/// What the queries read: borrowed pointers (host or device memory), the fields already rebased.
+struct FieldSceneView {
+  const field::FieldTables* fields = nullptr;
+  const FieldObject* objects = nullptr;
+  unsigned int object_count = 0;
+  BvhView exact;  ///< The meshes that stay exact (node_count 0 when none).
+};
+
+/// `ray` in object space: InverseTransform::apply's operations (identity: bit for bit the ray).
+VF_HOST_DEVICE inline Ray to_object(const InverseTransform& m, const Ray& ray) {
+  if (m.identity) return ray;
+  return Ray{m.linear * (ray.org - m.translation), m.linear * ray.dir, ray.tmin, ray.tmax};
+}
+
+/// FieldScene's cull: whether `ray` can meet object `o`'s sphere, widened by 1e-3 of its radius so
+/// that rounding never culls a ray the object-space test lets in.
+VF_HOST_DEVICE inline bool may_meet(const FieldObject& o, const Ray& ray) {
+  const float radius = o.radius * 1.001f;
+  const Vec3f oc = o.centre - ray.org;
+  const float dd = dot(ray.dir, ray.dir);
+  const float along = dot(oc, ray.dir);
+  const Vec3f perpendicular = oc - ray.dir * (along / dd);
+  if (dot(perpendicular, perpendicular) > radius * radius) return false;
+  const float reach = radius * hd::sqrt(dd);
+  return along + reach >= ray.tmin * dd && along - reach <= ray.tmax * dd;
+}
+
+/// Object `o`'s field answer for world-space `ray` within [tmin, tmax].
+VF_HOST_DEVICE inline field::FieldAnswer trace_object(const FieldSceneView& scene, const FieldObject& o, const Ray& ray, float tmax) {
+  const Ray local = to_object(o.to_object, ray);
+  return field::trace_field(scene.fields[o.field], {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z},
+                            ray.tmin, tmax);
+}
+
+/// FieldScene::occluded: some field object reports a hit in [tmin, tmax], or the exact part does.
+VF_HOST_DEVICE inline bool occluded(const FieldSceneView& scene, const Ray& ray) {
+  for (unsigned int k = 0; k < scene.object_count; ++k) {
+    const FieldObject& o = scene.objects[k];
+    if (scene.object_count > 1 && !may_meet(o, ray)) continue;
+    if (trace_object(scene, o, ray, ray.tmax).hit) return true;
+  }
+  return occluded(scene.exact, ray);
+}
+
+/// FieldScene::intersect: the exact part's closest hit, or a nearer field answer (the first object
+/// of equals), with the object's id, no triangle, and the world-space normal when the field has one.
+VF_HOST_DEVICE inline Hit intersect(const FieldSceneView& scene, const Ray& ray) {
+  Hit best = intersect(scene.exact, ray);
+  for (unsigned int k = 0; k < scene.object_count; ++k) {
+    const FieldObject& o = scene.objects[k];
+    if (scene.object_count > 1 && !may_meet(o, ray)) continue;
+    const field::FieldAnswer a = trace_object(scene, o, ray, best.found ? best.t : ray.tmax);
+    if (!a.hit || (best.found && !(a.t < best.t))) continue;
+    if (a.has_normal) {
+      const Vec3f normal = o.rotation * Vec3f{a.normal.x, a.normal.y, a.normal.z};
+      best = Hit::surface(a.t, o.id, &normal);
+    } else {
+      best = Hit::surface(a.t, o.id);
+    }
+  }
+  return best;
+}
+
+}  // namespace vf::gpu

@@ -1,0 +1,56 @@
+#pragma once
+/// \file The exact BVH in its GPU layout (bvh_layout.hpp), built on the host by the CPU Bvh's own
+/// builder: the binned SAH binary tree (src/accel/bvh/binary_builder) collapsed to 8-wide nodes
+/// (collapse.cpp, whose boxes are padded for the watertight test), then laid out breadth first with
+/// each node's children and triangles consecutive and its child boxes quantised outward. The host
+/// queries run the device traversal's code (bvh_traversal.hpp) on the host copy.
+
+#include <cstdint>
+#include <vector>
+
+#include "visfield/accel/query.hpp"
+#include "visfield/core/triangle_set.hpp"
+#include "visfield/gpu/bvh_layout.hpp"
+
+namespace vf::gpu {
+
+/// Build parameters: the CPU Bvh's SAH settings with leaves of at most kMaxLeafTriangles triangles
+/// (one triangle a leaf item, so that a GPU thread tests no padding).
+struct GpuBvhConfig {
+  int bin_count = 32;      ///< SAH bins per axis, in [2, 64].
+  int max_leaf_size = 4;   ///< Triangles per leaf, in [1, kMaxLeafTriangles].
+};
+
+/// An immutable BVH in the GPU layout, in host memory. Queries are const and thread-safe. Movable.
+class GpuBvh {
+ public:
+  /// Builds over `set` (copied in leaf order). O(N log N), parallel (TBB). Throws vf::Error on a bad
+  /// config or more than 2^27 − 1 triangles.
+  static GpuBvh build(const TriangleSet& set, const GpuBvhConfig& config = {});
+
+  /// The host arrays as a traversal reads them (valid while this lives).
+  BvhView view() const;
+  /// Nodes, breadth first; nodes()[0] is the root when there are triangles.
+  const std::vector<WideNode>& nodes() const { return nodes_; }
+  /// Triangles in leaf order.
+  const std::vector<WideTriangle>& triangles() const { return triangles_; }
+  /// Triangle id in its mesh, by TriangleSet index.
+  const std::vector<std::uint32_t>& prim() const { return prim_; }
+  /// Object id, by TriangleSet index.
+  const std::vector<std::uint32_t>& instance() const { return instance_; }
+
+  /// Closest hit in (tmin, tmax] by the device traversal's code: BruteForce's answer.
+  Hit intersect(const Ray& ray) const;
+  /// Any hit in (tmin, tmax] by the device traversal's code.
+  bool occluded(const Ray& ray) const;
+  /// Nodes, leaves, triangle references, depth (8-wide levels), bytes of the four arrays, build ms.
+  const AccelStats& stats() const { return stats_; }
+
+ private:
+  std::vector<WideNode> nodes_;
+  std::vector<WideTriangle> triangles_;
+  std::vector<std::uint32_t> prim_, instance_;
+  AccelStats stats_;
+};
+
+}  // namespace vf::gpu

@@ -1,0 +1,93 @@
+#include "visfield/gpu/packed_scene.hpp"
+
+#include <cstring>
+
+#include "visfield/core/triangle_set.hpp"
+
+namespace vf::gpu {
+namespace {
+
+/// Appends `bytes` bytes from `data` to `buffer` at the next kTableAlignment boundary and returns
+/// where they start, or kNoTable when there is nothing to append. `padding` zero bytes follow (the
+/// field's own tables end with 4, so that a 32-bit read at any cell stays inside).
+unsigned long long append(std::vector<unsigned char>& buffer, const void* data, std::size_t bytes, std::size_t padding = 0) {
+  if (bytes == 0 || data == nullptr) return kNoTable;
+  const std::size_t start = (buffer.size() + kTableAlignment - 1) / kTableAlignment * kTableAlignment;
+  buffer.resize(start + bytes + padding, 0);
+  std::memcpy(buffer.data() + start, data, bytes);
+  return start;
+}
+
+/// One field's tables appended to `buffer`, and its slot.
+FieldSlot pack_field(const field::ObjectField& f, std::vector<unsigned char>& buffer) {
+  FieldSlot slot;
+  slot.tables = f.tables();
+  const field::FieldTables& t = slot.tables;
+  const std::size_t side = static_cast<std::size_t>(t.lattice_n) + 1;
+  slot.upper = append(buffer, t.upper, static_cast<std::size_t>(t.upper_count) * sizeof(hd::Vec3<float>));
+  slot.quadrant = append(buffer, t.quadrant, side * side * sizeof(unsigned long long));
+  slot.cells = append(buffer, f.cell_table().data(), f.cell_table().size(), 4);
+  slot.averages = append(buffer, f.averages().data(), f.averages().size() * sizeof(float));
+  slot.normal_cells = append(buffer, f.normal_table().data(), f.normal_table().size(), 4);
+  slot.tables.upper = nullptr;
+  slot.tables.quadrant = nullptr;
+  slot.tables.cells = nullptr;
+  slot.tables.averages = nullptr;
+  slot.tables.normal_cells = nullptr;
+  return slot;
+}
+
+}  // namespace
+
+PackedFieldScene PackedFieldScene::pack(const Scene& scene, const field::FieldScene& fields) {
+  PackedFieldScene out;
+  std::vector<unsigned int> slot_of(scene.meshes.size(), ~0u);
+  for (std::uint32_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
+    const field::ObjectField* f = fields.mesh_field(mesh);
+    if (!f) continue;
+    slot_of[mesh] = static_cast<unsigned int>(out.slots_.size());
+    out.slots_.push_back(pack_field(*f, out.buffer_));
+  }
+  // FieldScene::build's split: an object whose mesh has a field is a field object, in id order;
+  // every other object's world-space triangles go to the exact part, in id order.
+  TriangleSet exact;
+  for (const Instance& object : scene.instances()) {
+    const field::ObjectField* f = fields.mesh_field(object.mesh);
+    if (!f) {
+      const TriangleSet part = object_triangles(scene.meshes[object.mesh], object.transform, object.id);
+      exact.triangles.insert(exact.triangles.end(), part.triangles.begin(), part.triangles.end());
+      exact.prim.insert(exact.prim.end(), part.prim.begin(), part.prim.end());
+      exact.instance.insert(exact.instance.end(), part.instance.begin(), part.instance.end());
+      exact.bounds.extend(part.bounds);
+      continue;
+    }
+    const field::BoundingSphere& s = f->sphere();
+    out.objects_.push_back(FieldObject{object.id, slot_of[object.mesh], object.transform.inverse(), object.transform.rotation,
+                                       object.transform.apply_point(s.centre), s.radius * object.transform.scale});
+  }
+  out.exact_ = GpuBvh::build(exact);
+  out.host_tables_ = out.tables_at(out.buffer_.data());
+  return out;
+}
+
+std::vector<field::FieldTables> PackedFieldScene::tables_at(const unsigned char* base) const {
+  std::vector<field::FieldTables> tables;
+  tables.reserve(slots_.size());
+  for (const FieldSlot& slot : slots_) tables.push_back(slot.rebase(base));
+  return tables;
+}
+
+FieldSceneView PackedFieldScene::view(const std::vector<field::FieldTables>& tables) const {
+  return FieldSceneView{tables.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view()};
+}
+
+Hit PackedFieldScene::intersect(const Ray& ray) const { return gpu::intersect(view(host_tables_), ray); }
+
+bool PackedFieldScene::occluded(const Ray& ray) const { return gpu::occluded(view(host_tables_), ray); }
+
+std::size_t PackedFieldScene::device_bytes() const {
+  return buffer_.size() + slots_.size() * sizeof(field::FieldTables) + objects_.size() * sizeof(FieldObject) +
+         exact_.stats().memory_bytes;
+}
+
+}  // namespace vf::gpu

@@ -1,0 +1,169 @@
+// The GPU BVH layout traversed on the host by the device's own code (bvh_traversal.hpp) against the
+// oracle: the same closest hit bit for bit (t, u, v, triangle, object, normal) and the same
+// occlusion as BruteForce on random soups, coplanar sets, a shared-edge height field and the
+// adversarial ray sets of the differential tests; on the shared models against BruteForce on a
+// sample and the CPU Bvh (itself tested equal to BruteForce) on 100k rays. Also the layout's own
+// promises: decoded child boxes contain their triangles, every triangle is referenced once.
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "differential/ray_sets.hpp"
+#include "differential/test_scenes.hpp"
+#include "support/same_hit.hpp"
+#include "support/test_scale.hpp"
+#include "visfield/accel/brute_force.hpp"
+#include "visfield/accel/bvh.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/gpu/bvh_traversal.hpp"
+#include "visfield/gpu/gpu_bvh.hpp"
+#include "visfield/io/scene_file.hpp"
+
+namespace vf::test {
+namespace {
+
+/// The adversarial ray sets of tests/differential plus the boundary-t copies of their hits.
+std::vector<Ray> adversarial(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
+  std::vector<Ray> rays;
+  for (auto make : {random_rays, axis_parallel_rays, zero_component_rays, surface_origin_rays, grazing_rays}) {
+    const std::vector<Ray> part = make(set, seed, n);
+    rays.insert(rays.end(), part.begin(), part.end());
+  }
+  return rays;
+}
+
+/// Counts the rays where `gpu` and `oracle` differ (closest hit bits, occlusion), with the first one
+/// described in a failure message.
+template <class Oracle>
+void expect_same(const gpu::GpuBvh& gpu, const Oracle& oracle, const std::vector<Ray>& rays, const std::string& label,
+                 bool with_boundary = true) {
+  std::size_t closest = 0, occluded = 0, hits = 0;
+  std::vector<Hit> oracle_hits(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    oracle_hits[i] = oracle.intersect(rays[i]);
+    const Hit got = gpu.intersect(rays[i]);
+    hits += oracle_hits[i] ? 1 : 0;
+    if (!same_bits(got, oracle_hits[i])) {
+      if (closest++ == 0) ADD_FAILURE() << label << ": first closest-hit mismatch at ray " << i << " t " << got.t << " vs " << oracle_hits[i].t;
+    }
+    if (gpu.occluded(rays[i]) != oracle.occluded(rays[i])) {
+      if (occluded++ == 0) ADD_FAILURE() << label << ": first occlusion mismatch at ray " << i;
+    }
+  }
+  EXPECT_EQ(closest, 0u) << label;
+  EXPECT_EQ(occluded, 0u) << label;
+  EXPECT_GT(hits, 0u) << label;
+  if (!with_boundary) return;
+  const std::vector<Ray> boundary = boundary_t_rays(rays, oracle_hits);
+  std::size_t boundary_mismatches = 0;
+  for (const Ray& r : boundary)
+    if (!same_bits(gpu.intersect(r), oracle.intersect(r)) || gpu.occluded(r) != oracle.occluded(r)) ++boundary_mismatches;
+  EXPECT_EQ(boundary_mismatches, 0u) << label << " (boundary t copies)";
+}
+
+TEST(GpuBvh, EmptySetMissesEverything) {
+  const gpu::GpuBvh bvh = gpu::GpuBvh::build(TriangleSet{});
+  EXPECT_TRUE(bvh.nodes().empty());
+  EXPECT_FALSE(bvh.intersect(Ray{{0, 0, 0}, {1, 0, 0}}));
+  EXPECT_FALSE(bvh.occluded(Ray{{0, 0, 0}, {1, 0, 0}}));
+}
+
+TEST(GpuBvh, RefusesBadConfig) {
+  const TriangleSet set = set_from_triangles(random_soup(1, 10, 0.01f, 0.1f));
+  EXPECT_THROW(gpu::GpuBvh::build(set, {.bin_count = 1}), Error);
+  EXPECT_THROW(gpu::GpuBvh::build(set, {.max_leaf_size = 5}), Error);
+  EXPECT_THROW(gpu::GpuBvh::build(set, {.max_leaf_size = 0}), Error);
+}
+
+TEST(GpuBvh, DecodedBoxesContainTheirTrianglesAndEveryTriangleIsInOneLeaf) {
+  const TriangleSet set = set_from_triangles(random_soup(7, 5000, 0.001f, 0.2f));
+  const gpu::GpuBvh bvh = gpu::GpuBvh::build(set);
+  ASSERT_EQ(bvh.triangles().size(), set.size());
+  std::vector<int> seen(set.size(), 0);
+  for (const gpu::WideTriangle& t : bvh.triangles()) ++seen[t.index];
+  for (std::size_t i = 0; i < set.size(); ++i) ASSERT_EQ(seen[i], 1) << i;
+  // Walk every node: a leaf slot's triangles and an interior slot's subtree lie inside the decoded box.
+  struct Box {
+    float lo[3], hi[3];
+  };
+  const auto slot_box = [](const gpu::WideNode& n, int slot) {
+    Box b;
+    for (int a = 0; a < 3; ++a) {
+      const float scale = gpu::exponent_scale(n.exponent[a]);
+      b.lo[a] = gpu::decode(n.origin[a], n.lo[a][slot], scale);
+      b.hi[a] = gpu::decode(n.origin[a], n.hi[a][slot], scale);
+    }
+    return b;
+  };
+  std::function<void(std::uint32_t, const Box&)> check = [&](std::uint32_t index, const Box& outer) {
+    const gpu::WideNode& n = bvh.nodes()[index];
+    for (int slot = 0; slot < 8; ++slot) {
+      if (n.meta[slot] == gpu::kEmptySlot) continue;
+      const Box b = slot_box(n, slot);
+      for (int a = 0; a < 3; ++a) ASSERT_TRUE(b.lo[a] <= b.hi[a]);
+      if ((n.interior >> slot) & 1u) {
+        check(n.child_base + n.meta[slot], b);
+        continue;
+      }
+      const unsigned first = n.triangle_base + (n.meta[slot] & 31u), count = (n.meta[slot] >> 5) + 1u;
+      ASSERT_LE(count, static_cast<unsigned>(gpu::kMaxLeafTriangles));
+      for (unsigned k = first; k < first + count; ++k) {
+        const gpu::WideTriangle& t = bvh.triangles()[k];
+        for (const float* p : {t.p0, t.p1, t.p2})
+          for (int a = 0; a < 3; ++a) {
+            ASSERT_LE(b.lo[a], p[a]);
+            ASSERT_GE(b.hi[a], p[a]);
+          }
+      }
+    }
+    (void)outer;
+  };
+  check(0, Box{});
+}
+
+TEST(GpuBvh, EqualsBruteForceOnSoupsAndAdversarialRays) {
+  struct Case {
+    std::string name;
+    std::vector<Triangle> triangles;
+  };
+  const std::vector<Case> cases = {
+      {"one triangle", {{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}},
+      {"small soup", random_soup(3, 100, 0.01f, 0.3f)},
+      {"fine soup", random_soup(4, 20000, 0.0005f, 0.02f)},
+      {"mixed scales", random_soup(5, 5000, 1e-4f, 0.5f)},
+      {"coplanar", coplanar_soup(6, 2000, {0, 0.5f, 0}, {1, 0, 0}, {0, 0, 1})},
+      {"height field", height_field(8, 60)},
+  };
+  for (const Case& c : cases) {
+    const TriangleSet set = set_from_triangles(c.triangles);
+    expect_same(gpu::GpuBvh::build(set), BruteForce::build(set), adversarial(set, 11, 1500), c.name);
+    expect_same(gpu::GpuBvh::build(set, {.max_leaf_size = 1}), BruteForce::build(set), adversarial(set, 12, 500),
+                c.name + " (leaf 1)");
+  }
+}
+
+TEST(GpuBvh, EqualsTheOracleOnTheSharedModels) {
+  int found = 0;
+  for (const char* model : {"bun_zipper.ply", "cow.obj", "igea-triangles.ply", "Armadillo.ply", "teapot.obj",
+                            "CornellBox-Original.obj", "sponza.obj", "conference.obj"}) {
+    const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / model;
+    if (!std::filesystem::exists(path)) continue;
+    ++found;
+    const TriangleSet set = flatten(load_scene(path.string()));
+    const gpu::GpuBvh gpu = gpu::GpuBvh::build(set);
+    // BruteForce on a sample (it is O(N) a ray), the CPU Bvh (equal to BruteForce by the
+    // differential tests) on 100k model rays.
+    const std::vector<Ray> rays = model_rays(set, 2024, scaled_count(100'000));
+    expect_same(gpu, BruteForce::build(set), std::vector<Ray>(rays.begin(), rays.begin() + scaled_count(2000)),
+                std::string(model) + " vs brute force", false);
+    expect_same(gpu, Bvh::build(set), rays, std::string(model) + " vs bvh", false);
+  }
+  if (found == 0) GTEST_SKIP() << "no shared models in " << VISFIELD_MODELS_DIR;
+}
+
+}  // namespace
+}  // namespace vf::test
