@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
+#include "cuda_figure_names.hpp"
 #include "field_figures.hpp"
 #include "render_figures.hpp"
 #include "visfield/core/direction_lines.hpp"
@@ -16,10 +17,12 @@ namespace vf::bench {
 
 namespace {
 
-// Every --figure name: the ObjectField papers' ray-set figures, then the rendered ones.
+// Every --figure name: the ObjectField papers' ray-set figures, then the rendered ones, then the
+// GPU-only ones (--device cuda).
 std::vector<std::string> figure_names() {
   std::vector<std::string> names = field_figure_names();
   for (const std::string& name : render_figure_names()) names.push_back(name);
+  for (const std::string& name : cuda_only_figure_names()) names.push_back(name);
   return names;
 }
 
@@ -28,6 +31,20 @@ std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& name : names) out += (out.empty() ? "" : ", ") + name;
   return out;
+}
+
+// --device cuda runs the static benchmark and the GPU figures; the CPU-only figures and modes, and
+// the GPU-only figures without it, are usage errors.
+void check_device(const BenchOptions& o) {
+  const std::vector<std::string> gpu = cuda_figure_names(), gpu_only = cuda_only_figure_names();
+  const bool gpu_figure = std::find(gpu.begin(), gpu.end(), o.figure) != gpu.end();
+  if (o.device != "cuda") {
+    if (std::find(gpu_only.begin(), gpu_only.end(), o.figure) != gpu_only.end())
+      throw UsageError("--figure " + o.figure + ": only with --device cuda");
+    return;
+  }
+  if (!o.figure.empty() && !gpu_figure) throw UsageError("--figure " + o.figure + ": not with --device cuda (GPU figures: " + joined(gpu) + ")");
+  if (o.walk_frames > 0 || o.dynamic_frames > 0) throw UsageError("--device cuda: not with --walk or --dynamic");
 }
 
 void check_accel_specs(const std::vector<std::string>& requested) {
@@ -121,6 +138,11 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
                  "with visfield's integrators the GPU paper's gpu7 (soft shadows), gpu8 (--scene: the models' folder; "
                  "three models' soft shadows) and gpu9 (glossy reflections with normal fields)")
       ->check(CLI::IsMember(figure_names()));
+  app.add_option("--device", options.device,
+                 "cpu, or cuda: the same rays through the GPU BVH and the --accel fields on the GPU beside the CPU's, "
+                 "AO rays generated on the device, G rays/s, agreement and the roofline; with --figure gpu3, gpu5 "
+                 "(the GPU paper's Figure 5 timing) or gpu7 on the GPU")
+      ->check(CLI::IsMember({"cpu", "cuda"}));
 
   try {
     app.parse(argc, argv);
@@ -135,6 +157,7 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     const double bytes = *parse_byte_size(max_memory);
     set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
   }
+  check_device(options);
   if (!options.figure.empty()) return options;  // the figure chooses its rays and structures
   if (options.walk_frames > 0) {
     if (accel_list.empty()) throw UsageError("--accel is required");

@@ -43,6 +43,7 @@ struct BenchOptions {
   std::string integrator = "raycast";     ///< --integrator: what --walk renders (raycast, whitted, ...).
   std::string walk_csv_dir;               ///< --walk-csv: folder for one CSV of frame times per structure ("" = none).
   std::string walk_plot;                  ///< --walk-plot: the plot of every structure's frame times ("" = none).
+  std::string device = "cpu";             ///< --device: cpu, or cuda (the GPU beside the CPU on the same rays).
 };
 
 /// Largest --count accepted (the rays alone would take 32 GB).

@@ -7,6 +7,10 @@
 
 #include "bench_options.hpp"
 #include "bench_run.hpp"
+#if VISFIELD_HAVE_CUDA
+#include "cuda_bench.hpp"
+#include "cuda_figures.hpp"
+#endif
 #include "dynamic_run.hpp"
 #include "field_figures.hpp"
 #include "render_figures.hpp"
@@ -35,6 +39,17 @@ int main(int argc, char** argv) {
   try {
     const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
     if (!options) return 0;
+    if (options->device == "cuda") {
+#if VISFIELD_HAVE_CUDA
+      if (!options->figure.empty())
+        vf::bench::run_cuda_figure(*options, std::cout);
+      else
+        vf::bench::run_cuda_bench(*options, std::cout);
+      return 0;
+#else
+      return fail("--device cuda: this build has no CUDA (configure with -DVISFIELD_CUDA=ON)", kExitUsage);
+#endif
+    }
     if (!options->figure.empty()) {
       const vf::ThreadLimit limit(options->threads);
       const std::vector<std::string> rendered = vf::bench::render_figure_names();

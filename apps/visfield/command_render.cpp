@@ -10,6 +10,15 @@
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/atomic_file.hpp"
 #include "visfield/io/image_io.hpp"
+#if VISFIELD_HAVE_CUDA
+#include <variant>
+
+#include "visfield/core/error.hpp"
+#include "visfield/core/spec.hpp"
+#include "visfield/cuda/device.hpp"
+#include "visfield/cuda/render_ao.hpp"
+#include "visfield/gpu/packed_scene.hpp"
+#endif
 
 namespace vf::cli {
 
@@ -23,6 +32,7 @@ struct RenderOptions {
   int height = 0;
   int threads = 0;
   bool no_progress = false;
+  std::string device = "cpu";
 };
 
 std::string output_path(const RenderOptions& o) { return o.out.empty() ? "visfield-" + o.shading.integrator + ".png" : o.out; }
@@ -39,7 +49,62 @@ std::string structure_summary(const BuiltStructure& built) {
          format_bytes(static_cast<double>(s.memory_bytes)) + ")";
 }
 
+#if VISFIELD_HAVE_CUDA
+// --device cuda: camera rays through --accel on the CPU, AO rays generated and traced on the GPU,
+// through the --occluder's fields (packed and copied to the device) or, for an exact occluder, the
+// GPU BVH of the whole scene (every exact structure answers alike).
+int run_render_cuda(const RenderOptions& o) {
+  const std::string out = output_path(o);
+  check_image_extension(out);
+  check_writable(out);
+  cuda::require_device();
+  ThreadLimit limit(o.threads);
+  const Scene scene = load_scene_argument(o.scene);
+  SceneGeometry geometry(scene);
+  const Camera camera = scene.camera_or_default(o.width, o.height);
+  require_memory(static_cast<double>(camera.width) * static_cast<double>(camera.height) * (sizeof(Vec3f) + 12.0 + 56.0),
+                 "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image and its surface points");
+  const BuildContext context{rays_of_render(camera, o, scene), !o.no_progress};
+  const BuiltStructure closest = build_structure_for(o.shading.accel, geometry, context, "--accel", o.scene);
+  const std::string occluder_choice = occluder_spec(o.shading, scene);
+  std::optional<BuiltStructure> fields;
+  if (!occluder_choice.empty() && find_structure(parse_spec(occluder_choice, "--occluder").name).exactness == Exactness::approximate)
+    fields = build_structure_for(occluder_choice, geometry, context, "--occluder", o.scene);
+  cuda::DeviceFieldScene device_fields;
+  cuda::DeviceBvh device_bvh;
+  cuda::GpuOccluder occluder;
+  std::string occluder_summary;
+  if (fields) {
+    const auto* field_scene = std::get_if<field::FieldScene>(&fields->structure);
+    if (!field_scene) throw Error("--occluder " + occluder_choice + ": --device cuda traces fields or exact geometry");
+    const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(scene, *field_scene);
+    device_fields = cuda::DeviceFieldScene::upload(packed);
+    occluder.fields = &device_fields;
+    occluder_summary = structure_summary(*fields) + ", " + format_bytes(static_cast<double>(device_fields.bytes())) + " on the device";
+  } else {
+    const gpu::GpuBvh bvh = gpu::GpuBvh::build(geometry.flattened());
+    device_bvh = cuda::DeviceBvh::upload(bvh);
+    occluder.exact = &device_bvh;
+    occluder_summary = "gpu-bvh (build " + std::to_string(bvh.stats().build_ms) + " ms, " +
+                       format_bytes(static_cast<double>(device_bvh.bytes())) + " on the device)";
+  }
+  const std::unique_ptr<SceneQueries> queries = scene_queries(closest.structure, closest.structure);
+  RenderStats stats;
+  const Image image = cuda::render_ao(*queries, scene, camera, ao_options(o.shading, !o.no_progress), occluder, &stats);
+  write_image(out, image);
+  std::cout << "wrote " << std::filesystem::absolute(out).string() << "\n";
+  std::cout << "render: " << scene.instanced_triangle_count() - closest.degenerate_triangles << " triangles, accel "
+            << structure_summary(closest) << ", occluder " << occluder_summary << ", device " << cuda::device_info().name << ", "
+            << limit.threads() << " threads, spp " << o.shading.spp << ", " << integrator_summary(o.shading) << ": " << stats.summary()
+            << "\n";
+  return 0;
+}
+#endif
+
 int run_render(const RenderOptions& o) {
+#if VISFIELD_HAVE_CUDA
+  if (o.device == "cuda") return run_render_cuda(o);
+#endif
   const std::string out = output_path(o);
   check_image_extension(out);
   check_writable(out);
@@ -87,9 +152,11 @@ void register_render_command(CLI::App& app, Action& action) {
   add_resource_options(*cmd, options->threads);
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float; default visfield-INTEGRATOR.png)");
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");
+  add_device_option(*cmd, options->device);
   cmd->callback([options, &action, cmd] {
     // --occluders and --occluder must agree; checked while parsing, so a conflict is a usage error.
     check_integrator_options(*cmd, options->shading);
+    check_device_option(options->device, options->shading);
     action = [options] { return run_render(*options); };
   });
 }

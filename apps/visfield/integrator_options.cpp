@@ -90,6 +90,24 @@ std::string occluder_spec(const IntegratorOptions& o, const Scene& scene) {
   return "";
 }
 
+void add_device_option(CLI::App& cmd, std::string& device) {
+  cmd.add_option("--device", device,
+                 "Where the secondary rays are traced: cpu, or cuda (the GPU: ambient occlusion rays generated and traced "
+                 "on the device, through --occluder's fields or an exact GPU BVH; camera rays stay on the CPU)")
+      ->check(CLI::IsMember({"cpu", "cuda"}))
+      ->capture_default_str();
+}
+
+void check_device_option(const std::string& device, const IntegratorOptions& o) {
+  if (device != "cuda") return;
+#if !VISFIELD_HAVE_CUDA
+  throw CLI::ValidationError("--device", "cuda: this build has no CUDA (configure with -DVISFIELD_CUDA=ON)");
+#endif
+  if (o.integrator != "ao")
+    throw CLI::ValidationError("--device", "cuda renders --integrator ao (the soft-shadow and glossy kernels run in visfield-bench)");
+  if (o.ao_directions != "random") throw CLI::ValidationError("--device", "cuda traces random AO directions (--ao-directions random)");
+}
+
 int psf_level_of(const IntegratorOptions& o) {
   for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
     if (o.ao_directions == std::to_string(DirectionLines::count(level))) return level;

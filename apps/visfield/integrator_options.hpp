@@ -49,6 +49,14 @@ std::string occluder_spec(const IntegratorOptions& options, const Scene& scene);
 /// Level of the line set --ao-directions names (0 for random directions).
 int psf_level_of(const IntegratorOptions& options);
 
+/// Adds --device cpu|cuda (default cpu): where `visfield render` traces its secondary rays.
+void add_device_option(CLI::App& cmd, std::string& device);
+
+/// Throws CLI::ValidationError (a usage error) for --device cuda in a build without CUDA ("this build
+/// has no CUDA (configure with -DVISFIELD_CUDA=ON)"), or with an integrator or option the GPU path does
+/// not run (it renders --integrator ao with random directions).
+void check_device_option(const std::string& device, const IntegratorOptions& options);
+
 /// The integrator the options name.
 Integrator integrator_of(const IntegratorOptions& options);
 
