@@ -1,8 +1,8 @@
 #pragma once
 // The field query with its cells read from a 3D texture (private to the cuda module; the texture
-// variant that field_textures.hpp measures): trace_field() and read_direction() of
-// field/field_query.hpp for u8 cells and nearest lookups, every operation and order kept, only the
-// byte read replaced by a point-sampled tex3D. tests/cuda checks it against the buffer bit for bit.
+// variant that field_textures.hpp measures): field/field_query.hpp's steps for u8 cells and nearest
+// lookups, the byte read replaced by a point-sampled tex3D. tests/cuda checks it against the buffer
+// bit for bit.
 
 #include <cuda_runtime.h>
 
@@ -24,45 +24,16 @@ __device__ inline field::FieldAnswer texture_cell(cudaTextureObject_t tex, unsig
   return a;
 }
 
-/// field::trace_field for u8 cells and nearest lookups, reading cells through `tex`.
+/// field::trace_field for u8 cells and nearest lookups, its cell read through `tex`: the same steps
+/// (sphere_visit, the nearest sample, square_of, place_answer), only the byte read differs.
 __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTables& f, cudaTextureObject_t tex, unsigned int stack,
                                                          const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin, float tmax) {
-  const float len = hd::sqrt(hd::dot(dir, dir));
-  const float inv = 1.0f / len;
-  const hd::Vec3<float> d{dir.x * inv, dir.y * inv, dir.z * inv};
-  const float s_min = tmin * len, s_max = tmax * len;
-  const float diameter = 2.0f * f.radius;
-  const hd::Vec3<float> oc{org.x - f.centre.x, org.y - f.centre.y, org.z - f.centre.z};
-  const float b = hd::dot(oc, d), c = hd::dot(oc, oc) - f.radius * f.radius;
-  const float disc = b * b - c;
-  if (!(disc >= 0.0f)) return {};
-  const float root = hd::sqrt(disc);
-  const float s_enter = -b - root, s_exit = -b + root;
-  const bool inside = !(c > 0.0f);
-  if (!inside && s_enter < 0.0f) return {};
-  const float s_at = inside ? s_exit : s_enter;
-  hd::Vec3<float> e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
-  const float e_inv = inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::dot(e, e));
-  e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
-  const hd::Vec3<float> dd = inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d;
-  // read_at (nearest) and read_direction (nearest), the cell from the texture.
-  const int sample = field::nearest_position(e, f.lattice_n, f.upper);
-  const hd::Vec3<float> w = field::sample_inward(f, sample);
-  const OrthonormalBasis<float> basis = orthonormal_basis(w);
-  hd::Vec3<float> local{hd::dot(basis.u, dd), hd::dot(basis.v, dd), hd::dot(w, dd)};
-  if (local.z < 0.0f) {
-    const float planar = hd::sqrt(local.x * local.x + local.y * local.y);
-    local = planar > 0.0f ? hd::Vec3<float>{local.x / planar, local.y / planar, 0.0f} : hd::Vec3<float>{0.0f, 0.0f, 1.0f};
-  }
+  field::SphereVisit v;
+  if (!field::sphere_visit(f, org, dir, tmin, tmax, v)) return {};
+  const int sample = field::nearest_position(v.point, f.lattice_n, f.upper);
   float s, t;
-  field::direction_to_square(f.mapping, local, s, t);
-  field::FieldAnswer a = texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions);
-  if (!a.hit) return {};
-  const float s_hit = inside ? s_exit - a.t * diameter : s_enter + a.t * diameter;
-  if (inside && !(s_hit > f.self_offset * diameter)) return {};
-  if (!(s_hit >= s_min && s_hit <= s_max)) return {};
-  a.t = s_hit * inv;
-  return a;
+  field::square_of(f, sample, v.read, s, t);
+  return field::place_answer(f, v, texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions));
 }
 
 /// gpu::occluded (fields, then the exact part) with the fields' cells read through textures.

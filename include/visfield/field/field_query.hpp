@@ -156,10 +156,10 @@ VF_HOST_DEVICE inline bool bilinear_cell(const FieldTables& f, int& i, int& j) {
   return cell_used<float>(f.mapping, i, j, n);
 }
 
-/// The table of `sample` read in unit direction `d` (pointing into the sphere): the direction in
-/// the sample's hemisphere frame (built from its inward normal as the precompute built it), then
-/// its cell, or the bilinear vote of the four cells around it.
-VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sample, const hd::Vec3<float>& d) {
+/// Where unit direction `d` (pointing into the sphere) falls in the table of `sample`: the direction
+/// in the sample's hemisphere frame (built from its inward normal as the precompute built it),
+/// mapped to the unit square (s, t).
+VF_HOST_DEVICE inline void square_of(const FieldTables& f, int sample, const hd::Vec3<float>& d, float& s, float& t) {
   const hd::Vec3<float> w = sample_inward(f, sample);
   const OrthonormalBasis<float> basis = orthonormal_basis(w);
   hd::Vec3<float> local{hd::dot(basis.u, d), hd::dot(basis.v, d), hd::dot(w, d)};
@@ -167,8 +167,14 @@ VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sampl
     const float planar = hd::sqrt(local.x * local.x + local.y * local.y);
     local = planar > 0.0f ? hd::Vec3<float>{local.x / planar, local.y / planar, 0.0f} : hd::Vec3<float>{0.0f, 0.0f, 1.0f};
   }
-  float s, t;
   direction_to_square(f.mapping, local, s, t);
+}
+
+/// The table of `sample` read in unit direction `d` (pointing into the sphere): the cell square_of()
+/// finds, or the bilinear vote of the four cells around it.
+VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sample, const hd::Vec3<float>& d) {
+  float s, t;
+  square_of(f, sample, d, s, t);
   const int n = f.directions;
   if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n));
   const float fx = s * static_cast<float>(n) - 0.5f, fy = t * static_cast<float>(n) - 0.5f;
@@ -195,36 +201,61 @@ VF_HOST_DEVICE inline FieldAnswer read_at(const FieldTables& f, const hd::Vec3<f
   return vote.result();
 }
 
+/// Where a ray meets a field's sphere: the point to read (a unit vector from the centre), the
+/// direction to read it in, and what places the table's answer along the ray (sphere_visit()).
+struct SphereVisit {
+  bool inside = false;                     ///< The origin is inside the sphere (intra-object: read at the exit, backwards).
+  float s_enter = 0.0f, s_exit = 0.0f;     ///< Where the ray's line enters and leaves the sphere (distances along the unit direction).
+  float s_min = 0.0f, s_max = 0.0f;        ///< The ray's range in the same units.
+  float inv = 0.0f;                        ///< 1 / |dir|: back to the ray's own t.
+  hd::Vec3<float> point{0.0f, 0.0f, 0.0f};  ///< The point of the sphere to read at, as a unit vector.
+  hd::Vec3<float> read{0.0f, 0.0f, 0.0f};   ///< The unit direction to read the table in (into the sphere).
+};
+
+/// The first half of trace_field(): false when the ray cannot meet the sphere ahead of its origin.
+VF_HOST_DEVICE inline bool sphere_visit(const FieldTables& f, const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin, float tmax,
+                                        SphereVisit& v) {
+  const float len = hd::sqrt(hd::dot(dir, dir));
+  v.inv = 1.0f / len;
+  const hd::Vec3<float> d{dir.x * v.inv, dir.y * v.inv, dir.z * v.inv};
+  v.s_min = tmin * len, v.s_max = tmax * len;
+  const hd::Vec3<float> oc{org.x - f.centre.x, org.y - f.centre.y, org.z - f.centre.z};
+  const float b = hd::dot(oc, d), c = hd::dot(oc, oc) - f.radius * f.radius;
+  const float disc = b * b - c;
+  if (!(disc >= 0.0f)) return false;
+  const float root = hd::sqrt(disc);
+  v.s_enter = -b - root, v.s_exit = -b + root;
+  v.inside = !(c > 0.0f);
+  if (!v.inside && v.s_enter < 0.0f) return false;
+  const float s_at = v.inside ? v.s_exit : v.s_enter;
+  hd::Vec3<float> e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
+  // The point on the sphere as a unit vector: from inside, |e| is R to rounding, so a product by
+  // 1/R will do; from outside, far origins cancel digits in e, and its own length is needed.
+  const float e_inv = v.inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::dot(e, e));
+  v.point = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
+  v.read = v.inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d;
+  return true;
+}
+
+/// The second half of trace_field(): the table's answer `a` placed along the ray, held to its range
+/// (and, from inside, beyond the start surface).
+VF_HOST_DEVICE inline FieldAnswer place_answer(const FieldTables& f, const SphereVisit& v, FieldAnswer a) {
+  if (!a.hit) return {};
+  const float diameter = 2.0f * f.radius;
+  const float s_hit = v.inside ? v.s_exit - a.t * diameter : v.s_enter + a.t * diameter;
+  if (v.inside && !(s_hit > f.self_offset * diameter)) return {};
+  if (!(s_hit >= v.s_min && s_hit <= v.s_max)) return {};
+  a.t = s_hit * v.inv;
+  return a;
+}
+
 /// The field's answer for the object-space ray org + t·dir, t in [tmin, tmax] (dir non-zero, any
 /// length; t in its units). O(1) whatever the mesh.
 VF_HOST_DEVICE inline FieldAnswer trace_field(const FieldTables& f, const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin,
                                               float tmax) {
-  const float len = hd::sqrt(hd::dot(dir, dir));
-  const float inv = 1.0f / len;
-  const hd::Vec3<float> d{dir.x * inv, dir.y * inv, dir.z * inv};
-  const float s_min = tmin * len, s_max = tmax * len;
-  const float diameter = 2.0f * f.radius;
-  const hd::Vec3<float> oc{org.x - f.centre.x, org.y - f.centre.y, org.z - f.centre.z};
-  const float b = hd::dot(oc, d), c = hd::dot(oc, oc) - f.radius * f.radius;
-  const float disc = b * b - c;
-  if (!(disc >= 0.0f)) return {};
-  const float root = hd::sqrt(disc);
-  const float s_enter = -b - root, s_exit = -b + root;
-  const bool inside = !(c > 0.0f);
-  if (!inside && s_enter < 0.0f) return {};
-  const float s_at = inside ? s_exit : s_enter;
-  hd::Vec3<float> e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
-  // The point on the sphere as a unit vector: from inside, |e| is R to rounding, so a product by
-  // 1/R will do; from outside, far origins cancel digits in e, and its own length is needed.
-  const float e_inv = inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::dot(e, e));
-  e = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
-  FieldAnswer a = read_at(f, e, inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d);
-  if (!a.hit) return {};
-  const float s_hit = inside ? s_exit - a.t * diameter : s_enter + a.t * diameter;
-  if (inside && !(s_hit > f.self_offset * diameter)) return {};
-  if (!(s_hit >= s_min && s_hit <= s_max)) return {};
-  a.t = s_hit * inv;
-  return a;
+  SphereVisit v;
+  if (!sphere_visit(f, org, dir, tmin, tmax, v)) return {};
+  return place_answer(f, v, read_at(f, v.point, v.read));
 }
 
 }  // namespace vf::field
