@@ -12,8 +12,6 @@
 #include <string>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-
 #include "capi/handles.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/memory.hpp"
@@ -104,22 +102,16 @@ RayArrays soa_rays(const vf_rays_soa& r, std::size_t count) {
   return a;
 }
 
-// Field answers for object-space rays [first, first + count) of `rays`, through the SIMD batch.
-void trace_field(const field::ObjectField& f, const vf_ray* rays, std::size_t count, std::vector<field::FieldAnswer>& out) {
-  out.resize(count);
-  vf::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& range) {
-    check_interrupt();
-    const std::size_t n = range.size();
-    std::vector<float> columns(8 * n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const vf_ray& r = rays[range.begin() + k];
-      const float values[8] = {r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tmin, r.tmax};
-      for (int c = 0; c < 8; ++c) columns[static_cast<std::size_t>(c) * n + k] = values[c];
-    }
-    const float* c = columns.data();
-    const field::ObjectRays soa{c, c + n, c + 2 * n, c + 3 * n, c + 4 * n, c + 5 * n, c + 6 * n, c + 7 * n, n};
-    f.trace_batch(soa, out.data() + range.begin());
-  });
+// Calls emit(i, answer) for the field's answer to every object-space ray, a chunk at a time.
+template <class Emit>
+void for_each_field_answer(const field::ObjectField& f, const vf_ray* rays, std::size_t count, Emit&& emit) {
+  std::vector<field::FieldAnswer> answers;
+  for (std::size_t first = 0; first < count; first += kChunk) {
+    const std::size_t n = std::min(kChunk, count - first);
+    answers.resize(n);
+    f.trace_rays(std::span<const Ray>(reinterpret_cast<const Ray*>(rays) + first, n), answers);
+    for (std::size_t k = 0; k < n; ++k) emit(first + k, answers[k]);
+  }
 }
 
 }  // namespace
@@ -371,16 +363,10 @@ vf_error vf_field_intersect(vf_field f, const vf_ray* rays, size_t count, vf_hit
     const vf_field_s& h = need(f, "field");
     need_pointer(rays, count, "rays");
     need_pointer(hits, count, "hits");
-    std::vector<field::FieldAnswer> answers;
-    for (std::size_t first = 0; first < count; first += kChunk) {
-      const std::size_t n = std::min(kChunk, count - first);
-      trace_field(h.field, rays + first, n, answers);
-      for (std::size_t k = 0; k < n; ++k) {
-        const field::FieldAnswer& a = answers[k];
-        hits[first + k] = a.hit ? vf_hit{a.t, 0.0f, 0.0f, VF_INVALID_ID, 0, a.normal.x, a.normal.y, a.normal.z}
-                                : vf_hit{INFINITY, 0.0f, 0.0f, VF_INVALID_ID, VF_INVALID_ID, 0.0f, 0.0f, 0.0f};
-      }
-    }
+    for_each_field_answer(h.field, rays, count, [&](std::size_t i, const field::FieldAnswer& a) {
+      hits[i] = a.hit ? vf_hit{a.t, 0.0f, 0.0f, VF_INVALID_ID, 0, a.normal.x, a.normal.y, a.normal.z}
+                      : vf_hit{INFINITY, 0.0f, 0.0f, VF_INVALID_ID, VF_INVALID_ID, 0.0f, 0.0f, 0.0f};
+    });
   });
 }
 
@@ -389,12 +375,7 @@ vf_error vf_field_occluded(vf_field f, const vf_ray* rays, size_t count, uint8_t
     const vf_field_s& h = need(f, "field");
     need_pointer(rays, count, "rays");
     need_pointer(occluded, count, "occluded");
-    std::vector<field::FieldAnswer> answers;
-    for (std::size_t first = 0; first < count; first += kChunk) {
-      const std::size_t n = std::min(kChunk, count - first);
-      trace_field(h.field, rays + first, n, answers);
-      for (std::size_t k = 0; k < n; ++k) occluded[first + k] = answers[k].hit ? 1 : 0;
-    }
+    for_each_field_answer(h.field, rays, count, [&](std::size_t i, const field::FieldAnswer& a) { occluded[i] = a.hit ? 1 : 0; });
   });
 }
 

@@ -8,8 +8,15 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 #include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include <tbb/blocked_range.h>
 
 #include "field_kernel.hpp"
+#include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
+#include "visfield/core/parallel.hpp"
 #include "visfield/field/object_field.hpp"
 
 namespace vf::field {
@@ -112,6 +119,17 @@ void ObjectField::trace_rays(const Ray* rays, const std::uint32_t* index, std::s
         const Ray local = to_object.apply(ray);
         out[k] = trace_field(f, {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z}, local.tmin, local.tmax);
       });
+}
+
+void ObjectField::trace_rays(std::span<const Ray> rays, std::span<FieldAnswer> out) const {
+  if (rays.size() != out.size()) throw Error("trace_rays: " + std::to_string(rays.size()) + " rays but room for " + std::to_string(out.size()) + " answers");
+  const InverseTransform identity;  // object space already: the rays pass bit for bit
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
+    check_interrupt();
+    std::vector<std::uint32_t> index(range.size());
+    std::iota(index.begin(), index.end(), static_cast<std::uint32_t>(range.begin()));
+    trace_rays(rays.data(), index.data(), index.size(), identity, nullptr, out.data() + range.begin());
+  });
 }
 
 void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,

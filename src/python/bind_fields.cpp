@@ -10,11 +10,8 @@
 #include "arrays.hpp"
 #include "handles.hpp"
 #include "visfield/core/error.hpp"
-#include "visfield/core/parallel.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/field/field_file.hpp"
-
-#include <tbb/blocked_range.h>
 
 namespace vf::python {
 namespace {
@@ -25,21 +22,17 @@ const TriangleMesh& mesh_of(const Scene& scene, std::uint32_t mesh) {
   return scene.meshes[mesh];
 }
 
-// The field's answers for `rays` (object space), a block at a time through the SIMD batch.
+// The field's answers for `rays` (object space, read in place), a chunk at a time.
 std::vector<field::FieldAnswer> trace(const field::ObjectField& f, const RayArrays& rays) {
+  constexpr std::size_t kChunk = std::size_t{1} << 16;
   std::vector<field::FieldAnswer> answers(rays.count);
-  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.count, 4096), [&](const auto& range) {
-    const std::size_t n = range.size();
-    std::vector<float> c(8 * n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const Ray r = rays.at(range.begin() + k);
-      const float v[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
-      for (std::size_t col = 0; col < 8; ++col) c[col * n + k] = v[col];
-    }
-    const field::ObjectRays soa{c.data(), c.data() + n, c.data() + 2 * n, c.data() + 3 * n, c.data() + 4 * n, c.data() + 5 * n,
-                                c.data() + 6 * n, c.data() + 7 * n, n};
-    f.trace_batch(soa, answers.data() + range.begin());
-  });
+  std::vector<Ray> chunk;
+  for (std::size_t first = 0; first < rays.count; first += kChunk) {
+    const std::size_t n = std::min(kChunk, rays.count - first);
+    chunk.resize(n);
+    for (std::size_t k = 0; k < n; ++k) chunk[k] = rays.at(first + k);
+    f.trace_rays(chunk, std::span<field::FieldAnswer>(answers.data() + first, n));
+  }
   return answers;
 }
 

@@ -60,13 +60,12 @@ RenderSettings settings_of(const std::string& integrator, const std::string& acc
   return s;
 }
 
-// One render through `renderer`: the image, or (image, stats) with `with_stats`; vf::Error from bad
-// settings raises ValueError.
-py::object render_with(const SceneRenderer& renderer, const RenderSettings& s, const std::optional<Camera>& camera, bool with_stats) {
-  RenderResult result;
+// Runs `body` without the GIL; a vf::Error about the settings (not memory, not a signal) raises ValueError.
+template <class Body>
+void settings_errors_as_value_errors(Body&& body) {
   try {
     py::gil_scoped_release release;
-    result = renderer.render(s, camera ? &*camera : nullptr);
+    body();
   } catch (const MemoryRefused&) {
     throw;
   } catch (const Interrupted&) {
@@ -74,6 +73,12 @@ py::object render_with(const SceneRenderer& renderer, const RenderSettings& s, c
   } catch (const Error& e) {
     throw py::value_error(e.what());
   }
+}
+
+// One render through `renderer`: the image, or (image, stats) with `with_stats`.
+py::object render_with(const SceneRenderer& renderer, const RenderSettings& s, const std::optional<Camera>& camera, bool with_stats) {
+  RenderResult result;
+  settings_errors_as_value_errors([&] { result = renderer.render(s, camera ? &*camera : nullptr); });
   if (!with_stats) return to_numpy(result.image);
   py::dict stats;
   const RenderStats& st = result.stats;
@@ -86,16 +91,7 @@ py::object render_with(const SceneRenderer& renderer, const RenderSettings& s, c
 std::shared_ptr<RendererHolder> make_renderer(const SceneHandle& scene, const RenderSettings& s, std::uint64_t rays) {
   auto holder = std::make_shared<RendererHolder>();
   holder->scene = scene.shared();
-  try {
-    py::gil_scoped_release release;
-    holder->renderer = std::make_unique<SceneRenderer>(*holder->scene, s, rays);
-  } catch (const MemoryRefused&) {
-    throw;
-  } catch (const Interrupted&) {
-    throw;
-  } catch (const Error& e) {
-    throw py::value_error(e.what());
-  }
+  settings_errors_as_value_errors([&] { holder->renderer = std::make_unique<SceneRenderer>(*holder->scene, s, rays); });
   return holder;
 }
 

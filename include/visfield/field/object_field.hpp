@@ -141,6 +141,9 @@ class ObjectField {
   /// Thread-safe.
   void trace_rays(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                   const float* limit, FieldAnswer* out, int width = 0) const;
+  /// trace() for every object-space ray of `rays` into `out` (same size), through the batch kernel,
+  /// in parallel (TBB) over blocks of rays; bit for bit trace()'s answers. Throws vf::Interrupted on a signal.
+  void trace_rays(std::span<const Ray> rays, std::span<FieldAnswer> out) const;
   /// Occlusion for the same rays as trace_rays() (no limit): occluded[index[k]] = 1 where trace()
   /// of the mapped ray hits; other entries are left as they are. Thread-safe for disjoint `index` sets.
   void mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
