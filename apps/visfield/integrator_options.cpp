@@ -82,13 +82,7 @@ void check_integrator_options(const CLI::App& cmd, const IntegratorOptions& o) {
     throw CLI::ValidationError("--occluder", o.occluder + ": --occluders field needs a field:... spec");
 }
 
-std::string occluder_spec(const IntegratorOptions& o, const Scene& scene) {
-  if (o.occluders == "field" && o.occluder.empty()) return "field";
-  if (!o.occluders.empty() || !o.occluder.empty()) return o.occluder;
-  for (const TriangleMesh& mesh : scene.meshes)
-    if (mesh.occluder == MeshOccluder::field) return "field:meshes=marked";
-  return "";
-}
+std::string occluder_spec(const IntegratorOptions& o, const Scene& scene) { return vf::occluder_spec(render_settings(o, false), scene); }
 
 void add_device_option(CLI::App& cmd, std::string& device) {
   cmd.add_option("--device", device,
@@ -116,42 +110,30 @@ int psf_level_of(const IntegratorOptions& o) {
 
 Integrator integrator_of(const IntegratorOptions& o) { return *parse_integrator(o.integrator); }
 
-AoOptions ao_options(const IntegratorOptions& o, bool progress) {
-  AoOptions ao;
-  ao.spp = o.spp;
-  ao.ao_rays = o.ao_rays;
-  ao.psf_level = psf_level_of(o);
-  ao.max_distance = static_cast<float>(o.max_distance);
-  ao.seed = o.seed;
-  ao.progress = progress;
-  return ao;
-}
-
-ShadingOptions shading_options(const IntegratorOptions& o, bool progress) {
-  ShadingOptions s;
+RenderSettings render_settings(const IntegratorOptions& o, bool progress) {
+  RenderSettings s;
+  s.integrator = integrator_of(o);
+  s.accel = o.accel;
+  s.occluder = o.occluder;
+  s.occluders = o.occluders;
   s.spp = o.spp;
-  s.seed = o.seed;
-  s.progress = progress;
-  s.max_depth = o.depth;
+  s.ao_rays = o.ao_rays;
+  s.psf_level = psf_level_of(o);
+  s.max_distance = static_cast<float>(o.max_distance);
+  s.depth = o.depth;
   s.shadow_rays = o.shadow_rays;
   s.glossy_rays = o.glossy_rays;
   s.ambient = static_cast<float>(o.ambient);
+  s.seed = o.seed;
+  s.progress = progress;
   return s;
 }
 
-std::uint64_t rays_per_hit(const IntegratorOptions& o, const Scene& scene) {
-  const int level = psf_level_of(o);
-  const auto lights = static_cast<std::uint64_t>(std::max<std::size_t>(1, scene.point_lights.size() + scene.sphere_lights.size()));
-  switch (integrator_of(o)) {
-    case Integrator::ao: return level == 0 ? static_cast<std::uint64_t>(o.ao_rays) : DirectionLines::count(level);
-    case Integrator::raycast: return 0;
-    case Integrator::whitted: return lights + 1;
-    case Integrator::softshadow: return lights * static_cast<std::uint64_t>(o.shadow_rays);
-    case Integrator::glossy: return lights + static_cast<std::uint64_t>(o.glossy_rays);
-    case Integrator::path: return 2 * static_cast<std::uint64_t>(o.depth);  // a bounce and a shadow ray per vertex
-  }
-  return 1;
-}
+AoOptions ao_options(const IntegratorOptions& o, bool progress) { return vf::ao_options(render_settings(o, progress)); }
+
+ShadingOptions shading_options(const IntegratorOptions& o, bool progress) { return vf::shading_options(render_settings(o, progress)); }
+
+std::uint64_t rays_per_hit(const IntegratorOptions& o, const Scene& scene) { return vf::rays_per_hit(render_settings(o, false), scene); }
 
 std::string integrator_summary(const IntegratorOptions& o) {
   if (integrator_of(o) != Integrator::ao) return o.integrator;

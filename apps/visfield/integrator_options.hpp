@@ -10,6 +10,7 @@
 
 #include "visfield/core/scene.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/registry/render_scene.hpp"
 #include "visfield/render/integrators.hpp"
 
 namespace vf::cli {
@@ -59,6 +60,9 @@ void check_device_option(const std::string& device, const IntegratorOptions& opt
 
 /// The integrator the options name.
 Integrator integrator_of(const IntegratorOptions& options);
+
+/// The library's render settings from the options (`progress` as given; size and region left at their defaults).
+RenderSettings render_settings(const IntegratorOptions& options, bool progress);
 
 /// AoOptions from the options (`progress` as given).
 AoOptions ao_options(const IntegratorOptions& options, bool progress);
