@@ -15,7 +15,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -24,6 +26,7 @@
 #include "beam_field/tile_footprint.hpp"
 #include "beam_field/tile_geometry.hpp"
 #include "beam_field/tile_raster.hpp"
+#include "simd/watertight_block.hpp"
 #include "visfield/accel/beam_field.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
@@ -247,8 +250,9 @@ class Walk {
   }
 
   // Tests the references of `leaf` whose footprint overlaps `key`: their triangles are fetched
-  // together first (they are scattered over the triangle array), then tested in reference order.
-  // Returns true when kAny and one is hit.
+  // together first (they are scattered over the triangle array), then tested in reference order,
+  // kBlock at a time with the SIMD watertight test of the BVH's leaves (a lone one with the scalar
+  // test: the same bits either way). Returns true when kAny and one is hit.
   bool test_leaf(const RecordView& record, int leaf, std::uint32_t key) {
     const std::uint32_t* slots = record.leaf_slots(leaf);
     const std::uint32_t size = record.leaf_size(leaf);
@@ -262,10 +266,54 @@ class Walk {
         __builtin_prefetch(&layout_.triangles[slots[r]]);
         return false;
       });
-      for (std::uint32_t k = 0; k < count; ++k)
-        if (test(batch[k]) && kAny) return true;
+      for (std::uint32_t k = 0; k < count; k += kBlock) {
+        const std::uint32_t n = std::min<std::uint32_t>(kBlock, count - k);
+        if ((n == 1 ? test(batch[k]) : test_block(batch + k, n)) && kAny) return true;
+      }
     }
     return false;
+  }
+
+  // Tests triangle slots[0 .. n) (2 <= n <= kBlock) at once; true when one is hit (for closest
+  // hits: when one became the best, in reference order, as test() one by one would).
+  bool test_block(const std::uint32_t* slots, std::uint32_t n) {
+    if (!block_ray_) {
+      block_ray_.emplace(wray_);
+      block_tmin_ = simd::Lanes<kBlock>::broadcast(ray_.tmin);
+      for (int lane = 0; lane < static_cast<int>(kBlock); ++lane) block_.clear(lane);
+    }
+    for (std::uint32_t k = 0; k < n; ++k) {
+      counter_.test();
+      const std::array<Vec3f, 3>& p = layout_.triangles[slots[k]];
+      block_.set(static_cast<int>(k), p[0], p[1], p[2]);
+    }
+    // Lanes past n keep their last triangle's coordinates but corner 0 made NaN: unused lanes.
+    for (std::uint32_t k = n; k < block_used_; ++k)
+      for (int axis = 0; axis < 3; ++axis) block_.p[axis * kBlock + k] = std::numeric_limits<float>::quiet_NaN();
+    block_used_ = n;
+    const simd::Lanes<kBlock> tmax = simd::Lanes<kBlock>::broadcast(best_ ? best_.t : ray_.tmax);
+    if constexpr (kAny) {
+      if (simd::intersect_block<kBlock, false>(block_, *block_ray_, block_tmin_, tmax, nullptr) == 0) return false;
+      best_.found = true;
+      return true;
+    } else {
+      simd::BlockHits<kBlock> hits;
+      simd::LaneBits lanes = simd::intersect_block<kBlock, true>(block_, *block_ray_, block_tmin_, tmax, &hits);
+      bool improved = false;
+      for (; lanes != 0; lanes &= lanes - 1) {
+        const int l = simd::first_lane(lanes);
+        const std::uint32_t slot = slots[l];
+        const ObjectId id = layout_.instance[slot];
+        const std::uint32_t prim = layout_.prim[slot];
+        // As test() in reference order: a later lane must beat the best so far; equal t goes to the
+        // lower (object, triangle).
+        if (best_ && (hits.t[l] > best_.t || (hits.t[l] == best_.t && (id > best_.instance || (id == best_.instance && prim >= best_.prim)))))
+          continue;
+        best_ = Hit::triangle(hits.t[l], hits.u[l], hits.v[l], prim, id, block_.normal(l));
+        improved = true;
+      }
+      return improved;
+    }
   }
 
   bool test(std::uint32_t slot) {
@@ -286,9 +334,16 @@ class Walk {
     return true;
   }
 
+  static constexpr std::uint32_t kBlock = 8;
+
   const BeamLayout& layout_;
   const Ray& ray_;
   WatertightRay wray_;
+  // The SIMD block test's ray and triangles, made on the first block of a walk.
+  std::optional<simd::BlockRay<kBlock>> block_ray_;
+  simd::Lanes<kBlock> block_tmin_;
+  simd::TriangleBlock<kBlock> block_;
+  std::uint32_t block_used_ = kBlock;
   Counter counter_;
   const DirectionTiles* dir_ = nullptr;
   double s0_ = 0, t0_ = 0, w0_ = 0, ds_ = 0, dt_ = 0, dw_ = 0;
