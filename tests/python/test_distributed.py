@@ -1,6 +1,7 @@
 """visfield.distributed on a LocalCluster of 2 worker processes: the same images and fields as one
 machine, in order; failed tasks retried and reported; scenes loaded once per worker."""
 
+import logging
 import os
 import shutil
 import warnings
@@ -19,8 +20,10 @@ EXAMPLE = os.path.join(REPOSITORY, "examples", "scenes", "example.json")
 
 
 @pytest.fixture(scope="module")
-def client():
-    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+def client(tmp_path_factory):
+    # A folder of its own for the workers' files: no stale lock of another run in the shared default.
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                       local_directory=str(tmp_path_factory.mktemp("dask")), silence_logs=logging.ERROR)
     with distributed.Client(cluster) as c:
         yield c
     cluster.close()
