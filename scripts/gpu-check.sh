@@ -50,7 +50,7 @@ run() {  # run NAME COMMAND...: its output to $log/NAME.txt and the terminal
 
 # 1. Build (Release, sm_90 unless the cache says otherwise).
 step_build() {
-  cmake -S . -B "$build" -DVISFIELD_CUDA=ON -DCMAKE_BUILD_TYPE=Release -DVISFIELD_MODELS_DIR="$models" \
+  cmake -S . -B "$build" -DVISFIELD_CUDA=ON -DVISFIELD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release -DVISFIELD_MODELS_DIR="$models" \
     -DCMAKE_CUDA_COMPILER="$(command -v nvcc)" >"$log/configure.txt"
   cmake --build "$build" -j"$jobs" --target test_cuda test_gpu visfield visfield-bench >"$log/build.txt" 2>&1 ||
     { tail -50 "$log/build.txt"; exit 1; }
