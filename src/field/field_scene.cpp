@@ -1,4 +1,5 @@
 #include "visfield/field/field_scene.hpp"
+#include "visfield/field/sphere_cull.hpp"
 
 #include <algorithm>
 #include <array>
@@ -152,19 +153,7 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   return result;
 }
 
-bool FieldScene::may_meet(const Object& o, const Ray& ray) {
-  // Distance from the centre to the ray's line, and whether the sphere lies within [tmin, tmax];
-  // the sphere is widened by 1e-3 of its radius so that rounding never culls a ray the object-space
-  // test would let in (the batch must answer as the single-ray query does).
-  const float radius = o.radius * 1.001f;
-  const Vec3f oc = o.centre - ray.org;
-  const float dd = dot(ray.dir, ray.dir);
-  const float along = dot(oc, ray.dir);
-  const Vec3f perpendicular = oc - ray.dir * (along / dd);
-  if (dot(perpendicular, perpendicular) > radius * radius) return false;
-  const float reach = radius * std::sqrt(dd);
-  return along + reach >= ray.tmin * dd && along - reach <= ray.tmax * dd;
-}
+bool FieldScene::may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
 
 Hit FieldScene::field_hit(const Object& o, const FieldAnswer& a) {
   if (!a.has_normal) return Hit::surface(a.t, o.id);

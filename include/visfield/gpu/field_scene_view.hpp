@@ -10,6 +10,7 @@
 #include "visfield/core/ray.hpp"
 #include "visfield/core/transform.hpp"
 #include "visfield/field/field_query.hpp"
+#include "visfield/field/sphere_cull.hpp"
 #include "visfield/gpu/bvh_traversal.hpp"
 
 namespace vf::gpu {
@@ -59,18 +60,8 @@ VF_HOST_DEVICE inline Ray to_object(const InverseTransform& m, const Ray& ray) {
   return Ray{m.linear * (ray.org - m.translation), m.linear * ray.dir, ray.tmin, ray.tmax};
 }
 
-/// FieldScene's cull: whether `ray` can meet object `o`'s sphere, widened by 1e-3 of its radius so
-/// that rounding never culls a ray the object-space test lets in.
-VF_HOST_DEVICE inline bool may_meet(const FieldObject& o, const Ray& ray) {
-  const float radius = o.radius * 1.001f;
-  const Vec3f oc = o.centre - ray.org;
-  const float dd = dot(ray.dir, ray.dir);
-  const float along = dot(oc, ray.dir);
-  const Vec3f perpendicular = oc - ray.dir * (along / dd);
-  if (dot(perpendicular, perpendicular) > radius * radius) return false;
-  const float reach = radius * hd::sqrt(dd);
-  return along + reach >= ray.tmin * dd && along - reach <= ray.tmax * dd;
-}
+/// FieldScene's cull (field/sphere_cull.hpp): whether `ray` can meet object `o`'s sphere.
+VF_HOST_DEVICE inline bool may_meet(const FieldObject& o, const Ray& ray) { return field::may_meet_sphere(o.centre, o.radius, ray); }
 
 /// Object `o`'s field answer for world-space `ray` within [tmin, tmax].
 VF_HOST_DEVICE inline field::FieldAnswer trace_object(const FieldSceneView& scene, const FieldObject& o, const Ray& ray, float tmax) {
