@@ -177,7 +177,7 @@ VF_API vf_error vf_structure_commit(vf_structure structure);
 /* ----- ObjectFields (approximate, per mesh, object space) ----- */
 
 /** Precomputes the field of mesh `mesh` of `scene`. `params`: "positions=4226,directions=32,mapping=concentric,
- * storage=u8,normals=none,bilinear=0,blend=0" or any subset (NULL = defaults). */
+ * storage=u8,normals=none,bilinear=0,blend=0,through=1" or any subset (NULL = defaults). */
 VF_API vf_error vf_field_build(vf_scene scene, uint32_t mesh, const char* params, vf_field* out);
 /** Reads a .vfield file made for mesh `mesh` of `scene` (refused when made for another mesh). */
 VF_API vf_error vf_field_load(const char* path, vf_scene scene, uint32_t mesh, vf_field* out);

@@ -25,15 +25,18 @@ __device__ inline field::FieldAnswer texture_cell(cudaTextureObject_t tex, unsig
 }
 
 /// field::trace_field for u8 cells and nearest lookups, its cell read through `tex`: the same steps
-/// (sphere_visit, the nearest sample, square_of, place_answer), only the byte read differs.
+/// (sphere_visit, the nearest sample, sample_read, square_of, place_answer), only the byte read differs.
 __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTables& f, cudaTextureObject_t tex, unsigned int stack,
                                                          const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin, float tmax) {
   field::SphereVisit v;
   if (!field::sphere_visit(f, org, dir, tmin, tmax, v)) return {};
   const int sample = field::nearest_position(v.point, f.lattice_n, f.upper);
+  const field::SampleRead r = field::sample_read(f, v, sample);
   float s, t;
-  field::square_of(f, sample, v.read, s, t);
-  return field::place_answer(f, v, texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions));
+  field::square_of(f, sample, r.q, s, t);
+  field::FieldAnswer a = texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions);
+  if (a.hit) a.t = a.t + r.shift;
+  return field::place_answer(f, v, a);
 }
 
 /// gpu::occluded (fields, then the exact part) with the fields' cells read through textures.

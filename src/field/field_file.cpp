@@ -204,6 +204,7 @@ StoredField load_field(const std::filesystem::path& path, std::optional<std::uin
   ObjectFieldConfig config = stored.field.config();
   config.direction_lookup = lookups.direction_lookup;
   config.position_lookup = lookups.position_lookup;
+  config.sample_line = lookups.sample_line;
   const std::span<const std::uint8_t> table = stored.field.cell_table(), normal_codes = stored.field.normal_table();
   stored.field = ObjectField::from_tables(config, stored.field.sphere(), std::vector<std::uint8_t>(table.begin(), table.end()),
                                           stored.field.averages(), std::vector<std::uint8_t>(normal_codes.begin(), normal_codes.end()),

@@ -532,15 +532,51 @@ class FieldKernel {
     w = inward(c, {select(best_i < zero_i, -p.x, p.x), select(best_j < zero_i, -p.y, p.y), p.z});
   }
 
-  /// read_at on lanes: the unit point `e` of the sphere, direction `q`.
-  [[gnu::always_inline]] static Answer read_at(const FieldTables& f, const Vec& e, const Vec& q, M active) {
+  /// The ray against the bounding sphere on lanes: which lanes meet it as the scalar query lets them
+  /// (from inside, or entering ahead), where, and the direction the table is read in.
+  struct Geometry {
+    M active, inside;
+    F inv, s_min, s_max, s_enter, s_exit;  // inv: 1 / |dir|
+    Vec far;                                // SphereVisit::far
+  };
+
+  /// sample_read on lanes: the sample with inward normal `w`, the lanes' Geometry `g` and their
+  /// parallel direction `q`; the direction to read in and the shift of a hit's distance.
+  [[gnu::always_inline]] static void sample_read(const FieldTables& f, const Geometry& g, const Vec& w, const Vec& q, Vec& read, F& shift) {
+    const F zero = L::splat(0.0f);
+    if (f.sample_line == SampleLine::parallel) {
+      read = q;
+      shift = zero;
+      return;
+    }
+    const F radius = L::splat(f.radius);
+    const Vec line{g.far.x + w.x * radius, g.far.y + w.y * radius, g.far.z + w.z * radius};
+    const F len = sqrt(dot(line, line));
+    const M long_enough = len > L::splat(kShortestLine * f.radius);
+    const F inv = L::splat(1.0f) / len;
+    read = {select(long_enough, line.x * inv, q.x), select(long_enough, line.y * inv, q.y), select(long_enough, line.z * inv, q.z)};
+    shift = select(long_enough & g.inside, (g.s_exit - len) / L::splat(2.0f * f.radius), zero);
+  }
+
+  /// read_sample on lanes: the sample `sample` with inward normal `w`.
+  [[gnu::always_inline]] static Answer read_sample(const FieldTables& f, const Geometry& g, I sample, const Vec& w, const Vec& q, M m) {
+    Vec read;
+    F shift;
+    sample_read(f, g, w, q, read, shift);
+    Answer a = read_direction(f, sample, w, read, m);
+    a.t = a.t + shift;
+    return a;
+  }
+
+  /// read_at on lanes: the lanes' Geometry `g`, the unit point `e` of the sphere, parallel direction `q`.
+  [[gnu::always_inline]] static Answer read_at(const FieldTables& f, const Geometry& g, const Vec& e, const Vec& q, M active) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     const Corners c = corners(f, e);
     if (f.position_lookup == PositionLookup::nearest) {
       I sample;
       Vec w;
       nearest_sample(f, c, active, sample, w);
-      return read_direction(f, sample, w, q, active);
+      return read_sample(f, g, sample, w, q, active);
     }
     // blend_positions: triangle weights, clamped at 0, zero beyond the rim, normalised; a corner
     // beyond the rim repeats the heaviest valid one.
@@ -572,17 +608,10 @@ class FieldKernel {
       const I sample = select(c.rim[k], c.index(k, f.lattice_n), valid_index) + offset;
       const Vec p{select(c.rim[k], direction[k].x, valid_corner.x), select(c.rim[k], direction[k].y, valid_corner.y),
                   select(c.rim[k], direction[k].z, valid_corner.z)};
-      vote.add(w, read_direction(f, sample, inward(c, p), q, m), m);
+      vote.add(w, read_sample(f, g, sample, inward(c, p), q, m), m);
     }
     return vote.result();
   }
-
-  /// The ray against the bounding sphere on lanes: which lanes meet it as the scalar query lets them
-  /// (from inside, or entering ahead), where, and the direction the table is read in.
-  struct Geometry {
-    M active, inside;
-    F inv, s_min, s_max, s_enter, s_exit;  // inv: 1 / |dir|
-  };
 
   /// The lanes' Geometry, the unit point `e` of the sphere where the table is read (entry, or exit
   /// from inside) and the direction `q` it is read in (into the sphere).
@@ -610,6 +639,10 @@ class FieldKernel {
     if (any(g.active & ~g.inside)) e_inv = select(g.inside, e_inv, one / sqrt(dot(e, e)));
     e_unit = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
     q = {select(g.inside, -d.x, d.x), select(g.inside, -d.y, d.y), select(g.inside, -d.z, d.z)};
+    g.far = {zero, zero, zero};
+    if (f.sample_line != SampleLine::parallel)
+      g.far = {select(g.inside, oc.x, oc.x + d.x * g.s_exit), select(g.inside, oc.y, oc.y + d.y * g.s_exit),
+               select(g.inside, oc.z, oc.z + d.z * g.s_exit)};
     return g;
   }
 
@@ -628,7 +661,7 @@ class FieldKernel {
     Vec e, q;
     const Geometry g = geometry(f, r, valid, e, q);
     if (!any(g.active)) return {L::none(), L::splat(0.0f), L::splat(0)};
-    return place(f, g, read_at(f, e, q, g.active));
+    return place(f, g, read_at(f, g, e, q, g.active));
   }
 
   /// With the paper's lookups (one sample, one cell), trace_lanes() in two halves so that a stream
@@ -637,20 +670,25 @@ class FieldKernel {
   struct Located {
     Geometry g;
     I sample, i, j;
+    F shift;  // sample_read's
   };
 
   [[gnu::always_inline]] static void locate(const FieldTables& f, const Rays& r, M valid, Located& l) {
     Vec e, q, w;
     l.g = geometry(f, r, valid, e, q);
     nearest_sample(f, corners(f, e), l.g.active, l.sample, w);
+    Vec read;
+    sample_read(f, l.g, w, q, read, l.shift);
     F s, t;
-    square_point(f, w, q, l.g.active, s, t);
+    square_point(f, w, read, l.g.active, s, t);
     l.i = cell_of(s, f.directions);
     l.j = cell_of(t, f.directions);
   }
 
   [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
-    return place(f, l.g, read_cell(f, l.sample, l.i, l.j, l.g.active));
+    Answer a = read_cell(f, l.sample, l.i, l.j, l.g.active);
+    a.t = a.t + l.shift;
+    return place(f, l.g, a);
   }
 
   /// decode_normal on lanes.

@@ -63,6 +63,7 @@ void ObjectFieldConfig::validate() const {
     throw Error("field direction lookup: unknown value");
   if (position_lookup != PositionLookup::nearest && position_lookup != PositionLookup::blend)
     throw Error("field position lookup: unknown value");
+  if (sample_line != SampleLine::parallel && sample_line != SampleLine::through) throw Error("field sample line: unknown value");
 }
 
 BoundingSphere bounding_sphere_of(const TriangleSet& triangles) {
@@ -132,6 +133,7 @@ FieldTables ObjectField::tables() const {
   t.normals = config_.normals;
   t.direction_lookup = config_.direction_lookup;
   t.position_lookup = config_.position_lookup;
+  t.sample_line = config_.sample_line;
   t.centre = {sphere_.centre.x, sphere_.centre.y, sphere_.centre.z};
   t.radius = sphere_.radius;
   t.self_offset = self_offset_;

@@ -20,6 +20,9 @@ namespace {
 constexpr double kTraceFlops = 46 + 51 + 62 + 8;
 constexpr double kTraceIntOps = 40;        // lattice indices, point_index, the cell address
 constexpr double kDirectionFlops = 62;     // one more read_direction (bilinear, blend)
+// sample_read() through the far end, per positional sample read: the exit point 6, the line 6, its
+// length (dot product, sqrt) 6, the unit direction (division, 3 products) 4, the shift 3.
+constexpr double kThroughFlops = 25;
 constexpr double kTransformFlops = 18;     // world-to-object ray (two 3x3 products, a subtraction)
 // ao_ray(): the generator's two numbers (integer), concentric_disk 14, sincos_eighth 19,
 // Malley's lift 5, the frame 15.
@@ -43,7 +46,8 @@ LookupCost field_lookup_cost(const field::FieldTables& t, bool device_rays, int 
   // the 1-bit variant reads its sample's average distance too.
   c.table_bytes = 3.0 * 12.0 + reads * (cell_bytes + normal_bytes + (t.storage == field::CellStorage::bit ? 4.0 : 0.0));
   c.sector_bytes = kSector * (2.0 + reads * (1.0 + (normal_bytes > 0.0 ? 1.0 : 0.0)));
-  c.flops = kTraceFlops + kTransformFlops + (reads - 1.0) * kDirectionFlops;
+  c.flops = kTraceFlops + kTransformFlops + (reads - 1.0) * kDirectionFlops +
+            (t.sample_line == field::SampleLine::through ? positions * kThroughFlops : 0.0);
   c.int_ops = kTraceIntOps * reads;
   if (device_rays) {
     c.ray_bytes = (static_cast<double>(sizeof(SurfaceFrame)) + 4.0) / std::max(1, rays_per_point);

@@ -45,12 +45,12 @@ void bind_fields(py::module_& m) {
       .def_static(
           "build",
           [](const SceneHandle& scene, std::uint32_t mesh, int positions, int directions, const std::string& mapping, const std::string& storage,
-             const std::string& normals, bool bilinear, bool blend) {
+             const std::string& normals, bool bilinear, bool blend, bool through) {
             const std::shared_ptr<Scene> s = scene.shared();
             const TriangleMesh& source = mesh_of(*s, mesh);
             const std::string spec = "field:positions=" + std::to_string(positions) + ",directions=" + std::to_string(directions) +
                                      ",mapping=" + mapping + ",storage=" + storage + ",normals=" + normals + ",bilinear=" + (bilinear ? "1" : "0") +
-                                     ",blend=" + (blend ? "1" : "0");
+                                     ",blend=" + (blend ? "1" : "0") + ",through=" + (through ? "1" : "0");
             field::ObjectFieldConfig config;
             try {
               config = field_config_from_spec(spec, "");
@@ -68,6 +68,7 @@ void bind_fields(py::module_& m) {
           },
           py::arg("scene"), py::arg("mesh") = 0, py::arg("positions") = 4226, py::arg("directions") = 32, py::arg("mapping") = "concentric",
           py::arg("storage") = "u8", py::arg("normals") = "none", py::arg("bilinear") = false, py::arg("blend") = false,
+          py::arg("through") = true,
           "Precomputes the field of mesh `mesh` of `scene` (parameters as `visfield field build`). The GIL is released while it runs.")
       .def_static(
           "load",

@@ -53,7 +53,7 @@ StoredField decode_field(std::string_view bytes, const std::string& name);
 void save_field(const ObjectField& field, std::uint64_t hash, const std::filesystem::path& path);
 
 /// Reads a .vfield file. With `expected_hash`, a file made for another mesh is refused. Lookup
-/// options (bilinear, blend) are not stored: they come from `lookups`.
+/// options (bilinear, blend, through) are not stored: they come from `lookups`.
 StoredField load_field(const std::filesystem::path& path, std::optional<std::uint64_t> expected_hash = std::nullopt,
                        const ObjectFieldConfig& lookups = {});
 

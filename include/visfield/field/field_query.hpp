@@ -31,6 +31,13 @@ enum class PositionLookup : unsigned char {
   blend = 1,    ///< The three samples of the lattice triangle around it, barycentric weights.
 };
 
+/// Which line through a positional sample its table is read along.
+enum class SampleLine : unsigned char {
+  parallel = 0,  ///< The ray's own direction, moved to the sample (the papers).
+  through = 1,   ///< From the sample through the ray's far end in the sphere (its origin from inside, its exit from
+                 ///< outside): the line meets the ray there, so the sample's offset shrinks to nothing along it.
+};
+
 /// An approximate answer in object space: a hit at ray parameter t, or a miss; with a normal field,
 /// the unit object-space normal of the surface the answering cell saw.
 struct FieldAnswer {
@@ -51,6 +58,7 @@ struct FieldTables {
   NormalStorage normals = NormalStorage::none;
   DirectionLookup direction_lookup = DirectionLookup::nearest;
   PositionLookup position_lookup = PositionLookup::nearest;
+  SampleLine sample_line = SampleLine::parallel;
   hd::Vec3<float> centre{0.0f, 0.0f, 0.0f};  ///< Bounding sphere, object space.
   float radius = 0.0f;
   float self_offset = 0.0f;                  ///< Intra-object start-surface offset over 2R.
@@ -190,17 +198,6 @@ VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sampl
   return vote.result();
 }
 
-/// The answer for the point of the sphere in unit direction `p` from its centre, read in unit
-/// direction `d`: at the nearest sample, or the blend of the three around `p`.
-VF_HOST_DEVICE inline FieldAnswer read_at(const FieldTables& f, const hd::Vec3<float>& p, const hd::Vec3<float>& d) {
-  if (f.position_lookup == PositionLookup::nearest) return read_direction(f, nearest_position(p, f.lattice_n, f.upper), d);
-  const PositionBlend<float> blend = blend_positions(p, f.lattice_n);
-  FieldVote vote;
-  for (int k = 0; k < 3; ++k)
-    if (blend.weight[k] > 0.0f) vote.add(blend.weight[k], read_direction(f, blend.index[k], d));
-  return vote.result();
-}
-
 /// Where a ray meets a field's sphere: the point to read (a unit vector from the centre), the
 /// direction to read it in, and what places the table's answer along the ray (sphere_visit()).
 struct SphereVisit {
@@ -210,7 +207,49 @@ struct SphereVisit {
   float inv = 0.0f;                        ///< 1 / |dir|: back to the ray's own t.
   hd::Vec3<float> point{0.0f, 0.0f, 0.0f};  ///< The point of the sphere to read at, as a unit vector.
   hd::Vec3<float> read{0.0f, 0.0f, 0.0f};   ///< The unit direction to read the table in (into the sphere).
+  hd::Vec3<float> far{0.0f, 0.0f, 0.0f};    ///< The ray's far end in the sphere from its centre: the origin from inside, the exit from outside.
 };
+
+/// Below this length (over R) the line from a sample to the ray's far end has no direction to
+/// speak of, and SampleLine::through reads parallel instead.
+inline constexpr float kShortestLine = 1e-3f;
+
+/// The line the table of `sample` is read along for visit `v`, as f.sample_line says: its unit
+/// direction `q` (into the sphere), and `shift`, what a hit's distance (over 2R) gains so that
+/// place_answer() puts it where that line found it (from inside, the line through the origin is
+/// `len` long where the ray's own is s_exit; otherwise 0).
+struct SampleRead {
+  hd::Vec3<float> q{0.0f, 0.0f, 0.0f};
+  float shift = 0.0f;
+};
+
+VF_HOST_DEVICE inline SampleRead sample_read(const FieldTables& f, const SphereVisit& v, int sample) {
+  if (f.sample_line == SampleLine::parallel) return {v.read, 0.0f};
+  const hd::Vec3<float> w = sample_inward(f, sample);  // the sample's point is −R·w
+  const hd::Vec3<float> g{v.far.x + w.x * f.radius, v.far.y + w.y * f.radius, v.far.z + w.z * f.radius};
+  const float len = hd::sqrt(hd::dot(g, g));
+  if (!(len > kShortestLine * f.radius)) return {v.read, 0.0f};
+  const float inv = 1.0f / len;
+  return {{g.x * inv, g.y * inv, g.z * inv}, v.inside ? (v.s_exit - len) / (2.0f * f.radius) : 0.0f};
+}
+
+/// The table of `sample` read for visit `v` along sample_read()'s line, the hit moved by its shift.
+VF_HOST_DEVICE inline FieldAnswer read_sample(const FieldTables& f, const SphereVisit& v, int sample) {
+  const SampleRead r = sample_read(f, v, sample);
+  FieldAnswer a = read_direction(f, sample, r.q);
+  if (a.hit) a.t = a.t + r.shift;
+  return a;
+}
+
+/// The answer for visit `v`: at the sample nearest to v.point, or the blend of the three around it.
+VF_HOST_DEVICE inline FieldAnswer read_at(const FieldTables& f, const SphereVisit& v) {
+  if (f.position_lookup == PositionLookup::nearest) return read_sample(f, v, nearest_position(v.point, f.lattice_n, f.upper));
+  const PositionBlend<float> blend = blend_positions(v.point, f.lattice_n);
+  FieldVote vote;
+  for (int k = 0; k < 3; ++k)
+    if (blend.weight[k] > 0.0f) vote.add(blend.weight[k], read_sample(f, v, blend.index[k]));
+  return vote.result();
+}
 
 /// The first half of trace_field(): false when the ray cannot meet the sphere ahead of its origin.
 VF_HOST_DEVICE inline bool sphere_visit(const FieldTables& f, const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin, float tmax,
@@ -234,6 +273,7 @@ VF_HOST_DEVICE inline bool sphere_visit(const FieldTables& f, const hd::Vec3<flo
   const float e_inv = v.inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::dot(e, e));
   v.point = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
   v.read = v.inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d;
+  v.far = v.inside ? oc : hd::Vec3<float>{oc.x + d.x * v.s_exit, oc.y + d.y * v.s_exit, oc.z + d.z * v.s_exit};
   return true;
 }
 
@@ -255,7 +295,7 @@ VF_HOST_DEVICE inline FieldAnswer trace_field(const FieldTables& f, const hd::Ve
                                               float tmax) {
   SphereVisit v;
   if (!sphere_visit(f, org, dir, tmin, tmax, v)) return {};
-  return place_answer(f, v, read_at(f, v.point, v.read));
+  return place_answer(f, v, read_at(f, v));
 }
 
 }  // namespace vf::field

@@ -30,6 +30,12 @@ TEST(Roofline, BytesFollowTheLayoutAndTheBoundIsTheSmaller) {
   EXPECT_FALSE(big.tables_in_l2);
   EXPECT_LT(big.memory_rays_per_s, small.memory_rays_per_s);
   EXPECT_FALSE(gpu::describe(u8, small).empty());
+  // Reading through the far end costs arithmetic, not bytes.
+  t = field::FieldTables{};
+  t.sample_line = field::SampleLine::through;
+  const gpu::LookupCost through = gpu::field_lookup_cost(t, true, 64, false);
+  EXPECT_DOUBLE_EQ(through.table_bytes, u8.table_bytes);
+  EXPECT_GT(through.flops, u8.flops);
 }
 
 }  // namespace

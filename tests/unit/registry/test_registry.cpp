@@ -69,6 +69,7 @@ TEST(Registry, DefaultsAreTheConfigDefaults) {
   EXPECT_EQ(default_of("field", "directions"), field::ObjectFieldConfig{}.directions);
   EXPECT_EQ(default_of("field", "bilinear"), field::ObjectFieldConfig{}.direction_lookup == field::DirectionLookup::bilinear ? 1.0 : 0.0);
   EXPECT_EQ(default_of("field", "blend"), field::ObjectFieldConfig{}.position_lookup == field::PositionLookup::blend ? 1.0 : 0.0);
+  EXPECT_EQ(default_of("field", "through"), field::ObjectFieldConfig{}.sample_line == field::SampleLine::through ? 1.0 : 0.0);
 }
 
 TEST(Registry, EveryRangeTheRegistryAcceptsTheStructureAccepts) {
