@@ -58,5 +58,5 @@ threads=$(nproc)
     echo '```'
     echo
   done
-} > "$out"
+} | sed -e "s|$models|MODELS_DIR|g" -e "s|$work/||g" > "$out"
 echo "wrote $out"
