@@ -223,6 +223,7 @@ struct SampleRead {
   float shift = 0.0f;
 };
 
+/// The read of `sample` for visit `v` (O(1); a square root and a division when through).
 VF_HOST_DEVICE inline SampleRead sample_read(const FieldTables& f, const SphereVisit& v, int sample) {
   if (f.sample_line == SampleLine::parallel) return {v.read, 0.0f};
   const hd::Vec3<float> w = sample_inward(f, sample);  // the sample's point is −R·w
