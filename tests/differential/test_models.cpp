@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "differential/harness.hpp"
+#include "support/models.hpp"
 #include "differential/ray_sets.hpp"
 #include "differential/structure_specs.hpp"
 #include "differential/test_scenes.hpp"
@@ -18,7 +19,7 @@ namespace {
 
 constexpr std::size_t kRaysPerModel = 100'000;  // scaled down under sanitizers (test_scale.hpp)
 
-std::filesystem::path model_path(const char* file) { return std::filesystem::path(VISFIELD_MODELS_DIR) / file; }
+std::filesystem::path model_path(const char* file) { return models_dir() / file; }
 
 class ModelVsOracle : public ::testing::TestWithParam<const char*> {};
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "differential/structure_specs.hpp"
+#include "support/models.hpp"
 #include "support/test_scale.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/rng.hpp"
@@ -206,7 +207,7 @@ std::vector<MeshCase> closed_meshes() {
     return scene;
   };
   for (const char* model : {"igea-triangles.ply", "Armadillo.ply", "cow.obj"}) {
-    const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / model;
+    const std::filesystem::path path = models_dir() / model;
     if (std::filesystem::exists(path)) out.push_back({model, placed(load_scene(path.string()).meshes.front())});
   }
   // The built-in sphere scene's tessellated sphere, without its ground.

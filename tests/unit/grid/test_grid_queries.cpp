@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "differential/ray_sets.hpp"
+#include "support/models.hpp"
 #include "unit/grid/grid_test_support.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/io/scene_file.hpp"
@@ -227,7 +228,7 @@ TEST(GridQueries, BuiltinScenes) {
 }
 
 TEST(GridQueries, SharedModels) {
-  const std::filesystem::path models(VISFIELD_MODELS_DIR);
+  const std::filesystem::path models = test::models_dir();
   if (!std::filesystem::exists(models)) GTEST_SKIP() << "no shared models at " << models;
   for (const char* file : {"CornellBox-Original.obj", "cow.obj", "sponza.obj"}) {
     const std::filesystem::path path = models / file;

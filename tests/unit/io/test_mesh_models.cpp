@@ -8,11 +8,12 @@
 #include <sstream>
 
 #include "visfield/io/mesh_loader.hpp"
+#include "support/models.hpp"
 
 namespace vf {
 namespace {
 
-const std::filesystem::path kModels = VISFIELD_MODELS_DIR;
+const std::filesystem::path kModels = vf::test::models_dir();
 
 #define REQUIRE_MODELS()                                                              \
   if (!std::filesystem::exists(kModels / "manifest.tsv")) GTEST_SKIP() << "no shared models at " << kModels

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "differential/structure_specs.hpp"
+#include "support/models.hpp"
 #include "differential/test_scenes.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/error.hpp"
@@ -43,7 +44,7 @@ std::vector<std::pair<std::string, Scene>> estimate_scenes() {
   scenes.emplace_back("boxes", parse_builtin_scene("builtin:boxes:size=300"));
   scenes.emplace_back("cornell", parse_builtin_scene("builtin:cornell"));
   for (const char* model : {"cow.obj", "bun_zipper.ply"}) {
-    const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / model;
+    const std::filesystem::path path = test::models_dir() / model;
     if (std::filesystem::exists(path)) scenes.emplace_back(model, load_scene(path.string()));
   }
   return scenes;

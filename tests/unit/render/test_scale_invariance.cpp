@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "visfield/accel/bvh.hpp"
+#include "support/models.hpp"
 #include "visfield/io/scene_file.hpp"
 #include "visfield/render/ao.hpp"
 #include "visfield/render/camera.hpp"
@@ -79,7 +80,7 @@ TEST(ScaleInvariance, BuiltinCornellRendersTheSameAtEveryScale) {
 }
 
 TEST(ScaleInvariance, ConferenceWithItsAreaRatioOf1e11RendersTheSameAtEveryScale) {
-  const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / "conference.obj";
+  const std::filesystem::path path = test::models_dir() / "conference.obj";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not present";
   // Inside the room, among the chairs and the table, AO within 150 units (the room is 2700 long).
   Scene scene = load_scene(path.string());
