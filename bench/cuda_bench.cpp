@@ -1,6 +1,7 @@
 #include "cuda_bench.hpp"
 
 #include <bit>
+#include <functional>
 #include <cstdio>
 #include <optional>
 #include <limits>
@@ -62,6 +63,11 @@ std::size_t differing(const QueryResults& cpu, const std::vector<Hit>& hits, con
   return d;
 }
 
+/// The median device time of the kernels `job` launches (CUDA events around each launch), by `plan`.
+double gpu_median_ms(const TimingPlan& plan, const std::function<void()>& job) {
+  return time_runs_measured(plan, [&] { return cuda::kernel_ms(job); }).median_ms();
+}
+
 /// The batch API on `device` for the ray set already on the device: timed by `plan`, answers fetched once.
 template <class D>
 GpuRow batch_row(const std::string& name, const D& device, const cuda::DeviceArray<Ray>& rays, bool closest, const TimingPlan& plan,
@@ -73,11 +79,11 @@ GpuRow batch_row(const std::string& name, const D& device, const cuda::DeviceArr
   std::vector<std::uint8_t> occluded;
   if (closest) {
     cuda::DeviceArray<Hit> out(rays.size());
-    row.gpu_ms = time_runs(plan, [&] { cuda::intersect(device, rays.data(), rays.size(), out.data()); }).median_ms();
+    row.gpu_ms = gpu_median_ms(plan, [&] { cuda::intersect(device, rays.data(), rays.size(), out.data()); });
     hits = out.to_host();
   } else {
     cuda::DeviceArray<std::uint8_t> out(rays.size());
-    row.gpu_ms = time_runs(plan, [&] { cuda::occluded(device, rays.data(), rays.size(), out.data()); }).median_ms();
+    row.gpu_ms = gpu_median_ms(plan, [&] { cuda::occluded(device, rays.data(), rays.size(), out.data()); });
     occluded = out.to_host();
   }
   row.cpu_ms = cpu.timings.median_ms();
@@ -178,7 +184,7 @@ void run_cuda_bench(const BenchOptions& options, std::ostream& out) {
     GpuRow row;
     row.query = name;
     row.rays = ao_rays;
-    row.gpu_ms = time_runs(plan, run_gpu).median_ms();
+    row.gpu_ms = gpu_median_ms(plan, run_gpu);
     const std::vector<std::uint32_t> gpu_open = d_open.to_host();
     row.disagreements = count_differences(gpu_open, cpu_ao(cpu_structure, points, params, plan, row.cpu_ms));
     row.agreement_unit = "points";
@@ -227,7 +233,8 @@ void run_cuda_bench(const BenchOptions& options, std::ostream& out) {
   }
   out << "## " << (scene.name.empty() ? options.scene : scene.name) << " (" << scene.instanced_triangle_count() << " triangles): GPU "
       << device.name << " (" << device.sm_count << " SMs) beside the CPU (" << thread_limit.threads() << " threads), the same rays, "
-      << "median of " << options.reps << " runs; GPU times are the kernels' (rays and points already on the device)\n\n";
+      << "median of " << options.reps << " runs; GPU times are the kernels' own (CUDA events around each launch; rays and points "
+      << "already on the device)\n\n";
   print_rows(out, rows);
   if (!roofline.empty()) out << "\nRoofline of a field lookup (" << device.name << "): " << roofline << "\n";
 }

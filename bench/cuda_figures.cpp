@@ -116,7 +116,9 @@ template <class D>
 std::vector<std::uint32_t> timed_ao(const D& occluder, const cuda::DeviceArray<gpu::SurfaceFrame>& frames, const cuda::AoParams& p,
                                     double& ms) {
   cuda::DeviceArray<std::uint32_t> open(frames.size());
-  ms = time_runs(kPlan, [&] { cuda::ambient_occlusion(occluder, frames.data(), frames.size(), p, open.data()); }).median_ms();
+  ms = time_runs_measured(kPlan, [&] {
+         return cuda::kernel_ms([&] { cuda::ambient_occlusion(occluder, frames.data(), frames.size(), p, open.data()); });
+       }).median_ms();
   return open.to_host();
 }
 
@@ -228,8 +230,10 @@ void figure7(const std::string& caster, std::ostream& out) {
   const int light_count = static_cast<int>(lights.size());
   const auto shadows = [&](const auto& occluder, int per_light, double& ms) {
     cuda::DeviceArray<std::uint32_t> visible(g.frames.size() * lights.size());
-    ms = time_runs(kPlan, [&] {
-           cuda::soft_shadows(occluder, frames.data(), g.frames.size(), d_lights.data(), light_count, per_light, 1, visible.data());
+    ms = time_runs_measured(kPlan, [&] {
+           return cuda::kernel_ms([&] {
+             cuda::soft_shadows(occluder, frames.data(), g.frames.size(), d_lights.data(), light_count, per_light, 1, visible.data());
+           });
          }).median_ms();
     const std::vector<std::uint32_t> v = visible.to_host();
     std::vector<double> pixels(g.hits.size(), 0.0);

@@ -11,6 +11,14 @@ Timings time_runs(const TimingPlan& plan, const std::function<void()>& job) {
   return time_interleaved(plan, std::span<const std::function<void()>>(&job, 1)).front();
 }
 
+Timings time_runs_measured(const TimingPlan& plan, const std::function<double()>& measured_job) {
+  for (int i = 0; i < plan.warmup; ++i) (void)measured_job();
+  Timings t;
+  t.run_ms.reserve(static_cast<std::size_t>(plan.reps));
+  for (int round = 0; round < plan.reps; ++round) t.run_ms.push_back(measured_job());
+  return t;
+}
+
 std::vector<Timings> time_interleaved(const TimingPlan& plan, std::span<const std::function<void()>> jobs) {
   for (const auto& job : jobs) {
     for (int i = 0; i < plan.warmup; ++i) job();

@@ -23,6 +23,10 @@ struct Timings {
 /// Runs `job` plan.warmup times untimed, then plan.reps times timed (steady clock).
 Timings time_runs(const TimingPlan& plan, const std::function<void()>& job);
 
+/// As time_runs, but each run's milliseconds are what `measured_job` returns: its own clock (the
+/// GPU's CUDA events, say, which leave out host work and copies).
+Timings time_runs_measured(const TimingPlan& plan, const std::function<double()>& measured_job);
+
 /// Times several jobs against each other: each runs plan.warmup times untimed, then plan.reps
 /// rounds run every job once, timed, in order. Interleaving the rounds spreads a change of machine
 /// load over all jobs alike, so their ratios stay meaningful on a busy machine. One Timings per job.

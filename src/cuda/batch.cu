@@ -10,28 +10,36 @@
 namespace vf::cuda {
 namespace {
 
-template <class View>
-__global__ void occluded_kernel(View view, const Ray* rays, std::size_t n, std::uint8_t* out) {
-  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) out[i] = gpu::occluded(view, rays[i]) ? 1 : 0;
+template <int Capacity, class View>
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+    occluded_kernel(View view, const Ray* rays, std::size_t n, std::uint8_t* out) {
+  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) out[i] = gpu::occluded<Capacity>(view, rays[i]) ? 1 : 0;
 }
 
-template <class View>
-__global__ void intersect_kernel(View view, const Ray* rays, std::size_t n, Hit* out) {
-  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) out[i] = gpu::intersect(view, rays[i]);
+template <int Capacity, class View>
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+    intersect_kernel(View view, const Ray* rays, std::size_t n, Hit* out) {
+  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) out[i] = gpu::intersect<Capacity>(view, rays[i]);
 }
 
 template <class View>
 void launch_occluded(const View& view, const Ray* rays, std::size_t n, std::uint8_t* out) {
   if (n == 0) return;
-  occluded_kernel<<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
-  detail::finish("occluded kernel");
+  detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
+    detail::launch_and_finish("occluded kernel", [&] {
+      occluded_kernel<capacity.value><<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
+    });
+  });
 }
 
 template <class View>
 void launch_intersect(const View& view, const Ray* rays, std::size_t n, Hit* out) {
   if (n == 0) return;
-  intersect_kernel<<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
-  detail::finish("intersect kernel");
+  detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
+    detail::launch_and_finish("intersect kernel", [&] {
+      intersect_kernel<capacity.value><<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
+    });
+  });
 }
 
 /// `rays` copied to the device, `run` on them, the n answers of type A back.

@@ -3,10 +3,34 @@
 #include <cuda_runtime_api.h>
 
 #include <string>
+#include <utility>
 
 #include "visfield/core/error.hpp"
 
 namespace vf::cuda {
+namespace {
+
+thread_local double* g_kernel_total = nullptr;  // the innermost kernel_ms() of this thread, if any
+
+}  // namespace
+
+namespace detail {
+
+bool kernel_clock_running() { return g_kernel_total != nullptr; }
+void add_kernel_ms(double ms) { *g_kernel_total += ms; }
+
+}  // namespace detail
+
+double kernel_ms(const std::function<void()>& job) {
+  double total = 0.0;
+  struct Restore {
+    double* outer;
+    ~Restore() { g_kernel_total = outer; }
+  } restore{std::exchange(g_kernel_total, &total)};
+  job();
+  if (restore.outer) *restore.outer += total;
+  return total;
+}
 
 void check(int status, const char* what) {
   if (status == cudaSuccess) return;

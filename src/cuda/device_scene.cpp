@@ -11,11 +11,13 @@ DeviceBvh DeviceBvh::upload(const gpu::GpuBvh& bvh) {
   d.triangles_ = DeviceArray<gpu::WideTriangle>::from(std::span<const gpu::WideTriangle>(bvh.triangles()));
   d.prim_ = DeviceArray<std::uint32_t>::from(std::span<const std::uint32_t>(bvh.prim()));
   d.instance_ = DeviceArray<std::uint32_t>::from(std::span<const std::uint32_t>(bvh.instance()));
+  d.stack_bound_ = bvh.stack_bound();
   return d;
 }
 
 gpu::BvhView DeviceBvh::view() const {
-  return gpu::BvhView{nodes_.data(), triangles_.data(), prim_.data(), instance_.data(), static_cast<unsigned int>(nodes_.size())};
+  return gpu::BvhView{nodes_.data(), triangles_.data(), prim_.data(), instance_.data(), static_cast<unsigned int>(nodes_.size()),
+                      stack_bound_};
 }
 
 DeviceFieldScene DeviceFieldScene::upload(const gpu::PackedFieldScene& packed) {

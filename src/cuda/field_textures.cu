@@ -11,26 +11,38 @@
 #include "texture_lookup.cuh"
 #include "visfield/core/error.hpp"
 #include "visfield/gpu/ray_generation.hpp"
+#include "visfield/gpu/texture_layout.hpp"
 
 namespace vf::cuda {
 namespace {
 
-constexpr unsigned int kMaxTextureDepth = 16384;  // sm_90's 3D texture limit on each side
+/// Device 0's 3D texture limits.
+gpu::Texture3DLimits texture_limits() {
+  int width = 0, height = 0, depth = 0;
+  check(cudaDeviceGetAttribute(&width, cudaDevAttrMaxTexture3DWidth, 0), "cudaDeviceGetAttribute");
+  check(cudaDeviceGetAttribute(&height, cudaDevAttrMaxTexture3DHeight, 0), "cudaDeviceGetAttribute");
+  check(cudaDeviceGetAttribute(&depth, cudaDevAttrMaxTexture3DDepth, 0), "cudaDeviceGetAttribute");
+  return {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), static_cast<std::uint32_t>(depth)};
+}
 
-__global__ void ao_texture_kernel(gpu::FieldSceneView view, const unsigned long long* textures, const unsigned int* stacks,
+template <int Capacity>
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+    ao_texture_kernel(gpu::FieldSceneView view, const unsigned long long* textures, const unsigned int* stacks,
                                   const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
   const std::size_t rays = static_cast<std::size_t>(p.rays_per_point), total = n * rays;
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
     const Ray ray = gpu::ao_ray(points[i], p.seed, i, k, p.max_distance);
-    detail::add_vote(unoccluded, i, !detail::occluded_texture(view, textures, stacks, ray));
+    detail::add_vote(unoccluded, i, !detail::occluded_texture<Capacity>(view, textures, stacks, ray));
   }
 }
 
 }  // namespace
 
 FieldTextures FieldTextures::create(const gpu::PackedFieldScene& packed) {
+  require_device();
+  const gpu::Texture3DLimits limits = texture_limits();
   FieldTextures out;
   std::vector<std::uint32_t> stacks;
   for (std::size_t f = 0; f < packed.slots().size(); ++f) {
@@ -42,8 +54,8 @@ FieldTextures FieldTextures::create(const gpu::PackedFieldScene& packed) {
     const unsigned int n = static_cast<unsigned int>(t.directions);
     if (t.cell_stride != static_cast<unsigned long long>(n) * n) throw Error("field textures: field " + std::to_string(f) + " has padded cell tables");
     const unsigned int positions = 2u * static_cast<unsigned int>(t.upper_count);
-    const unsigned int stack = (positions + kMaxTextureDepth - 1) / kMaxTextureDepth;
-    const unsigned int depth = (positions + stack - 1) / stack;
+    const gpu::FieldTextureShape shape = gpu::field_texture_shape(positions, n, limits);
+    const unsigned int stack = shape.stack, depth = shape.depth;
     // The table is sample-major with N*N bytes a sample, which is already slice z = s / stack,
     // row j + N*(s mod stack); the last slice is padded with misses.
     std::vector<unsigned char> cells(static_cast<std::size_t>(depth) * stack * n * n, 255);
@@ -111,13 +123,17 @@ void FieldTextures::release() {
 void ambient_occlusion(const DeviceFieldScene& scene, const FieldTextures& textures, const gpu::SurfaceFrame* points, std::size_t n,
                        const AoParams& p, std::uint32_t* unoccluded) {
   if (p.rays_per_point < 1) throw Error("ambient occlusion: rays_per_point must be at least 1");
+  if (n == 0) return;  // before the memset: an empty output may be a null pointer
   check(cudaMemset(unoccluded, 0, n * sizeof(std::uint32_t)), "cudaMemset");
-  if (n == 0) return;
   const std::size_t total = n * static_cast<std::size_t>(p.rays_per_point);
-  ao_texture_kernel<<<detail::blocks_for(total), detail::kBlockThreads>>>(
-      scene.view(), reinterpret_cast<const unsigned long long*>(textures.device_objects()), textures.device_stacks(), points, n, p,
-      unoccluded);
-  detail::finish("ambient occlusion kernel (textures)");
+  const gpu::FieldSceneView view = scene.view();
+  const auto* objects = reinterpret_cast<const unsigned long long*>(textures.device_objects());
+  detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
+    detail::launch_and_finish("ambient occlusion kernel (textures)", [&] {
+      ao_texture_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, objects, textures.device_stacks(),
+                                                                                             points, n, p, unoccluded);
+    });
+  });
 }
 
 }  // namespace vf::cuda

@@ -11,19 +11,21 @@
 namespace vf::cuda {
 namespace {
 
-template <class View>
-__global__ void ao_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
+template <int Capacity, class View>
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+    ao_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
   const std::size_t rays = static_cast<std::size_t>(p.rays_per_point), total = n * rays;
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
     const Ray ray = gpu::ao_ray(points[i], p.seed, i, k, p.max_distance);
-    detail::add_vote(unoccluded, i, !gpu::occluded(view, ray));
+    detail::add_vote(unoccluded, i, !gpu::occluded<Capacity>(view, ray));
   }
 }
 
-template <class View>
-__global__ void shadow_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, const gpu::SphereLightData* lights, int light_count,
+template <int Capacity, class View>
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+    shadow_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, const gpu::SphereLightData* lights, int light_count,
                               int rays_per_light, std::uint64_t seed, std::uint32_t* visible) {
   const std::size_t per_light = static_cast<std::size_t>(rays_per_light), per_point = per_light * static_cast<std::size_t>(light_count);
   const std::size_t total = n * per_point;
@@ -32,11 +34,13 @@ __global__ void shadow_kernel(View view, const gpu::SurfaceFrame* points, std::s
     detail::divide(idx, per_point, i, rest);
     detail::divide(rest, per_light, l, k);
     const Ray ray = gpu::cone_ray(points[i].position, lights[l], seed, i, rest);
-    detail::add_vote(visible, i * static_cast<std::size_t>(light_count) + l, !gpu::occluded(view, ray));
+    detail::add_vote(visible, i * static_cast<std::size_t>(light_count) + l, !gpu::occluded<Capacity>(view, ray));
   }
 }
 
-__global__ void glossy_kernel(gpu::FieldSceneView view, const GlossyPoint* points, std::size_t n, int rays_per_point, std::uint64_t seed,
+template <int Capacity>
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+    glossy_kernel(gpu::FieldSceneView view, const GlossyPoint* points, std::size_t n, int rays_per_point, std::uint64_t seed,
                               Hit* hits, float* weights) {
   const std::size_t rays = static_cast<std::size_t>(rays_per_point), total = n * rays;
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
@@ -44,7 +48,7 @@ __global__ void glossy_kernel(gpu::FieldSceneView view, const GlossyPoint* point
     detail::divide(idx, rays, i, k);
     const GlossyPoint& p = points[i];
     const gpu::GlossySample s = gpu::glossy_ray(p.frame, p.wo, p.alpha, seed, i, k);
-    hits[idx] = s.valid ? gpu::intersect(view, s.ray) : Hit{};
+    hits[idx] = s.valid ? gpu::intersect<Capacity>(view, s.ray) : Hit{};
     weights[idx] = s.valid ? s.weight : 0.0f;
   }
 }
@@ -52,21 +56,29 @@ __global__ void glossy_kernel(gpu::FieldSceneView view, const GlossyPoint* point
 template <class View>
 void launch_ao(const View& view, const gpu::SurfaceFrame* points, std::size_t n, const AoParams& p, std::uint32_t* unoccluded) {
   if (p.rays_per_point < 1) throw Error("ambient occlusion: rays_per_point must be at least 1");
+  if (n == 0) return;  // before the memset: an empty output may be a null pointer
   check(cudaMemset(unoccluded, 0, n * sizeof(std::uint32_t)), "cudaMemset");
-  if (n == 0) return;
-  ao_kernel<<<detail::blocks_for(n * static_cast<std::size_t>(p.rays_per_point)), detail::kBlockThreads>>>(view, points, n, p, unoccluded);
-  detail::finish("ambient occlusion kernel");
+  const std::size_t total = n * static_cast<std::size_t>(p.rays_per_point);
+  detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
+    detail::launch_and_finish("ambient occlusion kernel", [&] {
+      ao_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, p, unoccluded);
+    });
+  });
 }
 
 template <class View>
 void launch_shadows(const View& view, const gpu::SurfaceFrame* points, std::size_t n, const gpu::SphereLightData* lights, int light_count,
                     int rays_per_light, std::uint64_t seed, std::uint32_t* visible) {
   if (rays_per_light < 1 || light_count < 0) throw Error("soft shadows: rays_per_light must be at least 1");
-  const std::size_t total = n * static_cast<std::size_t>(light_count) * static_cast<std::size_t>(rays_per_light);
-  check(cudaMemset(visible, 0, n * static_cast<std::size_t>(light_count) * sizeof(std::uint32_t)), "cudaMemset");
-  if (total == 0) return;
-  shadow_kernel<<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, lights, light_count, rays_per_light, seed, visible);
-  detail::finish("soft shadow kernel");
+  const std::size_t counts = n * static_cast<std::size_t>(light_count), total = counts * static_cast<std::size_t>(rays_per_light);
+  if (total == 0) return;  // before the memset: an empty output may be a null pointer
+  check(cudaMemset(visible, 0, counts * sizeof(std::uint32_t)), "cudaMemset");
+  detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
+    detail::launch_and_finish("soft shadow kernel", [&] {
+      shadow_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, lights, light_count,
+                                                                                         rays_per_light, seed, visible);
+    });
+  });
 }
 
 }  // namespace
@@ -96,8 +108,13 @@ void glossy_reflections(const DeviceFieldScene& scene, const GlossyPoint* points
   if (rays_per_point < 1) throw Error("glossy reflections: rays_per_point must be at least 1");
   const std::size_t total = n * static_cast<std::size_t>(rays_per_point);
   if (total == 0) return;
-  glossy_kernel<<<detail::blocks_for(total), detail::kBlockThreads>>>(scene.view(), points, n, rays_per_point, seed, hits, weights);
-  detail::finish("glossy reflection kernel");
+  const gpu::FieldSceneView view = scene.view();
+  detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
+    detail::launch_and_finish("glossy reflection kernel", [&] {
+      glossy_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, rays_per_point, seed, hits,
+                                                                                        weights);
+    });
+  });
 }
 
 }  // namespace vf::cuda

@@ -1,18 +1,25 @@
 #pragma once
 // How the kernels are launched and finished (private to the cuda module): grid-stride loops of
-// 256-thread blocks, errors turned into vf::Error after a synchronising wait, and the per-point
+// 256-thread blocks, the traversal stack sized to the tree, the launch timed by CUDA events when
+// kernel_ms() asks, errors turned into vf::Error after a synchronising wait, and the per-point
 // counts added once per group of a warp's threads that share the point.
 
 #include <cuda_runtime.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "visfield/cuda/device.hpp"
+#include "visfield/gpu/bvh_traversal.hpp"
+#include "visfield/gpu/field_scene_view.hpp"
 
 namespace vf::cuda::detail {
 
 inline constexpr int kBlockThreads = 256;
+/// Blocks an SM should hold at once: with 256 threads, 4 blocks cap a thread at 64 registers
+/// (50% occupancy on sm_90) where the traversal kernels would otherwise take 66-72 and hold 3.
+inline constexpr int kMinBlocksPerSm = 4;
 
 /// Blocks for `n` threads, at most 2^20 (the grid-stride loop does the rest).
 inline unsigned int blocks_for(std::size_t n) {
@@ -20,10 +27,61 @@ inline unsigned int blocks_for(std::size_t n) {
   return static_cast<unsigned int>(blocks < 1 ? 1 : (blocks > (1u << 20) ? (1u << 20) : blocks));
 }
 
-/// Waits for the launched kernel and throws vf::Error naming `what` on a launch or execution failure.
-inline void finish(const char* what) {
+/// Whether kernel_ms() is timing this thread's launches (device.cpp).
+bool kernel_clock_running();
+/// Adds one launch's device milliseconds to the running kernel_ms() total.
+void add_kernel_ms(double ms);
+
+/// Launches with `launch()`, waits, and throws vf::Error naming `what` on a launch or execution
+/// failure; while kernel_ms() runs, CUDA events around the launch alone add its device time.
+template <class Launch>
+void launch_and_finish(const char* what, Launch&& launch) {
+  struct Events {
+    cudaEvent_t start = nullptr, stop = nullptr;
+    ~Events() {
+      if (start) cudaEventDestroy(start);
+      if (stop) cudaEventDestroy(stop);
+    }
+  } events;
+  const bool timed = kernel_clock_running();
+  if (timed) {
+    check(cudaEventCreate(&events.start), "cudaEventCreate");
+    check(cudaEventCreate(&events.stop), "cudaEventCreate");
+    check(cudaEventRecord(events.start), "cudaEventRecord");
+  }
+  launch();
   check(cudaGetLastError(), what);
+  if (timed) check(cudaEventRecord(events.stop), "cudaEventRecord");
   check(cudaDeviceSynchronize(), what);
+  if (timed) {
+    float ms = 0.0f;
+    check(cudaEventElapsedTime(&ms, events.start, events.stop), "cudaEventElapsedTime");
+    add_kernel_ms(ms);
+  }
+}
+
+/// The traversal stack a view's exact part needs (BvhView::stack_bound).
+inline unsigned int stack_bound(const gpu::BvhView& view) { return view.stack_bound; }
+inline unsigned int stack_bound(const gpu::FieldSceneView& view) { return view.exact.stack_bound; }
+
+/// Calls run(std::integral_constant<int, C>{}) with C the smallest of gpu::kStackCapacities that
+/// holds `bound` entries, so that a kernel is instantiated with the stack its tree needs.
+template <class Run>
+void with_stack_capacity(unsigned int bound, Run&& run) {
+  static_assert(sizeof(gpu::kStackCapacities) / sizeof(int) == 4, "one case per capacity");
+  switch (gpu::stack_capacity_for(bound)) {
+    case gpu::kStackCapacities[0]:
+      run(std::integral_constant<int, gpu::kStackCapacities[0]>{});
+      break;
+    case gpu::kStackCapacities[1]:
+      run(std::integral_constant<int, gpu::kStackCapacities[1]>{});
+      break;
+    case gpu::kStackCapacities[2]:
+      run(std::integral_constant<int, gpu::kStackCapacities[2]>{});
+      break;
+    default:
+      run(std::integral_constant<int, gpu::kStackCapacities[3]>{});
+  }
 }
 
 /// The grid-stride loop's first index and step.

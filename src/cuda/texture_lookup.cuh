@@ -40,6 +40,7 @@ __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTable
 }
 
 /// gpu::occluded (fields, then the exact part) with the fields' cells read through textures.
+template <int Capacity>
 __device__ inline bool occluded_texture(const gpu::FieldSceneView& scene, const unsigned long long* textures, const unsigned int* stacks,
                                         const Ray& ray) {
   for (unsigned int k = 0; k < scene.object_count; ++k) {
@@ -51,7 +52,7 @@ __device__ inline bool occluded_texture(const gpu::FieldSceneView& scene, const 
             .hit)
       return true;
   }
-  return gpu::occluded(scene.exact, ray);
+  return gpu::occluded<Capacity>(scene.exact, ray);
 }
 
 }  // namespace vf::cuda::detail

@@ -98,11 +98,12 @@ GpuBvh GpuBvh::build(const TriangleSet& set, const GpuBvhConfig& config) {
   struct Pending {
     std::size_t source, target;
     int depth;
+    unsigned int stacked;  // entries its ancestors can leave on a traversal stack
   };
   std::vector<Pending> queue;
   if (!wide.empty()) {
     result.nodes_.resize(1);
-    queue.push_back({0, 0, 1});
+    queue.push_back({0, 0, 1, 0});
   }
   for (std::size_t q = 0; q < queue.size(); ++q) {
     const Pending p = queue[q];
@@ -111,6 +112,11 @@ GpuBvh GpuBvh::build(const TriangleSet& set, const GpuBvhConfig& config) {
     std::fill(std::begin(out.meta), std::end(out.meta), kEmptySlot);
     out.child_base = static_cast<unsigned int>(result.nodes_.size());
     out.triangle_base = static_cast<unsigned int>(result.triangles_.size());
+    unsigned int slots_used = 0;
+    for (int slot = 0; slot < 8; ++slot) slots_used += src.bounds[bvh::kLoX][slot] <= src.bounds[bvh::kHiX][slot] ? 1u : 0u;
+    // Expanding this node walks one child and pushes at most the others.
+    const unsigned int stacked = p.stacked + (slots_used > 0 ? slots_used - 1 : 0);
+    result.stack_bound_ = std::max(result.stack_bound_, stacked);
     unsigned int children = 0, leaf_triangles = 0;
     for (int slot = 0; slot < 8; ++slot) {
       const std::uint32_t ref = src.child[slot];
@@ -118,7 +124,7 @@ GpuBvh GpuBvh::build(const TriangleSet& set, const GpuBvhConfig& config) {
       if (!bvh::is_leaf(ref)) {
         out.interior |= static_cast<unsigned char>(1u << slot);
         out.meta[slot] = static_cast<unsigned char>(children++);
-        queue.push_back({ref / sizeof(bvh::Node8), out.child_base + children - 1, p.depth + 1});
+        queue.push_back({ref / sizeof(bvh::Node8), out.child_base + children - 1, p.depth + 1, stacked});
         continue;
       }
       const std::uint32_t first = bvh::leaf_first_item(ref), count = bvh::leaf_item_count(ref);
@@ -150,7 +156,7 @@ GpuBvh GpuBvh::build(const TriangleSet& set, const GpuBvhConfig& config) {
 }
 
 BvhView GpuBvh::view() const {
-  return BvhView{nodes_.data(), triangles_.data(), prim_.data(), instance_.data(), static_cast<unsigned int>(nodes_.size())};
+  return BvhView{nodes_.data(), triangles_.data(), prim_.data(), instance_.data(), static_cast<unsigned int>(nodes_.size()), stack_bound_};
 }
 
 Hit GpuBvh::intersect(const Ray& ray) const { return gpu::intersect(view(), ray); }

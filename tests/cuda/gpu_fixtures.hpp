@@ -1,8 +1,11 @@
 #pragma once
-/// \file What the CUDA tests share: the skip when there is no device, scenes with fields and exact
-/// parts, surface frames on their surfaces, and bitwise comparisons of answer arrays.
+/// \file What the CUDA tests share: the skip (or, with VISFIELD_REQUIRE_CUDA=1, the failure) when
+/// there is no device, scenes with fields and exact parts, surface frames on their surfaces, bitwise
+/// comparisons of answer arrays, and the count of rays compared per kernel kind.
 
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -10,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "differential/ray_sets.hpp"
+#include "support/models.hpp"
 #include "support/same_hit.hpp"
 #include "support/test_scale.hpp"
 #include "visfield/cuda/device.hpp"
@@ -17,13 +21,26 @@
 #include "visfield/io/scene_file.hpp"
 #include "visfield/scenes/builtin.hpp"
 
-/// Skips the test (ctest's "Skipped") when no CUDA device is usable.
-#define VF_REQUIRE_CUDA_DEVICE()                                                  \
-  do {                                                                            \
-    if (!::vf::cuda::device_available()) GTEST_SKIP() << "no CUDA device found"; \
+/// Skips the test (ctest's "Skipped") when no CUDA device is usable, or fails it when the
+/// environment sets VISFIELD_REQUIRE_CUDA=1 (a GPU run, where a skip would read as a pass).
+#define VF_REQUIRE_CUDA_DEVICE()                                                                     \
+  do {                                                                                               \
+    if (!::vf::cuda::device_available()) {                                                           \
+      if (::vf::test::cuda_required()) FAIL() << "VISFIELD_REQUIRE_CUDA=1 but no CUDA device is usable"; \
+      GTEST_SKIP() << "no CUDA device found";                                                        \
+    }                                                                                                \
   } while (0)
 
 namespace vf::test {
+
+/// Whether the environment sets VISFIELD_REQUIRE_CUDA=1: then a test without a device fails.
+inline bool cuda_required() {
+  const char* value = std::getenv("VISFIELD_REQUIRE_CUDA");
+  return value != nullptr && std::string(value) == "1";
+}
+
+/// Prints "rays compared: KIND N", which gpu-bundle/run.sh sums per kind for its summary.
+inline void report_rays(const char* kind, std::size_t n) { std::printf("rays compared: %s %zu\n", kind, n); }
 
 /// `n` surface frames on random triangles of `set`, each on a random side of its triangle and
 /// lifted off it by 1e-5 of the set's diameter (as SurfaceSpawner lifts hit points).
@@ -43,9 +60,9 @@ inline std::vector<gpu::SurfaceFrame> surface_frames(const TriangleSet& set, std
   return frames;
 }
 
-/// A shared model's scene when VISFIELD_MODELS_DIR holds it, else nothing.
+/// A shared model's scene when models_dir() holds it, else nothing.
 inline std::optional<Scene> shared_model(const char* file) {
-  const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / file;
+  const std::filesystem::path path = models_dir() / file;
   if (!std::filesystem::exists(path)) return std::nullopt;
   return load_scene(path.string());
 }

@@ -11,6 +11,14 @@
 #define VF_HOST_DEVICE
 #endif
 
+// Unrolls the next loop in device code (where indexing a register-held array needs constant
+// indices); the host compiler chooses for itself.
+#if defined(__CUDA_ARCH__)
+#define VF_UNROLL _Pragma("unroll")
+#else
+#define VF_UNROLL
+#endif
+
 namespace vf::hd {
 
 /// sqrt for float and double; host and device.

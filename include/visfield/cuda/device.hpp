@@ -3,6 +3,7 @@
 /// Only in builds with VISFIELD_CUDA=ON (the library visfield::cuda).
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 #include "visfield/gpu/roofline.hpp"
@@ -28,6 +29,11 @@ DeviceInfo device_info();
 
 /// Throws vf::Error("no CUDA device found") unless device_available().
 void require_device();
+
+/// Device milliseconds of the kernels that `job` launches on this thread: CUDA events recorded
+/// around each launch alone (memsets, copies and host work left out), summed. Rethrows what `job`
+/// throws.
+double kernel_ms(const std::function<void()>& job);
 
 /// Throws vf::Error("CUDA: <what>: <CUDA's error string>") when `status` (a cudaError_t) is not
 /// cudaSuccess.

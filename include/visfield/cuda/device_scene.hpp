@@ -28,6 +28,7 @@ class DeviceBvh {
   DeviceArray<gpu::WideNode> nodes_;
   DeviceArray<gpu::WideTriangle> triangles_;
   DeviceArray<std::uint32_t> prim_, instance_;
+  unsigned int stack_bound_ = 0;
 };
 
 /// A PackedFieldScene in device memory: the packed tables in one cudaMemcpy, their FieldTables

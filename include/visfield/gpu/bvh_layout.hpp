@@ -53,7 +53,43 @@ struct BvhView {
   const unsigned int* prim = nullptr;      ///< Triangle id in its mesh, by TriangleSet index.
   const unsigned int* instance = nullptr;  ///< Object id, by TriangleSet index.
   unsigned int node_count = 0;
+  /// Most entries a traversal stack ever holds in this tree: over root-to-node paths, the sum of each
+  /// node's children less one (a node walks one child and pushes the rest). 0 for an empty tree.
+  unsigned int stack_bound = 0;
 };
+
+/// Node `i` read whole: on a device as five 16-byte loads through the read-only cache (the fields
+/// are then taken from registers, not read a byte at a time from memory), on the host a plain copy.
+VF_HOST_DEVICE inline WideNode load_node(const WideNode* nodes, unsigned int i) {
+#if defined(__CUDA_ARCH__)
+  union {
+    uint4 v[5];
+    WideNode node;
+  } out;
+  const uint4* src = reinterpret_cast<const uint4*>(nodes + i);
+  VF_UNROLL
+  for (int k = 0; k < 5; ++k) out.v[k] = __ldg(src + k);
+  return out.node;
+#else
+  return nodes[i];
+#endif
+}
+
+/// Triangle `i` read whole: three 16-byte loads on a device, a plain copy on the host.
+VF_HOST_DEVICE inline WideTriangle load_triangle(const WideTriangle* triangles, unsigned int i) {
+#if defined(__CUDA_ARCH__)
+  union {
+    uint4 v[3];
+    WideTriangle triangle;
+  } out;
+  const uint4* src = reinterpret_cast<const uint4*>(triangles + i);
+  VF_UNROLL
+  for (int k = 0; k < 3; ++k) out.v[k] = __ldg(src + k);
+  return out.triangle;
+#else
+  return triangles[i];
+#endif
+}
 
 /// 2^(e − 127) for a biased exponent e in [1, 254], exactly (the float with that exponent field).
 VF_HOST_DEVICE inline float exponent_scale(unsigned int e) {

@@ -16,8 +16,20 @@
 namespace vf::gpu {
 
 /// No traversal stack holds more entries than this: 7 pushes per 8-wide level, and no leaf is
-/// deeper than the CPU builder's 64 binary levels.
+/// deeper than the CPU builder's 64 binary levels. The host queries use it; kernels use the smallest
+/// of kStackCapacities that holds the tree's BvhView::stack_bound, so that a thread reserves local
+/// memory for the stack its tree needs, not for the worst tree.
 inline constexpr int kStackSize = 7 * 64 + 1;
+/// The stack capacities kernels are compiled for, smallest first (the last is kStackSize): field-only
+/// scenes and small rooms need 16 at most, the scanned models 37-48, sponza 62, conference 82.
+inline constexpr int kStackCapacities[] = {16, 64, 128, kStackSize};
+
+/// The smallest of kStackCapacities that holds `bound` entries (host: the kernels' launch picks it).
+inline int stack_capacity_for(unsigned int bound) {
+  for (const int c : kStackCapacities)
+    if (bound <= static_cast<unsigned int>(c)) return c;
+  return kStackSize;
+}
 
 /// Relative widening of the ray's interval and of far slab distances (box_test.hpp's constants).
 inline constexpr float kIntervalSlack = 0x1p-16f;
@@ -53,6 +65,7 @@ VF_HOST_DEVICE inline float min_nan_second(float a, float b) { return a < b ? a 
 /// Whether child `slot` of `node` meets [tmin, tmax] (already widened); its entry distance to `t_near`.
 VF_HOST_DEVICE inline bool child_hit(const WideNode& node, int slot, const BoxRay& r, float tmin, float tmax, float& t_near) {
   float near_t = tmin, far_t = tmax;
+  VF_UNROLL
   for (int a = 2; a >= 0; --a) {
     const float scale = exponent_scale(node.exponent[a]);
     const float lo = decode(node.origin[a], node.lo[a][slot], scale);
@@ -67,29 +80,32 @@ VF_HOST_DEVICE inline bool child_hit(const WideNode& node, int slot, const BoxRa
   return near_t <= far_t * kFarScale;
 }
 
-/// Any triangle hit in (ray.tmin, ray.tmax]. O(log n) typical.
+/// Any triangle hit in (ray.tmin, ray.tmax]. O(log n) typical. `Capacity` (entries of the traversal
+/// stack) must be at least bvh.stack_bound.
+template <int Capacity = kStackSize>
 VF_HOST_DEVICE inline bool occluded(const BvhView& bvh, const Ray& ray) {
   if (bvh.node_count == 0) return false;
   const BoxRay box(ray);
   const WatertightRay wray(ray);
   const float box_tmin = widen_down(ray.tmin), box_tmax = widen_up(ray.tmax);
-  unsigned int stack[kStackSize + 8];
+  unsigned int stack[Capacity];
   int sp = 0;
   unsigned int ref = 0;
   for (;;) {
     if (ref & kLeafBit) {
       const unsigned int first = ref & ((1u << 27) - 1u), end = first + ((ref >> 27) & 15u) + 1u;
       for (unsigned int k = first; k < end; ++k) {
-        const WideTriangle& tri = bvh.triangles[k];
+        const WideTriangle tri = load_triangle(bvh.triangles, k);
         TriangleHit h;
         if (intersect_triangle(wray, Vec3f{tri.p0[0], tri.p0[1], tri.p0[2]}, Vec3f{tri.p1[0], tri.p1[1], tri.p1[2]},
                                Vec3f{tri.p2[0], tri.p2[1], tri.p2[2]}, ray.tmin, ray.tmax, h))
           return true;
       }
     } else {
-      const WideNode& node = bvh.nodes[ref];
+      const WideNode node = load_node(bvh.nodes, ref);
       unsigned int next = 0;
       bool found = false;
+      VF_UNROLL
       for (int slot = 0; slot < 8; ++slot) {
         const unsigned char meta = node.meta[slot];
         if (meta == kEmptySlot) continue;
@@ -130,7 +146,7 @@ VF_HOST_DEVICE inline bool closest_in_leaf(const BvhView& bvh, unsigned int ref,
   const unsigned int first = ref & ((1u << 27) - 1u), end = first + ((ref >> 27) & 15u) + 1u;
   bool improved = false;
   for (unsigned int k = first; k < end; ++k) {
-    const WideTriangle& tri = bvh.triangles[k];
+    const WideTriangle tri = load_triangle(bvh.triangles, k);
     TriangleHit h;
     if (!intersect_triangle(wray, Vec3f{tri.p0[0], tri.p0[1], tri.p0[2]}, Vec3f{tri.p1[0], tri.p1[1], tri.p1[2]},
                             Vec3f{tri.p2[0], tri.p2[1], tri.p2[2]}, tmin, best.t, h))
@@ -148,7 +164,9 @@ VF_HOST_DEVICE inline bool closest_in_leaf(const BvhView& bvh, unsigned int ref,
 }
 
 /// Closest hit in (ray.tmin, ray.tmax]: BruteForce's answer (t, u, v, prim, instance and the
-/// triangle's geometric normal cross(p1 − p0, p2 − p0)), or a miss. O(log n) typical.
+/// triangle's geometric normal cross(p1 − p0, p2 − p0)), or a miss. O(log n) typical. `Capacity`
+/// must be at least bvh.stack_bound.
+template <int Capacity = kStackSize>
 VF_HOST_DEVICE inline Hit intersect(const BvhView& bvh, const Ray& ray) {
   if (bvh.node_count == 0) return Hit{};
   struct Entry {
@@ -162,14 +180,15 @@ VF_HOST_DEVICE inline Hit intersect(const BvhView& bvh, const Ray& ray) {
   best.t = ray.tmax;
   best.u = best.v = 0.0f;
   float cull_t = widen_up(ray.tmax);
-  Entry stack[kStackSize];
+  Entry stack[Capacity];
   int sp = 0;
   unsigned int ref = 0;
   for (;;) {
     if (!(ref & kLeafBit)) {
-      const WideNode& node = bvh.nodes[ref];
+      const WideNode node = load_node(bvh.nodes, ref);
       Entry hits[8];
       int count = 0;
+      VF_UNROLL
       for (int slot = 0; slot < 8; ++slot) {
         const unsigned char meta = node.meta[slot];
         if (meta == kEmptySlot) continue;
@@ -195,7 +214,7 @@ VF_HOST_DEVICE inline Hit intersect(const BvhView& bvh, const Ray& ray) {
     do {
       if (sp == 0) {
         if (best.index == 0xffffffffu) return Hit{};
-        const WideTriangle& tri = bvh.triangles[best.slot];
+        const WideTriangle tri = load_triangle(bvh.triangles, best.slot);
         const Vec3f p0{tri.p0[0], tri.p0[1], tri.p0[2]};
         const Vec3f normal = cross(Vec3f{tri.p1[0], tri.p1[1], tri.p1[2]} - p0, Vec3f{tri.p2[0], tri.p2[1], tri.p2[2]} - p0);
         return Hit::triangle(best.t, best.u, best.v, bvh.prim[best.index], bvh.instance[best.index], normal);

@@ -71,19 +71,23 @@ VF_HOST_DEVICE inline field::FieldAnswer trace_object(const FieldSceneView& scen
 }
 
 /// FieldScene::occluded: some field object reports a hit in [tmin, tmax], or the exact part does.
+/// `Capacity` (the exact part's traversal stack) must be at least scene.exact.stack_bound.
+template <int Capacity = kStackSize>
 VF_HOST_DEVICE inline bool occluded(const FieldSceneView& scene, const Ray& ray) {
   for (unsigned int k = 0; k < scene.object_count; ++k) {
     const FieldObject& o = scene.objects[k];
     if (scene.object_count > 1 && !may_meet(o, ray)) continue;
     if (trace_object(scene, o, ray, ray.tmax).hit) return true;
   }
-  return occluded(scene.exact, ray);
+  return occluded<Capacity>(scene.exact, ray);
 }
 
 /// FieldScene::intersect: the exact part's closest hit, or a nearer field answer (the first object
 /// of equals), with the object's id, no triangle, and the world-space normal when the field has one.
+/// `Capacity` must be at least scene.exact.stack_bound.
+template <int Capacity = kStackSize>
 VF_HOST_DEVICE inline Hit intersect(const FieldSceneView& scene, const Ray& ray) {
-  Hit best = intersect(scene.exact, ray);
+  Hit best = intersect<Capacity>(scene.exact, ray);
   for (unsigned int k = 0; k < scene.object_count; ++k) {
     const FieldObject& o = scene.objects[k];
     if (scene.object_count > 1 && !may_meet(o, ray)) continue;

@@ -45,12 +45,15 @@ class GpuBvh {
   bool occluded(const Ray& ray) const;
   /// Nodes, leaves, triangle references, depth (8-wide levels), bytes of the four arrays, build ms.
   const AccelStats& stats() const { return stats_; }
+  /// Most entries a traversal stack holds in this tree (BvhView::stack_bound).
+  unsigned int stack_bound() const { return stack_bound_; }
 
  private:
   std::vector<WideNode> nodes_;
   std::vector<WideTriangle> triangles_;
   std::vector<std::uint32_t> prim_, instance_;
   AccelStats stats_;
+  unsigned int stack_bound_ = 0;
 };
 
 }  // namespace vf::gpu

@@ -5,6 +5,9 @@
 // sample and the CPU Bvh (itself tested equal to BruteForce) on 100k rays. Also the layout's own
 // promises: decoded child boxes contain their triangles, every triangle is referenced once.
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -13,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "differential/ray_sets.hpp"
+#include "support/models.hpp"
 #include "differential/test_scenes.hpp"
 #include "support/same_hit.hpp"
 #include "support/test_scale.hpp"
@@ -21,6 +25,7 @@
 #include "visfield/core/error.hpp"
 #include "visfield/gpu/bvh_traversal.hpp"
 #include "visfield/gpu/gpu_bvh.hpp"
+#include "visfield/gpu/texture_layout.hpp"
 #include "visfield/io/scene_file.hpp"
 
 namespace vf::test {
@@ -146,11 +151,103 @@ TEST(GpuBvh, EqualsBruteForceOnSoupsAndAdversarialRays) {
   }
 }
 
+/// The most entries a traversal stack can hold, recomputed from the layout alone: over root-to-node
+/// paths, the sum of each node's used slots less one.
+unsigned int stack_bound_of(const gpu::GpuBvh& bvh) {
+  std::function<unsigned int(std::uint32_t, unsigned int)> walk = [&](std::uint32_t index, unsigned int above) {
+    const gpu::WideNode& n = bvh.nodes()[index];
+    unsigned int used = 0;
+    for (int slot = 0; slot < 8; ++slot) used += n.meta[slot] != gpu::kEmptySlot ? 1u : 0u;
+    const unsigned int here = above + (used > 0 ? used - 1 : 0);
+    unsigned int most = here;
+    for (int slot = 0; slot < 8; ++slot)
+      if (n.meta[slot] != gpu::kEmptySlot && ((n.interior >> slot) & 1u)) most = std::max(most, walk(n.child_base + n.meta[slot], here));
+    return most;
+  };
+  return bvh.nodes().empty() ? 0 : walk(0, 0);
+}
+
+/// Closest and any hit with a traversal stack of `Capacity` entries equal the full stack's on `rays`
+/// (under AddressSanitizer, a stack too small for the tree is an overflow).
+template <int Capacity>
+void expect_capacity_suffices(const gpu::GpuBvh& bvh, const std::vector<Ray>& rays, const std::string& label) {
+  const gpu::BvhView view = bvh.view();
+  ASSERT_LE(view.stack_bound, static_cast<unsigned int>(Capacity)) << label;
+  std::size_t differ = 0;
+  for (const Ray& r : rays)
+    differ += !same_bits(gpu::intersect<Capacity>(view, r), bvh.intersect(r)) || gpu::occluded<Capacity>(view, r) != bvh.occluded(r);
+  EXPECT_EQ(differ, 0u) << label;
+}
+
+TEST(GpuBvh, StackBoundIsTheLayoutsAndTheKernelsCapacityHoldsIt) {
+  struct Case {
+    std::string name;
+    std::vector<Triangle> triangles;
+  };
+  // Nested shells of halving size make a deep, narrow tree: a bound past the smallest capacity.
+  std::vector<Triangle> shells;
+  for (int level = 0; level < 40; ++level) {
+    const float r = std::ldexp(1.0f, -level / 2);
+    for (const Triangle& t : random_soup(100 + static_cast<std::uint64_t>(level), 24, 0.05f * r, 0.1f * r))
+      shells.push_back({t[0] * r, t[1] * r, t[2] * r});
+  }
+  const std::vector<Case> cases = {{"one triangle", {{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}},
+                                   {"fine soup", random_soup(4, 20000, 0.0005f, 0.02f)},
+                                   {"mixed scales", random_soup(5, 5000, 1e-4f, 0.5f)},
+                                   {"nested shells", shells}};
+  std::vector<int> capacities_seen;
+  for (const Case& c : cases) {
+    const TriangleSet set = set_from_triangles(c.triangles);
+    const gpu::GpuBvh bvh = gpu::GpuBvh::build(set);
+    const unsigned int bound = bvh.stack_bound();
+    EXPECT_EQ(bound, stack_bound_of(bvh)) << c.name;
+    EXPECT_EQ(bvh.view().stack_bound, bound) << c.name;
+    EXPECT_LE(bound, static_cast<unsigned int>(7 * bvh.stats().max_depth)) << c.name;
+    const int capacity = gpu::stack_capacity_for(bound);
+    EXPECT_GE(capacity, static_cast<int>(bound)) << c.name;
+    capacities_seen.push_back(capacity);
+    const std::vector<Ray> rays = adversarial(set, 31, 800);
+    if (capacity == gpu::kStackCapacities[0])
+      expect_capacity_suffices<gpu::kStackCapacities[0]>(bvh, rays, c.name);
+    else if (capacity == gpu::kStackCapacities[1])
+      expect_capacity_suffices<gpu::kStackCapacities[1]>(bvh, rays, c.name);
+    else if (capacity == gpu::kStackCapacities[2])
+      expect_capacity_suffices<gpu::kStackCapacities[2]>(bvh, rays, c.name);
+    std::printf("%s: %zu triangles, depth %d, stack bound %u, capacity %d\n", c.name.c_str(), set.size(), bvh.stats().max_depth, bound,
+                capacity);
+  }
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NE(std::find(capacities_seen.begin(), capacities_seen.end(), gpu::kStackCapacities[k]), capacities_seen.end())
+        << "no case exercised capacity " << gpu::kStackCapacities[k];
+  EXPECT_EQ(gpu::GpuBvh::build(TriangleSet{}).stack_bound(), 0u);
+  EXPECT_EQ(gpu::stack_capacity_for(0), gpu::kStackCapacities[0]);
+  EXPECT_EQ(gpu::stack_capacity_for(static_cast<unsigned int>(gpu::kStackCapacities[0]) + 1), gpu::kStackCapacities[1]);
+  EXPECT_EQ(gpu::stack_capacity_for(100000), gpu::kStackSize);
+}
+
+TEST(GpuBvh, FieldTextureShapeFollowsTheDevicesLimits) {
+  const gpu::Texture3DLimits sm90{16384, 16384, 16384};  // cudaDevAttrMaxTexture3D{Width,Height,Depth} of sm_90
+  EXPECT_EQ(gpu::field_texture_shape(2 * 4226, 32, sm90).stack, 1u);
+  EXPECT_EQ(gpu::field_texture_shape(2 * 16642, 64, sm90).stack, 3u);
+  EXPECT_EQ(gpu::field_texture_shape(2 * 16642, 64, sm90).depth, 11095u);
+  const gpu::Texture3DLimits small{512, 1024, 2048};  // a smaller device: more samples a slice
+  EXPECT_EQ(gpu::field_texture_shape(2048, 64, small).stack, 1u);
+  EXPECT_EQ(gpu::field_texture_shape(2049, 64, small).stack, 2u);
+  EXPECT_EQ(gpu::field_texture_shape(2049, 64, small).depth, 1025u);
+  const gpu::FieldTextureShape shape = gpu::field_texture_shape(2 * 4226, 32, small);
+  EXPECT_GE(shape.stack * shape.depth, 2u * 4226u);
+  EXPECT_LE(shape.depth, small.depth);
+  EXPECT_LE(32u * shape.stack, small.height);
+  EXPECT_THROW(gpu::field_texture_shape(2 * 16642, 128, small), Error) << "128 x 17 rows exceed a height of 1024";
+  EXPECT_THROW(gpu::field_texture_shape(10, 1024, small), Error) << "wider than the device allows";
+  EXPECT_THROW(gpu::field_texture_shape(0, 32, small), Error);
+}
+
 TEST(GpuBvh, EqualsTheOracleOnTheSharedModels) {
   int found = 0;
   for (const char* model : {"bun_zipper.ply", "cow.obj", "igea-triangles.ply", "Armadillo.ply", "teapot.obj",
                             "CornellBox-Original.obj", "sponza.obj", "conference.obj"}) {
-    const std::filesystem::path path = std::filesystem::path(VISFIELD_MODELS_DIR) / model;
+    const std::filesystem::path path = models_dir() / model;
     if (!std::filesystem::exists(path)) continue;
     ++found;
     const TriangleSet set = flatten(load_scene(path.string()));
@@ -161,8 +258,11 @@ TEST(GpuBvh, EqualsTheOracleOnTheSharedModels) {
     expect_same(gpu, BruteForce::build(set), std::vector<Ray>(rays.begin(), rays.begin() + scaled_count(2000)),
                 std::string(model) + " vs brute force", false);
     expect_same(gpu, Bvh::build(set), rays, std::string(model) + " vs bvh", false);
+    EXPECT_EQ(gpu.stack_bound(), stack_bound_of(gpu)) << model;
+    std::printf("%s: depth %d, stack bound %u, kernel stack capacity %d\n", model, gpu.stats().max_depth, gpu.stack_bound(),
+                gpu::stack_capacity_for(gpu.stack_bound()));
   }
-  if (found == 0) GTEST_SKIP() << "no shared models in " << VISFIELD_MODELS_DIR;
+  if (found == 0) GTEST_SKIP() << "no shared models in " << models_dir();
 }
 
 }  // namespace
