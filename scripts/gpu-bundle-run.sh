@@ -1,0 +1,178 @@
+#!/usr/bin/env bash
+# The GPU run, staged as gpu-bundle/run.sh by scripts/gpu-bundle.sh (docs/cuda.md, "A GPU run").
+# From the repository root of a GPU machine, with gpu-bundle carried: bash gpu-bundle/run.sh
+#
+# No build and nothing installed: the bundle's programs with LD_LIBRARY_PATH at its lib/ folder.
+# Steps, each under its own timeout and all within VISFIELD_GPU_BUDGET_S seconds (default 400, so
+# that the run ends inside 7 minutes):
+#   device    nvidia-smi, the driver, the kernels' registers and stack frames (cuobjdump)
+#   tests     test_cuda with VISFIELD_REQUIRE_CUDA=1 (no device: fail, not skip), every kernel kind
+#             against the CPU bit for bit on >= 10M rays; test_gpu (the device code on the host)
+#   memcheck  a subset of test_cuda under compute-sanitizer memcheck, a hundredth of the rays
+#   bench     visfield-bench --device cuda: AO on bunny and sponza, fields and exact BVH, GPU vs CPU
+#   figures   the GPU paper's Figures 5, 3 and 7 (--figure gpu5 gpu3 gpu7), an AO render of igea
+#   ncu       Nsight Compute on one field AO launch, when a minute is left
+# Writes to $OUT (else gpu-bundle/out), at most 8 files: summary.md (the one-screen table, also
+# printed last), device.txt, tests.log, memcheck.log, bench.log, figures.log, igea-ao.png, ncu.log.
+# Without a GPU it checks that every program loads from the bundle alone, says so in one line and
+# exits 0; a program that does not load is an error (exit 1).
+set -uo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+out=${OUT:-$here/out}
+export PATH="/usr/local/cuda/bin:${PATH:-/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin}"
+export LD_LIBRARY_PATH="$here/lib"
+bin=$here/bin
+budget=${VISFIELD_GPU_BUDGET_S:-400}
+start=$SECONDS
+
+# Every program resolves each library through the bundle, except glibc's and the driver's.
+system='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libutil|libcuda|libnvidia-)[.-]'
+check_loads() {
+  local bad=0 p name path
+  for p in "$bin"/*; do
+    while read -r name path; do
+      if [[ "$path" == "not" ]]; then
+        echo "run.sh: error: $(basename "$p") needs $name, which is not in the bundle" >&2
+        bad=1
+      elif [[ ! "$name" =~ $system && "$path" != "$here/lib/"* ]]; then
+        echo "run.sh: error: $(basename "$p") loads $name from $path, outside the bundle" >&2
+        bad=1
+      fi
+    done < <(ldd "$p" | awk '/=>/ {print $1, $3}')
+  done
+  # Loading is more than finding: symbol versions (GLIBCXX, CUDA) are checked by starting them.
+  "$bin/test_gpu" --gtest_list_tests >/dev/null 2>&1 || { echo "run.sh: error: test_gpu does not start" >&2; bad=1; }
+  "$bin/test_cuda" --gtest_list_tests >/dev/null 2>&1 || { echo "run.sh: error: test_cuda does not start" >&2; bad=1; }
+  "$bin/visfield" structures >/dev/null 2>&1 || { echo "run.sh: error: visfield does not start" >&2; bad=1; }
+  "$bin/visfield-bench" --help >/dev/null 2>&1 || { echo "run.sh: error: visfield-bench does not start" >&2; bad=1; }
+  return $bad
+}
+check_loads || exit 1
+if ! nvidia-smi -L 2>/dev/null | grep -q '^GPU'; then
+  echo "run.sh: no GPU here (nvidia-smi lists none): all $(ls "$bin" | wc -l) programs load from the bundle; nothing run"
+  exit 0
+fi
+
+mkdir -p "$out"
+models=${TMPDIR:-/tmp}/visfield-models
+mkdir -p "$models"
+for m in "$here"/models/*.gz; do gzip -dc "$m" >"$models/$(basename "${m%.gz}")"; done
+export VISFIELD_MODELS_DIR=$models
+threads=$(nproc)
+
+declare -A took status
+# step NAME LIMIT LOG COMMAND...: COMMAND under `timeout` (the smaller of LIMIT and the budget left),
+# its output appended to LOG; status[NAME] is ok, failed (exit N), timed out, or skipped.
+step() {
+  local name=$1 limit=$2 log=$3
+  shift 3
+  local left=$((budget - (SECONDS - start)))
+  ((limit > left)) && limit=$left
+  if ((limit < 10)); then
+    status[$name]="skipped (budget spent)"
+    echo "## $name: skipped, ${left}s of the budget left" >>"$log"
+    return
+  fi
+  local t0=$SECONDS rc
+  echo "## $name (limit ${limit}s): $*" >>"$log"
+  timeout --kill-after=5 "$limit" "$@" >>"$log" 2>&1
+  rc=$?
+  took[$name]=$((SECONDS - t0))
+  case $rc in
+    0) status[$name]=ok ;;
+    124 | 137) status[$name]="timed out after ${limit}s" ;;
+    *) status[$name]="failed (exit $rc)" ;;
+  esac
+  echo "## $name: ${status[$name]} in ${took[$name]}s" >>"$log"
+  echo "run.sh: $name: ${status[$name]} in ${took[$name]}s"
+}
+
+# 1. The device.
+{
+  nvidia-smi
+  nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv
+  nvcc --version | tail -2
+  compute-sanitizer --version 2>&1 | head -2
+  cat "$here/BUILD"
+  echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2) x $threads"
+} >"$out/device.txt" 2>&1
+step kernels 30 "$out/device.txt" cuobjdump --dump-resource-usage "$bin/test_cuda"
+device=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
+driver=$(nvidia-smi --query-gpu=driver_version --format=csv,noheader | head -1)
+echo "run.sh: $device, driver $driver, $(date -u +%Y-%m-%d), budget ${budget}s"
+
+# 2. Tests: a test without a device fails; every kernel kind bit for bit against the CPU.
+VISFIELD_REQUIRE_CUDA=1 step tests 200 "$out/tests.log" "$bin/test_cuda"
+step gpu-unit 60 "$out/tests.log" "$bin/test_gpu"
+
+# 3. compute-sanitizer memcheck on a subset at a hundredth of the rays (memcheck slows kernels ~100x).
+VISFIELD_REQUIRE_CUDA=1 VISFIELD_TEST_SCALE=0.01 step memcheck 120 "$out/memcheck.log" \
+  compute-sanitizer --tool memcheck --leak-check full --error-exitcode 99 "$bin/test_cuda" \
+  --gtest_filter='Cuda.EmptyInputs*:Cuda.ExactBvhBatch*:Cuda.FieldBatch*:Cuda.AoKernels*:Cuda.SoftShadowAndGlossy*'
+
+# 4. The benchmark: AO from the camera's hits of a 1024x1024 view, 64 rays a hit, on the GPU beside
+#    the CPU (all cores), fields 4226 x 32^2 (the default) and the exact GPU BVH.
+for scene in bun_zipper.ply sponza.obj; do
+  step "bench-${scene%%.*}" 90 "$out/bench.log" "$bin/visfield-bench" --device cuda --scene "$models/$scene" --rays ao \
+    --ao-rays 64 --width 1024 --height 1024 --accel bvh,field --threads "$threads" --warmup 1 --reps 5
+done
+
+# 5. The GPU paper's figures and an AO image rendered on the device.
+step gpu5 90 "$out/figures.log" "$bin/visfield-bench" --device cuda --figure gpu5 --scene "$models/igea-triangles.ply" --threads "$threads"
+step gpu3 90 "$out/figures.log" "$bin/visfield-bench" --device cuda --figure gpu3 --scene "$models/bun_zipper.ply" --threads "$threads"
+step gpu7 90 "$out/figures.log" "$bin/visfield-bench" --device cuda --figure gpu7 --scene "$models/bun_zipper.ply" --threads "$threads"
+step render 60 "$out/figures.log" "$bin/visfield" render "$models/igea-triangles.ply" --device cuda --occluders field --ao-rays 121 \
+  --width 512 --height 512 --out "$out/igea-ao.png" --no-progress
+
+# 6. What bounds the field AO kernel: one launch through Nsight Compute, if a minute is left.
+if command -v ncu >/dev/null && ((budget - (SECONDS - start) >= 60)); then
+  step ncu 60 "$out/ncu.log" ncu --clock-control none --kernel-name regex:ao_kernel --launch-skip 1 --launch-count 1 \
+    --section SpeedOfLight --section MemoryWorkloadAnalysis --section Occupancy --section LaunchStats \
+    "$bin/visfield-bench" --device cuda --scene "$models/bun_zipper.ply" --rays ao --ao-rays 64 --width 512 --height 512 \
+    --accel field --threads "$threads" --warmup 0 --reps 1
+fi
+
+# 7. The summary: one screen.
+column() {  # column FILE PATTERN N: field N (|-separated, trimmed) of the first line holding PATTERN
+  grep -F -- "$2" "$1" 2>/dev/null | head -1 | awk -F'|' -v n="$3" '{gsub(/^ +| +$/, "", $n); print $n}'
+}
+rays() {  # rays KIND: rays test_cuda compared bit for bit for KIND
+  awk -v k="$1" '$1 == "rays" && $2 == "compared:" && $3 == k {s += $4} END {printf "%.1fM", s / 1e6}' "$out/tests.log" 2>/dev/null
+}
+cuda_log=$(sed -n '/^## tests (/,/^## tests:/p' "$out/tests.log" 2>/dev/null)
+passed=$(grep -m1 -oE '^\[  PASSED  \] [0-9]+' <<<"$cuda_log" | grep -oE '[0-9]+$')
+failed=$(grep -m1 -oE '^\[  FAILED  \] [0-9]+ tests?,' <<<"$cuda_log" | grep -oE '[0-9]+')
+skipped=$(grep -m1 -oE '^\[  SKIPPED \] [0-9]+ tests?,' <<<"$cuda_log" | grep -oE '[0-9]+')
+tests_line="${passed:-0} passed, ${failed:-0} failed, ${skipped:-0} skipped"
+memcheck=$(grep -m1 'ERROR SUMMARY' "$out/memcheck.log" 2>/dev/null | sed 's/^=* *//')
+frame=$(column "$out/figures.log" '| fields, kernel |' 3)
+summary=$(
+  cat <<EOF
+# GPU run: $device, driver $driver, $(date -u +%Y-%m-%d)
+
+$(cat "$here/BUILD" | head -1); $threads CPU threads; $((SECONDS - start)) s of the ${budget} s budget.
+
+| check | result | target |
+|---|---|---|
+| cuda tests, VISFIELD_REQUIRE_CUDA=1 | ${status[tests]:-not run}: $tests_line | all pass, none skipped |
+| rays compared bit for bit: BVH closest / any | $(rays bvh-closest) / $(rays bvh-any) | >= 10M each, 0 differ |
+| rays compared bit for bit: fields inter / intra (closest and any each) | $(rays fields-inter) / $(rays fields-intra) | >= 10M each, 0 differ |
+| rays compared bit for bit: AO kernel, fields / BVH | $(rays ao-kernel-fields) / $(rays ao-kernel-bvh) | >= 10M each, 0 differ |
+| test_gpu (device code on the host) | ${status[gpu-unit]:-not run} | ok |
+| compute-sanitizer memcheck, subset | ${status[memcheck]:-not run}: ${memcheck:-no summary} | 0 errors |
+| field AO, device rays, bunny 4226 x 32^2 (G rays/s) | $(column "$out/bench.log" '| fields: ' 4) | >= 20 |
+| field AO through 3D textures, bunny (G rays/s) | $(column "$out/bench.log" '| fields in 3D textures: ' 4) | (measured) |
+| exact GPU BVH AO, bunny (G rays/s) | $(column "$out/bench.log" '| exact GPU BVH: ' 4) | >= 1.5 |
+| exact GPU BVH AO, sponza (G rays/s) | $(grep -F '| exact GPU BVH: ' "$out/bench.log" 2>/dev/null | sed -n 2p | awk -F'|' '{gsub(/ /, "", $4); print $4}') | >= 1.5 |
+| bench rows where GPU and CPU differ | $(grep -c ' differ |' "$out/bench.log" 2>/dev/null) of $(grep -c -E 'bit-identical|differ \|' "$out/bench.log" 2>/dev/null) | 0 |
+| Figure 5: igea 16642 x 64^2, 121 rays, 512x512 (ms a frame) | ${frame:-?} | <= 5 |
+| Figures 3 and 7 (RMS beside the CPU's) | gpu3 ${status[gpu3]:-not run}, gpu7 ${status[gpu7]:-not run}: figures.log | within 1% |
+| AO render of igea on the device | ${status[render]:-not run}: igea-ao.png | |
+| ncu, field AO kernel | ${status[ncu]:-not run}: ncu.log | |
+
+Steps (s): $(for s in kernels tests gpu-unit memcheck bench-bun_zipper bench-sponza gpu5 gpu3 gpu7 render ncu; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
+EOF
+)
+echo "$summary" >"$out/summary.md"
+echo
+echo "$summary"
