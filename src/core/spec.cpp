@@ -85,7 +85,7 @@ std::vector<std::string> split_spec_list(std::string_view text) {
   for (const std::string_view item : split(text, ',')) {
     const std::size_t eq = item.find('='), colon = item.find(':');
     const bool continues = eq != std::string_view::npos && (colon == std::string_view::npos || colon > eq);
-    if (continues && !specs.empty()) specs.back() += "," + std::string(item);
+    if (continues && !specs.empty()) specs.back().append(",").append(item);
     else specs.emplace_back(item);
   }
   return specs;

@@ -74,11 +74,14 @@ std::string cache_path(const TriangleMesh& mesh, std::uint64_t hash, const Objec
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
   char hex[17];
   std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(hash));
-  return (std::filesystem::path(cache_folder) / (name + "-" + hex + "-" + std::to_string(config.positions) + "x" +
-                                                 std::to_string(config.directions) + "-" + mapping_name(config.mapping) + "-" +
-                                                 storage_name(config.storage) +
-                                                 (config.normals == NormalStorage::none ? "" : "-" + normals_name(config.normals)) + ".vfield"))
-      .string();
+  // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on "literal" + a temporary string.
+  std::string file = name;
+  file.append("-").append(hex).append("-").append(std::to_string(config.positions)).append("x");
+  file.append(std::to_string(config.directions)).append("-").append(mapping_name(config.mapping)).append("-");
+  file.append(storage_name(config.storage));
+  if (config.normals != NormalStorage::none) file.append("-").append(normals_name(config.normals));
+  file.append(".vfield");
+  return (std::filesystem::path(cache_folder) / file).string();
 }
 
 /// The field of `triangles` (mesh `mesh`): read from its cache file when there is one, else built

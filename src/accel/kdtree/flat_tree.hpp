@@ -54,6 +54,9 @@ struct FlatTree {
   std::size_t leaf_count = 0;
   int max_depth = 0;  ///< Levels on the longest root-to-leaf path (a lone root leaf: 1).
 
+  /// An empty tree whose growth is charged to `growth` (may be null).
+  explicit FlatTree(BuildGrowth* growth = nullptr) : growth(growth) {}
+
   /// Appends a leaf at `depth` splits below the root holding `triangles` (ascending indices).
   /// Throws vf::Error when the leaf or the whole tree outgrows the 32-bit node fields.
   void add_leaf(std::span<const std::uint32_t> triangles, int depth);
@@ -98,11 +101,11 @@ void build_subtree(const Builder& builder, Node node, int depth, FlatTree& out) 
   }
   const std::size_t self = out.begin_interior();
   if (size >= kParallelSubtreeSize) {
-    FlatTree below{out.growth}, above{out.growth};
+    FlatTree below(out.growth), above(out.growth);
     vf::parallel_invoke([&] { build_subtree(builder, std::move(split->below), depth + 1, below); },
                          [&] { build_subtree(builder, std::move(split->above), depth + 1, above); });
     out.append(below);
-    below = {};
+    below = FlatTree();
     out.end_interior(self, split->axis, split->position);
     out.append(above);
   } else {
@@ -121,7 +124,7 @@ std::unique_ptr<const KdLayout> build_layout(const std::string& structure, const
   const Stopwatch watch;
   auto layout = std::make_unique<KdLayout>();
   BuildGrowth growth(structure);
-  FlatTree tree{&growth};
+  FlatTree tree(&growth);
   if (set.size() > 0) build_subtree(builder, make_root(), 0, tree);
   finish_layout(std::move(tree), set, *layout);
   layout->stats.build_ms = watch.elapsed_ms();

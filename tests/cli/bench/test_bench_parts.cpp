@@ -229,8 +229,8 @@ BenchReport sample_report(bool with_embree) {
   report.threads = 2;
   report.reference = with_embree ? "embree" : "bvh";
   if (with_embree) report.embree = "Embree 3.13.5";
-  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3, {}});
-  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0, {}});
+  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3, {}, {}});
+  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0, {}, {}});
   report.rows.push_back({"beam", 900.0, 1 << 20, 25.0, 40.0, with_embree ? std::optional<double>(2.0) : std::nullopt, 0,
                          std::nullopt, BeamWork{0.75, 1.5, 2.25, 4.5}});
   return report;

@@ -174,8 +174,9 @@ TEST(FieldFile, ScenesCacheTheirFields) {
   const FieldScene second = FieldScene::build(scene, config, [&](std::size_t n) { precomputed += n; }, (dir / "cache").string());
   for (std::uint32_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
     ASSERT_EQ(first.mesh_field(mesh) == nullptr, second.mesh_field(mesh) == nullptr);
-    if (first.mesh_field(mesh))
+    if (first.mesh_field(mesh)) {
       EXPECT_TRUE(std::ranges::equal(first.mesh_field(mesh)->cell_table(), second.mesh_field(mesh)->cell_table())) << mesh;
+    }
   }
   EXPECT_EQ(precomputed, 3u * 290u);  // reported as done, all at once
   // A file made for another mesh is refused.

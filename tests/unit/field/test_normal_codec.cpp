@@ -28,7 +28,9 @@ TEST(NormalCodec, EveryDirectionComesBackUnitAndWithinTheLatticeError) {
     for (int q = 0; q < 200000; ++q) {
       const Vec3f n = uniform_sphere(rng.uniform(), rng.uniform());
       const unsigned code = encode_normal(storage, {n.x, n.y, n.z});
-      if (storage == NormalStorage::oct16) ASSERT_LT(code, 1u << 16);
+      if (storage == NormalStorage::oct16) {
+        ASSERT_LT(code, 1u << 16);
+      }
       const hd::Vec3<float> back = decode_normal(storage, code);
       ASSERT_NEAR(std::sqrt(back.x * back.x + back.y * back.y + back.z * back.z), 1.0, 1e-6);
       worst = std::max(worst, angle_degrees(back, n));

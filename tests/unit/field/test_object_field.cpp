@@ -336,7 +336,9 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
     for (std::size_t q = 0; q < single.size(); ++q) {
       single[q] = field.trace(rows.org(q), rows.dir(q), rows.rows[6][q], rows.rows[7][q]);
       hits += single[q].hit ? 1 : 0;
-      if (single[q].hit) ASSERT_EQ(single[q].has_normal, config.normals != NormalStorage::none) << what;
+      if (single[q].hit) {
+        ASSERT_EQ(single[q].has_normal, config.normals != NormalStorage::none) << what;
+      }
     }
     EXPECT_GT(hits, single.size() / 10) << what;
     for (const int width : {16, 8, 1}) {
