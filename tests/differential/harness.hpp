@@ -5,6 +5,7 @@
 /// (t, triangle, object, normal) and occlusion answers ray by ray and prints the first mismatches
 /// with the ray in hexadecimal floats.
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,14 +20,14 @@
 #include "visfield/accel/query.hpp"
 #include "visfield/registry/registry.hpp"
 #include "visfield/core/parallel.hpp"
+#include "support/same_hit.hpp"
 
 namespace vf::test {
 
-/// How to compare and how much to print.
+/// How much to print.
 struct DiffOptions {
-  double relative_t_tolerance = 1e-5;  ///< |t - t_oracle| above this times |t_oracle| is a mismatch.
-  int max_reports = 5;                 ///< Mismatches printed (the first ones, by ray index).
-  std::string label;                   ///< Printed with each mismatch (scene and ray set).
+  int max_reports = 5;  ///< Mismatches printed (the first ones, by ray index).
+  std::string label;    ///< Printed with each mismatch (scene and ray set).
 };
 
 /// Counts of disagreements with the oracle over a ray set.
@@ -34,7 +35,7 @@ struct DiffReport {
   std::size_t rays = 0;
   std::size_t oracle_hits = 0;          ///< Rays the oracle reports a closest hit for.
   std::size_t oracle_occluded = 0;      ///< Rays the oracle reports occluded.
-  std::size_t closest_mismatches = 0;   ///< Hit vs miss, t off, a different triangle at a different t, t out of range, or another normal.
+  std::size_t closest_mismatches = 0;   ///< Closest hits that differ from the oracle's in any bit.
   std::size_t occluded_mismatches = 0;  ///< occluded() differs from the oracle.
 };
 
@@ -110,8 +111,8 @@ namespace detail {
 inline std::string describe(const Hit& h) {
   if (!h) return "miss";
   char buf[200];
-  std::snprintf(buf, sizeof buf, "t=%a (%.9g) u=%.6g v=%.6g prim=%u instance=%u normal=(%.6g, %.6g, %.6g)", h.t, h.t,
-                h.u, h.v, h.prim, h.instance, h.normal.x, h.normal.y, h.normal.z);
+  std::snprintf(buf, sizeof buf, "t=%a (%.9g) u=%a v=%a prim=%u instance=%u normal=(%a, %a, %a)", h.t, h.t, h.u, h.v, h.prim,
+                h.instance, h.normal.x, h.normal.y, h.normal.z);
   return buf;
 }
 
@@ -122,19 +123,17 @@ inline std::string describe(const Ray& r) {
   return buf;
 }
 
-/// Why `got` disagrees with `expected` for `ray`, or nullptr when it does not.
-inline const char* closest_mismatch(const Ray& ray, const Hit& expected, const Hit& got, double tolerance) {
+/// Why `got` differs from `expected` in any bit, or nullptr when it does not (the first difference
+/// in the order hit, t, triangle and object, u and v, normal).
+inline const char* closest_mismatch(const Hit& expected, const Hit& got) {
+  if (same_bits(expected, got)) return nullptr;
   if (expected.found != got.found) return expected ? "missed a hit" : "reported a hit the oracle misses";
-  if (!got) return nullptr;
-  if (!(got.t >= ray.tmin && got.t <= ray.tmax)) return "t outside [tmin, tmax]";
-  if (std::fabs(static_cast<double>(got.t) - expected.t) > tolerance * std::fabs(static_cast<double>(expected.t)))
-    return "t differs";
-  const bool same_triangle = got.prim == expected.prim && got.instance == expected.instance;
-  // Equal t on different triangles is a tie, which any triangle may win.
-  if (!same_triangle && got.t != expected.t) return "different triangle at a different t";
-  if (!got.has_normal) return "no normal";
-  if (same_triangle && !(got.normal == expected.normal)) return "normal differs";
-  return nullptr;
+  if (std::bit_cast<std::uint32_t>(got.t) != std::bit_cast<std::uint32_t>(expected.t)) return "t differs";
+  if (got.prim != expected.prim || got.instance != expected.instance) return "another triangle at the same t (the tie goes to the lowest index)";
+  if (std::bit_cast<std::uint32_t>(got.u) != std::bit_cast<std::uint32_t>(expected.u) ||
+      std::bit_cast<std::uint32_t>(got.v) != std::bit_cast<std::uint32_t>(expected.v))
+    return "u or v differs";
+  return "normal differs";
 }
 
 }  // namespace detail
@@ -150,7 +149,7 @@ DiffReport compare_answers(const A& structure, const std::string& name, std::spa
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 64), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       got[i] = structure.intersect(rays[i]);
-      closest_why[i] = detail::closest_mismatch(rays[i], oracle.closest[i], got[i], options.relative_t_tolerance);
+      closest_why[i] = detail::closest_mismatch(oracle.closest[i], got[i]);
       occluded_wrong[i] = (structure.occluded(rays[i]) ? 1 : 0) != oracle.occluded[i] ? 1 : 0;
     }
   });
