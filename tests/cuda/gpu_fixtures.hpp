@@ -63,7 +63,10 @@ inline std::vector<gpu::SurfaceFrame> surface_frames(const TriangleSet& set, std
 /// A shared model's scene when models_dir() holds it, else nothing.
 inline std::optional<Scene> shared_model(const char* file) {
   const std::filesystem::path path = models_dir() / file;
-  if (!std::filesystem::exists(path)) return std::nullopt;
+  if (!std::filesystem::exists(path)) {
+    if (models_required()) ADD_FAILURE() << file << " is not in " << models_dir() << " (VISFIELD_REQUIRE_MODELS=1)";
+    return std::nullopt;
+  }
   return load_scene(path.string());
 }
 

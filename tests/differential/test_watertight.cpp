@@ -14,6 +14,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <string>
+#include <tuple>
 #include <vector>
 
 #include "differential/structure_specs.hpp"
@@ -189,13 +192,14 @@ bool entered_near_target(const AimedRay& a, const Hit& hit, const TriangleMesh& 
 }
 
 struct MeshCase {
-  const char* name;
+  std::string name;
   Scene scene;  // one object
 };
 
-std::vector<MeshCase> closed_meshes() {
-  std::vector<MeshCase> out;
-  // Placed by a rotation, a non-unit scale and a translation: the instance layer traces in object space.
+/// The closed mesh `name` (a shared model, or "builtin:sphere", the built-in sphere scene's sphere
+/// without its ground), placed by a rotation, a non-unit scale and a translation, so that the
+/// instance layer traces in object space; nothing when the model is absent.
+std::optional<MeshCase> closed_mesh(const std::string& name) {
   const auto placed = [](TriangleMesh mesh) {
     Scene scene;
     scene.meshes.push_back(std::move(mesh));
@@ -206,60 +210,72 @@ std::vector<MeshCase> closed_meshes() {
     scene.add_instance(0, transform);
     return scene;
   };
-  for (const char* model : {"igea-triangles.ply", "Armadillo.ply", "cow.obj"}) {
-    const std::filesystem::path path = models_dir() / model;
-    if (std::filesystem::exists(path)) out.push_back({model, placed(load_scene(path.string()).meshes.front())});
+  if (name == "builtin:sphere") {
+    for (TriangleMesh& mesh : parse_builtin_scene("builtin:sphere:size=20000").meshes)
+      if (mesh.name == "sphere") return MeshCase{"builtin:sphere", placed(std::move(mesh))};
+    return std::nullopt;
   }
-  // The built-in sphere scene's tessellated sphere, without its ground.
-  for (TriangleMesh& mesh : parse_builtin_scene("builtin:sphere:size=20000").meshes)
-    if (mesh.name == "sphere") out.push_back({"builtin:sphere", placed(std::move(mesh))});
-  return out;
+  const std::filesystem::path path = models_dir() / name;
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  return MeshCase{name, placed(load_scene(path.string()).meshes.front())};
 }
 
-TEST(Watertight, RaysAtSharedEdgesAndVerticesNeverSlipThrough) {
-  const std::size_t n = rays_per_mesh();
-  std::printf("  %-20s %-22s %10s %10s %11s %8s %8s\n", "mesh", "structure", "rays", "at edges", "at vertices", "leaks",
-              "occl.");
-  const std::vector<MeshCase> meshes = closed_meshes();
-  ASSERT_FALSE(meshes.empty());
-  for (const MeshCase& m : meshes) {
-    const TriangleMesh& mesh = m.scene.meshes.front();
-    const Targets targets = find_targets(m.scene);
-    ASSERT_GT(targets.shared_edges.size(), 0u) << m.name;
-    std::size_t touching = 0;
-    const std::vector<AimedRay> aimed = aimed_rays(targets, mesh, m.scene.bounds(), n, 2026, touching);
-    std::printf("  %-20s %zu shared edges, %zu closed vertices; %zu rays only touching the surface drawn again\n", m.name,
-                targets.shared_edges.size(), targets.closed_vertices.size(), touching);
-    std::vector<Ray> rays;
-    for (const AimedRay& a : aimed) rays.push_back(a.ray);
-    SceneGeometry geometry(m.scene);
-    for (const std::string& spec : exact_structure_specs()) {
-      if (spec.starts_with("brute")) continue;  // O(N) per ray; the oracle of the other tests
-      const BuiltStructure built = build_structure(spec, geometry);
-      std::vector<Hit> hits(rays.size());
-      std::vector<std::uint8_t> occluded(rays.size());
-      std::vector<Ray> segments(rays.size());
-      std::visit(
-          [&](const auto& s) {
-            intersect_batch(s, std::span<const Ray>(rays), std::span<Hit>(hits));
-            // Occlusion over the segment to the target, or to the neighbour the ray entered through.
-            for (std::size_t i = 0; i < rays.size(); ++i)
-              segments[i] = Ray{rays[i].org, rays[i].dir, 0.0f, hits[i] ? std::fmax(hits[i].t, 1.0f + 1e-4f) : 1.0f + 1e-4f};
-            occluded_batch(s, std::span<const Ray>(segments), std::span<std::uint8_t>(occluded));
-          },
-          built.structure);
-      std::size_t leaks = 0, occlusion_leaks = 0;
-      for (std::size_t i = 0; i < rays.size(); ++i) {
-        leaks += !entered_near_target(aimed[i], hits[i], mesh);
-        occlusion_leaks += occluded[i] == 0;
-      }
-      std::printf("  %-20s %-22s %10zu %10zu %11zu %8zu %8zu\n", m.name, spec.c_str(), rays.size(), (rays.size() + 1) / 2,
-                  rays.size() / 2, leaks, occlusion_leaks);
-      EXPECT_EQ(leaks, 0u) << spec << " on " << m.name;
-      EXPECT_EQ(occlusion_leaks, 0u) << spec << " on " << m.name;
-    }
-  }
+/// Every exact structure but brute force (O(N) a ray; the other tests' oracle).
+std::vector<std::string> watertight_specs() {
+  std::vector<std::string> specs;
+  for (const std::string& spec : exact_structure_specs())
+    if (!spec.starts_with("brute")) specs.push_back(spec);
+  return specs;
 }
+
+/// One closed mesh and one structure a test, so that ctest spreads them over its jobs.
+class Watertight : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
+
+TEST_P(Watertight, RaysAtSharedEdgesAndVerticesNeverSlipThrough) {
+  const auto& [mesh_name, spec] = GetParam();
+  const std::optional<MeshCase> m = closed_mesh(mesh_name);
+  VF_SKIP_WITHOUT_MODELS(m.has_value(), mesh_name);
+  const std::size_t n = rays_per_mesh();
+  const TriangleMesh& mesh = m->scene.meshes.front();
+  const Targets targets = find_targets(m->scene);
+  ASSERT_GT(targets.shared_edges.size(), 0u) << m->name;
+  std::size_t touching = 0;
+  const std::vector<AimedRay> aimed = aimed_rays(targets, mesh, m->scene.bounds(), n, 2026, touching);
+  std::printf("  %-20s %zu shared edges, %zu closed vertices; %zu rays only touching the surface drawn again\n", m->name.c_str(),
+              targets.shared_edges.size(), targets.closed_vertices.size(), touching);
+  std::vector<Ray> rays;
+  for (const AimedRay& a : aimed) rays.push_back(a.ray);
+  SceneGeometry geometry(m->scene);
+  const BuiltStructure built = build_structure(test_sized(spec), geometry);
+  std::vector<Hit> hits(rays.size());
+  std::vector<std::uint8_t> occluded(rays.size());
+  std::vector<Ray> segments(rays.size());
+  std::visit(
+      [&](const auto& s) {
+        intersect_batch(s, std::span<const Ray>(rays), std::span<Hit>(hits));
+        // Occlusion over the segment to the target, or to the neighbour the ray entered through.
+        for (std::size_t i = 0; i < rays.size(); ++i)
+          segments[i] = Ray{rays[i].org, rays[i].dir, 0.0f, hits[i] ? std::fmax(hits[i].t, 1.0f + 1e-4f) : 1.0f + 1e-4f};
+        occluded_batch(s, std::span<const Ray>(segments), std::span<std::uint8_t>(occluded));
+      },
+      built.structure);
+  std::size_t leaks = 0, occlusion_leaks = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    leaks += !entered_near_target(aimed[i], hits[i], mesh);
+    occlusion_leaks += occluded[i] == 0;
+  }
+  std::printf("  %-20s %-22s %10zu rays, %zu at edges, %zu at vertices: %zu leaks, %zu occlusion leaks\n", m->name.c_str(), spec.c_str(),
+              rays.size(), (rays.size() + 1) / 2, rays.size() / 2, leaks, occlusion_leaks);
+  EXPECT_EQ(leaks, 0u) << spec << " on " << m->name;
+  EXPECT_EQ(occlusion_leaks, 0u) << spec << " on " << m->name;
+}
+
+INSTANTIATE_TEST_SUITE_P(ClosedMeshes, Watertight,
+                         ::testing::Combine(::testing::Values("igea-triangles.ply", "Armadillo.ply", "cow.obj", "builtin:sphere"),
+                                            ::testing::ValuesIn(watertight_specs())),
+                         [](const auto& info) {
+                           return spec_test_name(std::get<0>(info.param)) + "_" + spec_test_name(std::get<1>(info.param));
+                         });
 
 }  // namespace
 }  // namespace vf::test

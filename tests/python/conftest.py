@@ -11,9 +11,12 @@ import visfield as vf
 
 @pytest.fixture(scope="session")
 def models_dir():
-    """The shared test meshes (skip when absent: a clone of the repository alone has none)."""
+    """The shared test meshes (skip when absent: a clone of the repository alone has none; fail
+    instead under VISFIELD_REQUIRE_MODELS=1, as in CI, where they are there)."""
     path = os.environ.get("VISFIELD_MODELS_DIR", "")
     if not path or not os.path.isdir(path):
+        if os.environ.get("VISFIELD_REQUIRE_MODELS") == "1":
+            pytest.fail(f"shared models not in '{path}' (VISFIELD_REQUIRE_MODELS=1)")
         pytest.skip("shared models not present")
     return path
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "support/test_scale.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/core/sampling.hpp"
@@ -82,7 +83,7 @@ TEST(SpherePositions, NearestEqualsBruteForceInDoubleAndNearlyInFloat) {
   for (int level = 3; level <= 5; ++level) {
     const SpherePositions set(level);
     std::size_t mismatches = 0, float_worse = 0;
-    for (const V& d : query_directions(set, 30000)) {
+    for (const V& d : query_directions(set, test::scaled_count(30000))) {
       const double best = brute_force_best_cos(set, d);
       const std::size_t k = set.nearest(d);
       ASSERT_LT(k, set.size());

@@ -229,10 +229,10 @@ TEST(GridQueries, BuiltinScenes) {
 
 TEST(GridQueries, SharedModels) {
   const std::filesystem::path models = test::models_dir();
-  if (!std::filesystem::exists(models)) GTEST_SKIP() << "no shared models at " << models;
+  VF_SKIP_WITHOUT_MODELS(std::filesystem::exists(models), "the shared models folder");
   for (const char* file : {"CornellBox-Original.obj", "cow.obj", "sponza.obj"}) {
     const std::filesystem::path path = models / file;
-    if (!std::filesystem::exists(path)) continue;
+    VF_SKIP_WITHOUT_MODELS(std::filesystem::exists(path), path.filename().string());
     const TriangleSet set = flatten(load_scene(path.string()));
     const UniformGrid grid = UniformGrid::build(set);
     const std::vector<Ray> rays = test::model_rays(set, 16, 3000);

@@ -15,8 +15,7 @@ namespace {
 
 const std::filesystem::path kModels = vf::test::models_dir();
 
-#define REQUIRE_MODELS()                                                              \
-  if (!std::filesystem::exists(kModels / "manifest.tsv")) GTEST_SKIP() << "no shared models at " << kModels
+#define REQUIRE_MODELS() VF_SKIP_WITHOUT_MODELS(std::filesystem::exists(kModels / "manifest.tsv"), "manifest.tsv")
 
 struct ManifestEntry {
   std::string file;

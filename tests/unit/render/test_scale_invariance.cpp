@@ -81,7 +81,7 @@ TEST(ScaleInvariance, BuiltinCornellRendersTheSameAtEveryScale) {
 
 TEST(ScaleInvariance, ConferenceWithItsAreaRatioOf1e11RendersTheSameAtEveryScale) {
   const std::filesystem::path path = test::models_dir() / "conference.obj";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not present";
+  VF_SKIP_WITHOUT_MODELS(std::filesystem::exists(path), "conference.obj");
   // Inside the room, among the chairs and the table, AO within 150 units (the room is 2700 long).
   Scene scene = load_scene(path.string());
   Camera camera;
