@@ -127,7 +127,7 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   app.add_option("--integrator", options.integrator, "What --walk renders")
       ->check(CLI::IsMember({"raycast", "whitted", "ao", "softshadow", "glossy", "path"}));
   app.add_option("--walk-csv", options.walk_csv_dir, "--walk: folder to write one CSV of frame times per structure in");
-  app.add_option("--walk-plot", options.walk_plot, "--walk: the plot (.png) of every structure's frame times");
+  app.add_option("--walk-plot", options.walk_plot, "--walk: the plot (.svg) of every structure's frame times");
   app.add_option("--figure-images", options.figure_images,
                  "gpu7, gpu8, gpu9: folder to write every rendered image in (PNG; compare pairs with `visfield compare`)")
       ->check(CLI::ExistingDirectory);

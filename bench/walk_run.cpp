@@ -71,7 +71,7 @@ std::string fixed(double v, const char* pattern = "%.2f") {
 
 void run_walk_bench(const BenchOptions& options, std::ostream& out) {
   const ThreadLimit limit(options.threads);
-  if (!options.walk_plot.empty()) check_writable(options.walk_plot);
+  if (!options.walk_plot.empty()) check_walk_plot_path(options.walk_plot);
   if (!options.walk_csv_dir.empty() && !std::filesystem::is_directory(options.walk_csv_dir))
     throw Error(options.walk_csv_dir + ": --walk-csv must be an existing folder");
   const Scene original = load_scene(options.scene);
@@ -123,7 +123,7 @@ void run_walk_bench(const BenchOptions& options, std::ostream& out) {
         << fixed(total_ms / static_cast<double>(s.frames.size())) << " | " << fixed(static_cast<double>(rays) / trace_ms * 1e-3) << " | "
         << (embree_ms ? fixed(median(trace) / *embree_ms, "%.2fx") : std::string("-")) << " |\n";
   }
-  if (!options.walk_plot.empty()) write_image(options.walk_plot, plot_walk(series));
+  if (!options.walk_plot.empty()) write_walk_plot(options.walk_plot, series);
 }
 
 }  // namespace vf::bench

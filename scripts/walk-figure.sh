@@ -2,7 +2,9 @@
 # Reproduces the VLF-RT paper's Figure 6 on Sponza (the nearest we have to its 51K-polygon
 # classroom): a 420-frame walk down the atrium at 256x256, 4 point lights, ray casting and Whitted,
 # BeamField (513 directions, 128x128 tiles) against the median BSP, the kd-tree, the BVH and Embree.
-# Writes docs/walkthrough-measurements.md and the plots docs/images/walk-raycast.png, walk-whitted.png.
+# Writes docs/walkthrough-measurements.md, the frame times as CSV in docs/data/walk-raycast/ and
+# docs/data/walk-whitted/ (one file per structure), and their plots docs/images/walk-raycast.svg and
+# walk-whitted.svg.
 # Usage: scripts/walk-figure.sh MODELS_DIR [FRAMES]   (MODELS_DIR holds sponza.obj; takes about 2 minutes on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,12 +45,14 @@ out=docs/walkthrough-measurements.md
     echo
     echo "## $mode"
     echo
-    echo "\`visfield-bench --walk $frames --scene sponza-walk.json --accel $accels --integrator $mode --walk-plot docs/images/walk-$mode.png\`"
+    echo "\`visfield-bench --walk $frames --scene sponza-walk.json --accel $accels --integrator $mode --walk-csv docs/data/walk-$mode --walk-plot docs/images/walk-$mode.svg\`"
     echo
+    rm -rf "docs/data/walk-$mode"
+    mkdir -p "docs/data/walk-$mode"
     build/bin/visfield-bench --walk "$frames" --scene "$work/sponza-walk.json" --accel "$accels" --integrator "$mode" \
-      --walk-csv "$work" --walk-plot "docs/images/walk-$mode.png" | sed "s|$work/||"
+      --walk-csv "docs/data/walk-$mode" --walk-plot "docs/images/walk-$mode.svg" | sed "s|$work/||"
     echo
-    echo "![$mode](images/walk-$mode.png)"
+    echo "![$mode](images/walk-$mode.svg) (the frame times: [data/walk-$mode/](data/walk-$mode/))"
   done
 } > "$out"
 echo "wrote $out"

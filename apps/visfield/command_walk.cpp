@@ -46,7 +46,7 @@ double median(std::vector<double> v) {
 int run_walk(const WalkCommandOptions& o) {
   // Everything that can be refused is checked before the first frame.
   check_writable(o.csv);
-  if (!o.plot.empty()) check_image_extension(o.plot), check_writable(o.plot);
+  if (!o.plot.empty()) check_walk_plot_path(o.plot);
   std::vector<WalkSeries> others;
   for (const std::string& path : o.plot_with) others.push_back(read_walk_csv(path));
   if (!o.frames_dir.empty() && !std::filesystem::is_directory(o.frames_dir))
@@ -84,7 +84,7 @@ int run_walk(const WalkCommandOptions& o) {
   std::cout << "wrote " << std::filesystem::absolute(o.csv).string() << "\n";
   if (!o.plot.empty()) {
     others.insert(others.begin(), series);
-    write_image(o.plot, plot_walk(others));
+    write_walk_plot(o.plot, others);
     std::cout << "wrote " << std::filesystem::absolute(o.plot).string() << "\n";
   }
   std::vector<double> update, trace;
@@ -121,7 +121,7 @@ void register_walk_command(CLI::App& app, Action& action) {
   cmd->add_option("--width", options->width, "Frame width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", options->height, "Frame height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--csv", options->csv, "Per-frame times: frame,update_ms,trace_ms,rays,rebuilt")->capture_default_str();
-  cmd->add_option("--plot", options->plot, "Plot of the frame times (.png), like the VLF-RT paper's Figure 6");
+  cmd->add_option("--plot", options->plot, "Plot of the frame times (.svg), like the VLF-RT paper's Figure 6");
   cmd->add_option("--plot-with", options->plot_with, "Other runs' --csv files to draw on the same plot")->check(CLI::ExistingFile);
   cmd->add_option("--frames-dir", options->frames_dir, "Folder to keep every frame in as frame-NNNNN.png");
   add_resource_options(*cmd, options->threads);

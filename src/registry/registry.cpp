@@ -28,7 +28,7 @@ constexpr ParamSpec kLevelsParam{"levels", ParamType::choice, "auto",
 
 // levels=auto picks two levels when the flattened scene would hold at least kInstancingRatio copies of
 // its meshes' triangles and at least kMinTwoLevelTriangles triangles. Measured (bvh, AO and primary
-// rays, 2 threads; README, "Instances and updates"): two levels are as fast or faster per ray from
+// rays, 2 threads; docs/structures.md, "Instances and updates"): two levels are as fast or faster per ray from
 // 10 bunnies (0.69M triangles) and 100 teapots (0.63M) up, and build 10-1000x faster in a fraction
 // of the memory; flattened is faster per ray for 16 cows (93k) and 10000 boxes (120k).
 constexpr double kInstancingRatio = 4.0;

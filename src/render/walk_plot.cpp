@@ -1,55 +1,18 @@
+// The walkthrough plot as SVG: text, so any browser shows it and no font is rasterised here.
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <string>
 
-#include "bitmap_font.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/render/walkthrough.hpp"
 
 namespace vf {
 namespace {
 
-constexpr int kTextScale = 2;  // font pixels are drawn 2 x 2
-const Vec3f kPalette[] = {{0.85f, 0.1f, 0.1f}, {0.1f, 0.35f, 0.85f}, {0.1f, 0.6f, 0.2f},
-                          {0.9f, 0.55f, 0.0f}, {0.55f, 0.2f, 0.7f}, {0.0f, 0.6f, 0.65f}, {0.4f, 0.4f, 0.4f}};
-
-class Canvas {
- public:
-  Canvas(int w, int h) : image(w, h) { std::fill(image.pixels.begin(), image.pixels.end(), Vec3f{1.0f}); }
-  void dot(int x, int y, const Vec3f& c) {
-    if (x >= 0 && y >= 0 && x < image.width && y < image.height) image.at(x, y) = c;
-  }
-  void box(int x0, int y0, int x1, int y1, const Vec3f& c) {
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) dot(x, y, c);
-  }
-  // A line `thick` pixels wide; with `dotted`, only every other run of 4 pixels.
-  void line(int x0, int y0, int x1, int y1, const Vec3f& c, int thick, bool dotted) {
-    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-    int err = dx + dy;
-    for (int step = 0;; ++step) {
-      if (!dotted || (step / 4) % 2 == 0) box(x0 - thick / 2, y0 - thick / 2, x0 + (thick - 1) / 2, y0 + (thick - 1) / 2, c);
-      if (x0 == x1 && y0 == y1) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) err += dy, x0 += sx;
-      if (e2 <= dx) err += dx, y0 += sy;
-    }
-  }
-  // Text with its top-left corner at (x, y).
-  void text(int x, int y, const std::string& s, const Vec3f& c) {
-    for (char ch : s) {
-      const std::string_view g = render_detail::glyph(ch);
-      for (int r = 0; r < render_detail::kGlyphHeight; ++r)
-        for (int k = 0; k < render_detail::kGlyphWidth; ++k)
-          if (g[static_cast<std::size_t>(r * render_detail::kGlyphWidth + k)] == '#')
-            box(x + k * kTextScale, y + r * kTextScale, x + (k + 1) * kTextScale - 1, y + (r + 1) * kTextScale - 1, c);
-      x += (render_detail::kGlyphWidth + 1) * kTextScale;
-    }
-  }
-  static int text_width(const std::string& s) { return static_cast<int>(s.size()) * (render_detail::kGlyphWidth + 1) * kTextScale; }
-  Image image;
-};
+const char* const kPalette[] = {"#d91a1a", "#1a59d9", "#1a9933", "#e68c00", "#8c33b3", "#009aa6", "#666666"};
 
 // A round step (1, 2 or 5 times a power of ten) that cuts [0, top] into about five intervals.
 double nice_step(double top) {
@@ -66,13 +29,27 @@ std::string number(double v) {
   return text;
 }
 
+// `text` with the five characters XML reserves escaped.
+std::string escaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
-Image plot_walk(const std::vector<WalkSeries>& series, int width, int height) {
+std::string walk_plot_svg(const std::vector<WalkSeries>& series, int width, int height) {
   if (width < 320 || height < 200) throw Error("plot: at least 320 x 200 pixels, got " + std::to_string(width) + " x " + std::to_string(height));
   if (series.empty()) throw Error("plot: no series");
-  Canvas canvas(width, height);
-  const Vec3f ink{0.0f}, grid{0.88f};
   int frames = 2;
   double top = 0.0;
   for (const WalkSeries& s : series)
@@ -82,41 +59,50 @@ Image plot_walk(const std::vector<WalkSeries>& series, int width, int height) {
     }
   const double step = nice_step(top > 0.0 ? top * 1.05 : 1.0);
   top = step * std::ceil((top > 0.0 ? top * 1.05 : 1.0) / step);
-  const int left = 80, right = width - 20, upper = 50, lower = height - 50;
-  auto px = [&](double frame) { return left + static_cast<int>(std::lround((right - left) * frame / (frames - 1))); };
-  auto py = [&](double ms) { return lower - static_cast<int>(std::lround((lower - upper) * ms / top)); };
+  const double left = 80, right = width - 20, upper = 50, lower = height - 50;
+  const auto px = [&](double frame) { return left + (right - left) * frame / (frames - 1); };
+  const auto py = [&](double ms) { return lower - (lower - upper) * ms / top; };
+  std::ostringstream svg;
+  svg.setf(std::ios::fixed);
+  svg.precision(1);
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height << "\" viewBox=\"0 0 " << width
+      << ' ' << height << "\" font-family=\"sans-serif\" font-size=\"13\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   for (double v = 0.0; v <= top + 1e-9; v += step) {
-    canvas.line(left, py(v), right, py(v), grid, 1, false);
-    const std::string label = number(v);
-    canvas.text(left - 8 - Canvas::text_width(label), py(v) - 7, label, ink);
+    svg << "<line x1=\"" << left << "\" y1=\"" << py(v) << "\" x2=\"" << right << "\" y2=\"" << py(v) << "\" stroke=\"#e0e0e0\"/>"
+        << "<text x=\"" << left - 8 << "\" y=\"" << py(v) + 4 << "\" text-anchor=\"end\">" << number(v) << "</text>\n";
   }
   const double frame_step = std::max(1.0, nice_step(frames - 1));
-  for (double f = 0.0; f <= frames - 1 + 1e-9; f += frame_step) {
-    canvas.line(px(f), lower, px(f), lower + 5, ink, 1, false);
-    const std::string label = number(f);
-    canvas.text(px(f) - Canvas::text_width(label) / 2, lower + 10, label, ink);
-  }
-  canvas.line(left, upper, left, lower, ink, 1, false);
-  canvas.line(left, lower, right, lower, ink, 1, false);
-  canvas.text(left, 14, "ms per frame (solid: update + trace, dotted: update)", ink);
-  canvas.text(right - Canvas::text_width("frame"), lower + 30, "frame", ink);
+  for (double f = 0.0; f <= frames - 1 + 1e-9; f += frame_step)
+    svg << "<line x1=\"" << px(f) << "\" y1=\"" << lower << "\" x2=\"" << px(f) << "\" y2=\"" << lower + 5 << "\" stroke=\"black\"/>"
+        << "<text x=\"" << px(f) << "\" y=\"" << lower + 20 << "\" text-anchor=\"middle\">" << number(f) << "</text>\n";
+  svg << "<polyline points=\"" << left << ',' << upper << ' ' << left << ',' << lower << ' ' << right << ',' << lower
+      << "\" fill=\"none\" stroke=\"black\"/>\n"
+      << "<text x=\"" << left << "\" y=\"" << upper - 20 << "\">ms per frame (solid: update + trace, dotted: update)</text>\n"
+      << "<text x=\"" << right << "\" y=\"" << lower + 40 << "\" text-anchor=\"end\">frame</text>\n";
   for (std::size_t k = 0; k < series.size(); ++k) {
-    const Vec3f& colour = kPalette[k % std::size(kPalette)];
+    const char* colour = kPalette[k % std::size(kPalette)];
     const std::vector<WalkFrame>& fs = series[k].frames;
-    for (std::size_t i = 1; i < fs.size(); ++i) {
-      canvas.line(px(fs[i - 1].frame), py(fs[i - 1].update_ms + fs[i - 1].trace_ms), px(fs[i].frame),
-                  py(fs[i].update_ms + fs[i].trace_ms), colour, 2, false);
-      if (fs[i - 1].update_ms > 0.0 || fs[i].update_ms > 0.0)
-        canvas.line(px(fs[i - 1].frame), py(fs[i - 1].update_ms), px(fs[i].frame), py(fs[i].update_ms), colour, 1, true);
+    bool updates = false;
+    svg << "<polyline class=\"frame\" fill=\"none\" stroke-width=\"2\" stroke=\"" << colour << "\" points=\"";
+    for (const WalkFrame& f : fs) {
+      svg << px(f.frame) << ',' << py(f.update_ms + f.trace_ms) << ' ';
+      updates = updates || f.update_ms > 0.0;
     }
-    if (fs.size() == 1) canvas.box(px(fs[0].frame) - 2, py(fs[0].trace_ms) - 2, px(fs[0].frame) + 2, py(fs[0].trace_ms) + 2, colour);
+    svg << "\"/>\n";
+    if (updates) {
+      svg << "<polyline class=\"update\" fill=\"none\" stroke-dasharray=\"4 4\" stroke=\"" << colour << "\" points=\"";
+      for (const WalkFrame& f : fs) svg << px(f.frame) << ',' << py(f.update_ms) << ' ';
+      svg << "\"/>\n";
+    }
     // The legend, top right, one row per series.
-    const int y = upper + 8 + static_cast<int>(k) * 20;
-    const int x = right - 10 - Canvas::text_width(series[k].label) - 30;
-    canvas.box(x, y + 5, x + 20, y + 8, colour);
-    canvas.text(x + 28, y, series[k].label, ink);
+    const double y = upper + 14 + 20.0 * static_cast<double>(k);
+    svg << "<line x1=\"" << right - 230 << "\" y1=\"" << y - 4 << "\" x2=\"" << right - 210 << "\" y2=\"" << y - 4
+        << "\" stroke-width=\"3\" stroke=\"" << colour << "\"/><text x=\"" << right - 202 << "\" y=\"" << y << "\">"
+        << escaped(series[k].label) << "</text>\n";
   }
-  return canvas.image;
+  svg << "</svg>\n";
+  return svg.str();
 }
 
 }  // namespace vf

@@ -74,6 +74,19 @@ void write_walk_csv(const std::filesystem::path& path, const WalkSeries& series)
   write_atomically(path, [&](const std::filesystem::path& tmp) { write_file_bytes(tmp, text.str()); });
 }
 
+void check_walk_plot_path(const std::filesystem::path& path) {
+  if (path.extension() != ".svg")
+    throw Error(path.string() + ": the plot is written as SVG: name it .svg (for a PNG, plot the --csv files with "
+                                "/usr/bin/python3 -m visfield.plot, which needs python3-matplotlib)");
+  check_writable(path);
+}
+
+void write_walk_plot(const std::filesystem::path& path, const std::vector<WalkSeries>& series) {
+  check_walk_plot_path(path);
+  const std::string svg = walk_plot_svg(series);
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file_bytes(tmp, svg); });
+}
+
 WalkSeries read_walk_csv(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw Error(path.string() + ": cannot read");

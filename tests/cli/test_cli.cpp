@@ -146,11 +146,11 @@ TEST_F(Cli, WalkWritesFrameTimesAndAPlot) {
   auto r = visfield(common + "--csv bvh.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("walk: 6 frames of 24x16, bvh:levels=1"), std::string::npos) << r.out;
-  r = visfield(common + "--accel beam:dirs=33,n=16 --integrator whitted --csv beam.csv --plot walk.png --plot-with bvh.csv "
+  r = visfield(common + "--accel beam:dirs=33,n=16 --integrator whitted --csv beam.csv --plot walk.svg --plot-with bvh.csv "
                "--frames-dir .");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("(0 rebuilds)"), std::string::npos) << r.out;  // BeamField moved the object in place
-  EXPECT_TRUE(fs::exists(dir_ / "walk.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "walk.svg"));
   EXPECT_TRUE(fs::exists(dir_ / "frame-00005.png"));
   std::ifstream csv(dir_ / "beam.csv");
   std::string line;
@@ -166,7 +166,7 @@ TEST_F(Cli, WalkWritesFrameTimesAndAPlot) {
   EXPECT_EQ(visfield(common + "--frames 1").exit_code, 2);
   EXPECT_EQ(visfield(common + "--plot-with bvh.csv").exit_code, 2);
   write("junk.csv", "not a walk\n");
-  r = visfield(common + "--csv again.csv --plot p.png --plot-with junk.csv");
+  r = visfield(common + "--csv again.csv --plot p.svg --plot-with junk.csv");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("junk.csv: line 1: not a visfield walk CSV"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "again.csv"));

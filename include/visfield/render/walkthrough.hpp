@@ -78,9 +78,15 @@ void write_walk_csv(const std::filesystem::path& path, const WalkSeries& series)
 /// Reads a CSV that write_walk_csv() wrote; throws vf::Error naming the file, line and problem.
 WalkSeries read_walk_csv(const std::filesystem::path& path);
 
-/// The plot of the VLF-RT paper's Figure 6: milliseconds per frame against the frame, one colour per
-/// series: solid the frame time (update + trace), dotted the update alone (where not zero), with
-/// axes, ticks and a legend. width x height pixels (at least 320 x 200).
-Image plot_walk(const std::vector<WalkSeries>& series, int width = 900, int height = 500);
+/// The plot of the VLF-RT paper's Figure 6 as an SVG document: milliseconds per frame against the
+/// frame, one colour per series: solid the frame time (update + trace), dashed the update alone
+/// (where not zero), with axes, ticks and a legend; width x height (at least 320 x 200). Throws
+/// vf::Error on a smaller size or no series.
+std::string walk_plot_svg(const std::vector<WalkSeries>& series, int width = 900, int height = 500);
+
+/// Throws vf::Error unless `path` names an SVG file (".svg") that can be written, before any work.
+void check_walk_plot_path(const std::filesystem::path& path);
+/// Writes walk_plot_svg(series) to `path` (".svg") atomically. Throws vf::Error naming the file.
+void write_walk_plot(const std::filesystem::path& path, const std::vector<WalkSeries>& series);
 
 }  // namespace vf

@@ -202,20 +202,22 @@ TEST_F(BenchCli, WalkTimesEveryStructureOnTheSameFrames) {
   fs::create_directories(dir_ / "csv");
   const std::string accels = std::string("beam:dirs=33,n=16,bvh") + (kHaveEmbree ? ",embree" : "");
   const auto r = bench("--walk 4 --scene " + scene.string() + " --accel " + accels +
-                       " --integrator whitted --width 32 --height 20 --walk-csv csv --walk-plot walk.png");
+                       " --integrator whitted --width 32 --height 20 --walk-csv csv --walk-plot walk.svg");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("| beam:dirs=33,n=16 |"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| bvh:levels=1 |"), std::string::npos) << r.out;
-  if (kHaveEmbree) EXPECT_NE(r.out.find("| embree:levels=1 | "), std::string::npos) << r.out;
+  if (kHaveEmbree) {
+    EXPECT_NE(r.out.find("| embree:levels=1 | "), std::string::npos) << r.out;
+  }
   EXPECT_TRUE(fs::exists(dir_ / "csv" / "bvh_levels_1.csv"));
-  EXPECT_TRUE(fs::exists(dir_ / "walk.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "walk.svg"));
 }
 
 TEST_F(BenchCli, WalkRefusesStillScenesAndBadFrames) {
   const fs::path scene = fs::path(VISFIELD_SOURCE_DIR) / "examples" / "scenes" / "walk.json";
   expect_refused("--walk 4 --scene builtin:boxes:size=12 --accel bvh", 1, "nothing moves");
   expect_refused("--walk 1 --scene " + scene.string() + " --accel bvh", 2, "--walk");
-  expect_refused(kScene + "--rays primary --accel bvh --walk-plot p.png", 2, "only with --walk");
+  expect_refused(kScene + "--rays primary --accel bvh --walk-plot p.svg", 2, "only with --walk");
   expect_refused(kScene + "--rays primary --accel bvh --integrator path", 2, "only with --walk");
 }
 

@@ -131,23 +131,36 @@ TEST(WalkCsv, RoundTripsAndRefusesOtherFiles) {
   EXPECT_THROW(read_walk_csv(dir / "other.csv"), Error);
 }
 
-TEST(WalkPlot, DrawsEachSeriesInItsColourOnWhite) {
+TEST(WalkPlot, IsAnSvgWithEverySeriesItsPointsAndItsLabel) {
   const WalkSeries a{"beam", {{0, 0, 10, 1, false}, {1, 0, 12, 1, false}, {2, 0, 11, 1, false}}};
-  const WalkSeries b{"bvh", {{0, 2, 30, 1, true}, {1, 2, 28, 1, true}, {2, 2, 31, 1, true}}};
-  const Image plot = plot_walk({a, b}, 640, 360);
-  EXPECT_EQ(plot.width, 640);
-  EXPECT_EQ(plot.height, 360);
-  std::size_t red = 0, blue = 0, white = 0;
-  for (const Vec3f& p : plot.pixels) {
-    red += p.x > 0.8f && p.y < 0.2f && p.z < 0.2f;
-    blue += p.z > 0.8f && p.x < 0.2f;
-    white += p == Vec3f{1.0f};
+  const WalkSeries b{"bvh <&>", {{0, 2, 30, 1, true}, {1, 2, 28, 1, true}, {2, 2, 31, 1, true}}};
+  const std::string svg = walk_plot_svg({a, b}, 640, 360);
+  EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"360\"", 0), 0u) << svg.substr(0, 80);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  const auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("class=\"frame\""), 2u) << "one frame-time line a series";
+  EXPECT_EQ(count("class=\"update\""), 1u) << "an update line only where updates took time";
+  EXPECT_NE(svg.find(">beam</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">bvh &lt;&amp;&gt;</text>"), std::string::npos) << "labels are escaped";
+  // Three frames: the second series' points at the plot's left and right ends (x 80 and 620), its
+  // largest frame time (33 ms) below the top grid line.
+  EXPECT_NE(svg.find("points=\"80.0,"), std::string::npos);
+  EXPECT_NE(svg.find(" 620.0,"), std::string::npos);
+  EXPECT_THROW(walk_plot_svg({a}, 100, 100), Error);
+  EXPECT_THROW(walk_plot_svg({}, 640, 360), Error);
+}
+
+TEST(WalkPlot, RefusesAPlotNotNamedSvgBeforeAnyWork) {
+  try {
+    check_walk_plot_path("walk.png");
+    ADD_FAILURE() << "walk.png accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("walk.png: the plot is written as SVG"), std::string::npos) << e.what();
   }
-  EXPECT_GT(red, 300u);   // the first series' lines and legend swatch
-  EXPECT_GT(blue, 300u);  // the second's
-  EXPECT_GT(white, plot.pixels.size() / 2);
-  EXPECT_THROW(plot_walk({a}, 100, 100), Error);
-  EXPECT_THROW(plot_walk({}, 640, 360), Error);
 }
 
 }  // namespace
