@@ -18,6 +18,7 @@
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
+#include "visfield/core/parse_only.hpp"
 
 namespace {
 
@@ -38,7 +39,7 @@ int main(int argc, char** argv) {
   vf::install_interrupt_handlers();
   try {
     const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
-    if (!options) return 0;
+    if (!options || vf::parse_only()) return 0;
     if (options->device == "cuda") {
 #if VISFIELD_HAVE_CUDA
       if (!options->figure.empty())

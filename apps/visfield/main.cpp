@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
+#include "visfield/core/parse_only.hpp"
 
 namespace {
 
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
     std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
     return 2;
   }
+  if (vf::parse_only()) return 0;
   try {
     return action();
   } catch (const vf::Interrupted& e) {

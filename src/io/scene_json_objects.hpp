@@ -1,5 +1,5 @@
 #pragma once
-// Private to the io module: the objects of a scene JSON file (see README.md, "Scene files"), each
+// Private to the io module: the objects of a scene JSON file (see docs/guide.md, "Scene files"), each
 // read from a JsonField with every key type-checked and unknown keys refused.
 
 #include <cstdint>

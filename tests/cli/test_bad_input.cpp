@@ -1,10 +1,10 @@
-// The bad-input catalogue: every row of the README's table "What visfield refuses, and what it
-// says" is one case here. Each runs the visfield command a user would type over the files it names
+// The bad-input catalogue: every row of the table in docs/bad-input.md ("What visfield refuses, and
+// what it says") is one case here. Each runs the visfield command a user would type over the files it names
 // and expects the documented exit code, exactly one line on stderr (the whole message, not a
-// fragment of it), and no output file left behind. A last test checks that the README quotes every
+// fragment of it), and no output file left behind. A last test checks that the catalogue quotes every
 // message, so the table and the program cannot drift apart.
 //
-// Adding a row: one entry in catalogue() and the same message in the README's table.
+// Adding a row: one entry in catalogue() and the same message in docs/bad-input.md's table.
 
 #include <gtest/gtest.h>
 
@@ -352,13 +352,13 @@ TEST_P(BadInput, FailsWithOneDocumentedLineAndNoOutput) {
 INSTANTIATE_TEST_SUITE_P(Catalogue, BadInput, ::testing::ValuesIn(catalogue()),
                          [](const ::testing::TestParamInfo<Row>& info) { return info.param.name; });
 
-TEST(BadInputCatalogue, TheReadmeQuotesEveryMessage) {
-  std::ifstream in(fs::path(VISFIELD_SOURCE_DIR) / "README.md");
-  ASSERT_TRUE(in) << "no README.md in " << VISFIELD_SOURCE_DIR;
-  std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+TEST(BadInputCatalogue, TheDocsQuoteEveryMessage) {
+  std::ifstream in(fs::path(VISFIELD_SOURCE_DIR) / "docs" / "bad-input.md");
+  ASSERT_TRUE(in) << "no docs/bad-input.md in " << VISFIELD_SOURCE_DIR;
+  std::string table((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // Table cells escape '|' as "\|"; the messages quote no '|'.
   for (const Row& row : catalogue())
-    EXPECT_NE(readme.find("`" + row.message + "`"), std::string::npos) << row.name << ": the README does not quote `" << row.message << "`";
+    EXPECT_NE(table.find("`" + row.message + "`"), std::string::npos) << row.name << ": docs/bad-input.md does not quote `" << row.message << "`";
 }
 
 TEST(BadInputCatalogue, PatternsMatchOnlyWhatTheySay) {
