@@ -1,17 +1,31 @@
 #!/usr/bin/env bash
-# Installs every Debian package visfield needs to build, test, benchmark and fuzz (Debian 12, as root;
-# clang-14 and its runtime are for the libFuzzer targets, see docs/fuzzing.md; the python3 packages
-# for the Python module, its tests, its Dask renders and its examples).
+# Installs the Debian packages visfield needs (Debian 12, as root).
+#   scripts/install-deps.sh         what building and running `visfield` needs (the README's first command)
+#   scripts/install-deps.sh --all   that and what the tests, the benchmark, the Python module, the fuzz
+#                                   targets and the sanitizer runs need (the README's second command, CI):
+#                                   GoogleTest, Google Benchmark, Embree, pybind11 and NumPy, pytest, Dask,
+#                                   matplotlib, clang-14 and its runtime (libFuzzer, docs/fuzzing.md)
 # Safe to run twice: when everything is already installed it only checks and returns.
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config python3
+  build-essential cmake pkg-config ccache
   libtbb-dev libassimp-dev libstb-dev libopenexr-dev nlohmann-json3-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libembree-dev pybind11-dev
-  python3-dev python3-numpy python3-pytest python3-distributed python3-matplotlib
-  clang-14 libclang-rt-14-dev
 )
+case "${1:-}" in
+  "") ;;
+  --all)
+    packages+=(
+      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev pybind11-dev
+      python3 python3-dev python3-numpy python3-pytest python3-distributed python3-matplotlib
+      clang-14 libclang-rt-14-dev
+    )
+    ;;
+  *)
+    echo "install-deps: error: unknown option '$1' (none, or --all)" >&2
+    exit 2
+    ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do
