@@ -59,6 +59,15 @@ CLI::Validator positive_number(bool infinity_allowed) {
       "NUMBER > 0");
 }
 
+CLI::Option* add_param_option(CLI::App& cmd, const ParamSpec& param, std::string& value) {
+  std::string name = "--" + std::string(param.key);
+  std::replace(name.begin(), name.end(), '_', '-');
+  value = std::string(param.default_value);
+  // No validator description: the range is in the help text already.
+  const CLI::Validator check([param](std::string& text) { return param_value_error(param, text); }, "");
+  return cmd.add_option(name, value, std::string(param.help) + " (" + expected_value(param) + ")")->check(check)->capture_default_str();
+}
+
 void add_resource_options(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
   const CLI::Validator size(

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "visfield/core/scene.hpp"
+#include "visfield/core/spec.hpp"
 #include "visfield/registry/registry.hpp"
 
 namespace vf::cli {
@@ -29,6 +30,11 @@ CLI::Validator number_in(double lo, double hi);
 
 /// Checks a real-valued option is > 0 (and not NaN); `infinity_allowed` also accepts "inf".
 CLI::Validator positive_number(bool infinity_allowed);
+
+/// Registers --KEY for a declared parameter (its key with '_' written '-'): its help and range, its
+/// default, and the library's own check of a value (param_value_error: "--ao-rays: 0: expected a
+/// non-negative integer in 1..65536"), so that an option and the spec key it mirrors cannot drift.
+CLI::Option* add_param_option(CLI::App& cmd, const ParamSpec& param, std::string& value);
 
 /// Registers --threads (0 = all cores, at most 4096) and --max-memory SIZE, which sets the process's
 /// memory limit (vf::set_memory_limit) as soon as it is parsed; without it the limit is the memory

@@ -1,4 +1,6 @@
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <iostream>
 #include <memory>
 
@@ -8,6 +10,7 @@
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/field/field_file.hpp"
+#include "visfield/field/field_params.hpp"
 #include "visfield/io/atomic_file.hpp"
 #include "visfield/registry/registry.hpp"
 #include "visfield/render/progress.hpp"
@@ -18,11 +21,7 @@ namespace {
 
 struct FieldBuildOptions {
   std::string mesh;
-  std::string positions = "4226";
-  int directions = 32;
-  std::string mapping = "concentric";
-  std::string storage = "u8";
-  std::string normals = "none";
+  std::map<std::string, std::string, std::less<>> table;  ///< field::kTableParams' values as written.
   std::string out;
   int threads = 0;
   bool no_progress = false;
@@ -43,10 +42,9 @@ const TriangleMesh& the_mesh(const Scene& scene, const std::string& argument) {
 int run_field_build(const FieldBuildOptions& o) {
   if (std::filesystem::path(o.out).extension() != ".vfield") throw Error("-o " + o.out + ": the file name must end in .vfield");
   check_writable(o.out);
-  const field::ObjectFieldConfig config = field_config_from_spec(
-      "field:positions=" + o.positions + ",directions=" + std::to_string(o.directions) + ",mapping=" + o.mapping + ",storage=" + o.storage +
-          ",normals=" + o.normals,
-      "");
+  std::string spec = "field";
+  for (const auto& [key, value] : o.table) spec += (spec == "field" ? ":" : ",") + key + "=" + value;
+  const field::ObjectFieldConfig config = field_config_from_spec(spec, "");
   ThreadLimit limit(o.threads);
   const Scene scene = load_scene_argument(o.mesh);
   const TriangleSet triangles = mesh_triangles(the_mesh(scene, o.mesh));
@@ -100,19 +98,7 @@ void register_field_command(CLI::App& app, Action& action) {
   auto build = std::make_shared<FieldBuildOptions>();
   CLI::App* b = field->add_subcommand("build", "Precompute the ObjectField of a mesh and write it to a .vfield file");
   add_scene_argument(*b, build->mesh);
-  b->add_option("--positions", build->positions, "Positional samples on the bounding sphere")
-      ->check(CLI::IsMember({"290", "1090", "4226", "16642"}))
-      ->capture_default_str();
-  b->add_option("--directions", build->directions, "N: an NxN table of directions per positional sample")
-      ->check(CLI::Range(8, 256))
-      ->capture_default_str();
-  b->add_option("--mapping", build->mapping, "Hemisphere mapping of the tables")
-      ->check(CLI::IsMember({"polar", "rejection", "concentric", "equal-area"}))
-      ->capture_default_str();
-  b->add_option("--storage", build->storage, "Bits per distance")->check(CLI::IsMember({"u8", "u16", "f32", "bit"}))->capture_default_str();
-  b->add_option("--normals", build->normals, "Normal field beside the distances (octahedral, 8 or 16 bits per coordinate)")
-      ->check(CLI::IsMember({"none", "oct16", "oct32"}))
-      ->capture_default_str();
+  for (const ParamSpec& param : field::kTableParams) add_param_option(*b, param, build->table[std::string(param.key)]);
   b->add_option("-o,--out", build->out, "The .vfield file to write")->required();
   b->add_flag("--no-progress", build->no_progress, "Do not draw the progress bar");
   add_resource_options(*b, build->threads);

@@ -35,12 +35,12 @@ struct RenderOptions {
   std::string device = "cpu";
 };
 
-std::string output_path(const RenderOptions& o) { return o.out.empty() ? "visfield-" + o.shading.integrator + ".png" : o.out; }
+std::string output_path(const RenderOptions& o) { return o.out.empty() ? "visfield-" + o.shading.integrator() + ".png" : o.out; }
 
 // Upper bound of the rays a render traces: every camera sample, and its secondary rays when it hits.
 std::uint64_t rays_of_render(const Camera& camera, const RenderOptions& o, const Scene& scene) {
   return static_cast<std::uint64_t>(camera.width) * static_cast<std::uint64_t>(camera.height) *
-         static_cast<std::uint64_t>(o.shading.spp) * (1u + rays_per_hit(o.shading, scene));
+         static_cast<std::uint64_t>(o.shading.settings.spp) * (1u + rays_per_hit(o.shading, scene));
 }
 
 std::string structure_summary(const BuiltStructure& built) {
@@ -95,7 +95,7 @@ int run_render_cuda(const RenderOptions& o) {
   std::cout << "wrote " << std::filesystem::absolute(out).string() << "\n";
   std::cout << "render: " << scene.instanced_triangle_count() - closest.degenerate_triangles << " triangles, accel "
             << structure_summary(closest) << ", occluder " << occluder_summary << ", device " << cuda::device_info().name << ", "
-            << limit.threads() << " threads, spp " << o.shading.spp << ", " << integrator_summary(o.shading) << ": " << stats.summary()
+            << limit.threads() << " threads, spp " << o.shading.settings.spp << ", " << integrator_summary(o.shading) << ": " << stats.summary()
             << "\n";
   return 0;
 }
@@ -133,7 +133,7 @@ int run_render(const RenderOptions& o) {
   std::cout << "wrote " << std::filesystem::absolute(out).string() << "\n";
   std::cout << "render: " << scene.instanced_triangle_count() - closest.degenerate_triangles << " triangles, accel "
             << structure_summary(closest) << (occluder ? ", occluder " + structure_summary(*occluder) : std::string())
-            << ", " << limit.threads() << " threads, spp " << o.shading.spp << ", " << integrator_summary(o.shading) << ": "
+            << ", " << limit.threads() << " threads, spp " << o.shading.settings.spp << ", " << integrator_summary(o.shading) << ": "
             << stats.summary() << "\n";
   return 0;
 }

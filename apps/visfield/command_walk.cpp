@@ -56,7 +56,7 @@ int run_walk(const WalkCommandOptions& o) {
   if (scene.animation.empty())
     throw Error(o.scene + ": the scene has no \"camera_path\" and no object \"keyframes\"; nothing to walk through");
   const std::uint64_t rays_per_frame = static_cast<std::uint64_t>(o.width) * static_cast<std::uint64_t>(o.height) *
-                                       static_cast<std::uint64_t>(o.shading.spp) * (1u + rays_per_hit(o.shading, scene));
+                                       static_cast<std::uint64_t>(o.shading.settings.spp) * (1u + rays_per_hit(o.shading, scene));
   const BuildContext context{rays_per_frame * static_cast<std::uint64_t>(o.frames), !o.no_progress};
   std::string occluder = occluder_spec(o.shading, scene);
   if (occluder == o.shading.accel) occluder.clear();

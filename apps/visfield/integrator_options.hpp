@@ -3,7 +3,8 @@
 /// integrator and its parameters. One definition, so both commands spell and check them alike.
 
 #include <cstdint>
-#include <limits>
+#include <functional>
+#include <map>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -20,35 +21,29 @@ struct IntegratorOptions {
   std::string accel = "bvh";
   std::string occluder;   ///< "" = the --accel structure answers every later ray too.
   std::string occluders;  ///< "field", "exact", or "" = as the scene marks its meshes.
-  std::string integrator = "ao";
-  int spp = 1;
-  int ao_rays = 64;
-  std::string ao_directions = "random";  ///< "random", or a line count: one AO ray along each line.
-  double max_distance = std::numeric_limits<double>::infinity();
-  int depth = 5;
-  int shadow_rays = 20;
-  int glossy_rays = 4;
-  double ambient = 0.1;
-  std::uint64_t seed = 1;
+  /// Each render setting's value as written (render_setting_specs(): --integrator, --spp, --ao-rays, ...).
+  std::map<std::string, std::string, std::less<>> values;
+  /// The render settings `values` give, read by check_integrator_options().
+  RenderSettings settings;
+
+  /// The integrator's name as written ("ao").
+  const std::string& integrator() const { return values.at("integrator"); }
 };
 
-/// Adds --accel, --occluder, --occluders, --integrator (default `integrator`), --spp, --ao-rays,
-/// --ao-directions, --max-distance, --depth, --shadow-rays, --glossy-rays, --ambient and --seed.
+/// Adds --accel, --occluder, --occluders and an option for every render setting
+/// (render_setting_specs(): --integrator, default `integrator` here, --spp, --ao-rays, ...).
 void add_integrator_options(CLI::App& cmd, IntegratorOptions& options, const std::string& integrator);
 
-/// Throws CLI::ValidationError when --occluders and --occluder disagree, or when `cmd`'s command line
-/// gives an option the chosen integrator does not use (--ao-rays with path, --shadow-rays with
-/// whitted, ...). Call from the command's callback.
-void check_integrator_options(const CLI::App& cmd, const IntegratorOptions& options);
+/// Reads the render settings into `options.settings`; throws CLI::ValidationError when --occluders
+/// and --occluder disagree, or when `cmd`'s command line gives an option the chosen integrator does
+/// not use (--ao-rays with path, --shadow-rays with whitted, ...). Call from the command's callback.
+void check_integrator_options(const CLI::App& cmd, IntegratorOptions& options);
 
 /// The spec of the structure for every ray after the camera's ("" = the --accel one): --occluders
 /// field asks for fields (the --occluder field spec, or the default) for every mesh the scene does
 /// not mark exact, --occluders exact for exact geometry only; without either, a scene that marks
 /// meshes "occluder": "field" gets fields for those.
 std::string occluder_spec(const IntegratorOptions& options, const Scene& scene);
-
-/// Level of the line set --ao-directions names (0 for random directions).
-int psf_level_of(const IntegratorOptions& options);
 
 /// Adds --device cpu|cuda (default cpu): where `visfield render` traces its secondary rays.
 void add_device_option(CLI::App& cmd, std::string& device);

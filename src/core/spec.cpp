@@ -36,15 +36,27 @@ bool parse_double(const std::string& text, double& out) {
   return end == text.c_str() + text.size() && std::isfinite(out);
 }
 
-// "a non-negative integer in 1..128", "a number in [0, 1]", ...
-std::string expected_text(const ParamSpec& p) {
+// A number as a parameter may write it: finite, or "inf" where the range reaches infinity.
+bool parse_number(const ParamSpec& p, const std::string& text, double& out) {
+  if (text == "inf" && std::isinf(p.max)) {
+    out = p.max;
+    return true;
+  }
+  return parse_double(text, out);
+}
+
+}  // namespace
+
+std::string expected_value(const ParamSpec& p) {
   switch (p.type) {
     case ParamType::whole: {
       std::string s = "a non-negative integer";
       if (p.max > 0.0) s += " in " + format_number(p.min) + ".." + format_number(p.max);
       return s;
     }
-    case ParamType::number: return "a number in [" + format_number(p.min) + ", " + format_number(p.max) + "]";
+    case ParamType::number:
+      if (std::isinf(p.max)) return std::string("a number ") + (p.above_min ? "> " : ">= ") + format_number(p.min) + " (or inf)";
+      return std::string("a number in ") + (p.above_min ? "(" : "[") + format_number(p.min) + ", " + format_number(p.max) + "]";
     case ParamType::boolean: return "1, 0, true, false, on, off, yes or no";
     case ParamType::choice: {
       std::string s = "one of ";
@@ -56,7 +68,20 @@ std::string expected_text(const ParamSpec& p) {
   return "a value";
 }
 
-}  // namespace
+std::string param_value_error(const ParamSpec& param, std::string_view value) {
+  Spec spec;
+  spec.name = "value";
+  spec.params.emplace_back(std::string(param.key), std::string(value));
+  try {
+    (void)read_params(spec, std::span<const ParamSpec>(&param, 1), "");
+  } catch (const Error& e) {
+    // read_params says ": KEY=VALUE: expected ..."; a front end names the key its own way.
+    const std::string message = e.what();
+    const std::size_t at = message.find(": expected ");
+    return std::string(value) + (at == std::string::npos ? ": " + message : message.substr(at));
+  }
+  return "";
+}
 
 Spec parse_spec(std::string_view text, std::string_view what) {
   Spec spec;
@@ -110,7 +135,7 @@ ParamValues read_params(const Spec& spec, std::span<const ParamSpec> params, con
     if (!v.given && p.default_value.empty()) continue;
     v.text = v.given ? written->second : std::string(p.default_value);
     const auto fail = [&](const std::string& extra = "") {
-      throw Error(where + ": " + v.key + "=" + v.text + ": expected " + expected_text(p) + extra);
+      throw Error(where + ": " + v.key + "=" + v.text + ": expected " + expected_value(p) + extra);
     };
     switch (p.type) {
       case ParamType::whole: {
@@ -130,7 +155,7 @@ ParamValues read_params(const Spec& spec, std::span<const ParamSpec> params, con
         break;
       }
       case ParamType::number:
-        if (!parse_double(v.text, v.number) || v.number < p.min || v.number > p.max) fail();
+        if (!parse_number(p, v.text, v.number) || v.number < p.min || v.number > p.max || (p.above_min && v.number == p.min)) fail();
         break;
       case ParamType::boolean:
         if (v.text == "1" || v.text == "true" || v.text == "on" || v.text == "yes") v.boolean = true;
@@ -176,7 +201,7 @@ std::string describe_params(std::span<const ParamSpec> params, std::string_view 
   for (const ParamSpec& p : params) {
     std::string head = std::string(p.key) + "=" + (p.default_value.empty() ? "..." : std::string(p.default_value));
     if (head.size() < 18) head.resize(18, ' ');
-    out += std::string(indent) + head + " " + std::string(p.help) + " (" + expected_text(p) + ")\n";
+    out += std::string(indent) + head + " " + std::string(p.help) + " (" + expected_value(p) + ")\n";
   }
   return out;
 }

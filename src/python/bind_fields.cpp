@@ -3,12 +3,14 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "arrays.hpp"
 #include "handles.hpp"
+#include "keywords.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/field/field_file.hpp"
@@ -36,21 +38,41 @@ std::vector<field::FieldAnswer> trace(const field::ObjectField& f, const RayArra
   return answers;
 }
 
+// The parameters Field.build takes: the field structure's (registry), but for the scene-level
+// cache and meshes, which a single mesh's field has no use for.
+std::vector<ParamSpec> field_build_params() {
+  std::vector<ParamSpec> params;
+  for (const ParamSpec& p : find_structure("field").params)
+    if (p.key != "cache" && p.key != "meshes") params.push_back(p);
+  return params;
+}
+
 }  // namespace
 
 void bind_fields(py::module_& m) {
+  static const std::string build_doc =
+      "Precomputes the field of mesh `mesh` of `scene`. Keywords, as `field:` specs and `visfield field build` take them "
+      "(default, range):\n" +
+      describe_params(field_build_params(), "  ") + "The GIL is released while it runs.";
   py::class_<FieldHandle>(m, "Field",
                           "One mesh's ObjectField (approximate, constant time per ray): distances from its bounding sphere inwards, "
                           "queried in the mesh's object space.")
       .def_static(
           "build",
-          [](const SceneHandle& scene, std::uint32_t mesh, int positions, int directions, const std::string& mapping, const std::string& storage,
-             const std::string& normals, bool bilinear, bool blend, bool through) {
+          [](const SceneHandle& scene, std::uint32_t mesh, const py::kwargs& kwargs) {
             const std::shared_ptr<Scene> s = scene.shared();
             const TriangleMesh& source = mesh_of(*s, mesh);
-            const std::string spec = "field:positions=" + std::to_string(positions) + ",directions=" + std::to_string(directions) +
-                                     ",mapping=" + mapping + ",storage=" + storage + ",normals=" + normals + ",bilinear=" + (bilinear ? "1" : "0") +
-                                     ",blend=" + (blend ? "1" : "0") + ",through=" + (through ? "1" : "0");
+            const std::vector<ParamSpec> params = field_build_params();
+            std::string spec = "field";
+            for (const auto& [key_handle, value] : kwargs) {
+              const std::string key = key_handle.cast<std::string>();
+              if (std::none_of(params.begin(), params.end(), [&](const ParamSpec& p) { return p.key == key; })) {
+                std::string valid;
+                for (const ParamSpec& p : params) valid += (valid.empty() ? "" : ", ") + std::string(p.key);
+                throw py::type_error("unknown keyword argument '" + key + "' (valid: " + valid + ")");
+              }
+              spec += (spec == "field" ? ":" : ",") + key + "=" + spec_text(key, value);
+            }
             field::ObjectFieldConfig config;
             try {
               config = field_config_from_spec(spec, "");
@@ -66,10 +88,7 @@ void bind_fields(py::module_& m) {
             }
             return FieldHandle(std::move(holder), "field");
           },
-          py::arg("scene"), py::arg("mesh") = 0, py::arg("positions") = 4226, py::arg("directions") = 32, py::arg("mapping") = "concentric",
-          py::arg("storage") = "u8", py::arg("normals") = "none", py::arg("bilinear") = false, py::arg("blend") = false,
-          py::arg("through") = true,
-          "Precomputes the field of mesh `mesh` of `scene` (parameters as `visfield field build`). The GIL is released while it runs.")
+          py::arg("scene"), py::arg("mesh") = 0, build_doc.c_str())
       .def_static(
           "load",
           [](const std::string& path, const SceneHandle& scene, std::uint32_t mesh) {

@@ -9,7 +9,8 @@
 #include <string>
 
 #include "handles.hpp"
-#include "visfield/core/direction_lines.hpp"
+#include "keywords.hpp"
+#include "visfield/core/spec.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/memory.hpp"
@@ -33,31 +34,59 @@ Image from_numpy(const py::array& array, const char* name) {
   return image;
 }
 
-// The settings of render()'s keyword arguments (the names and defaults of `visfield render`).
-RenderSettings settings_of(const std::string& integrator, const std::string& accel, const std::optional<std::string>& occluder,
-                           const std::optional<std::string>& occluders, int width, int height, const std::optional<std::array<int, 4>>& region,
-                           int spp, int ao_rays, const std::string& ao_directions, double max_distance, int depth, int shadow_rays,
-                           int glossy_rays, double ambient, std::uint64_t seed, bool progress) {
+// What render() and Renderer.render() take besides the render settings.
+struct Frame {
+  std::optional<Camera> camera;
+  bool with_stats = false;
+};
+
+// render()'s and Renderer.render()'s keyword arguments: the render settings (render_setting_specs(),
+// checked by the library), the image size and region, the camera, progress and stats, and with
+// `structures` the structure specs. An unknown keyword is a TypeError naming the valid ones.
+RenderSettings settings_of(const py::kwargs& kwargs, bool structures, Frame& frame) {
   RenderSettings s;
-  const std::optional<Integrator> which = parse_integrator(integrator);
-  if (!which) throw py::value_error("integrator: expected raycast, whitted, ao, softshadow, glossy or path, got '" + integrator + "'");
-  s.integrator = *which;
-  s.accel = accel;
-  s.occluder = occluder.value_or("");
-  s.occluders = occluders.value_or("");
-  s.width = width, s.height = height;
-  if (region) s.region = ImageTile{(*region)[0], (*region)[1], (*region)[2], (*region)[3]};
-  s.spp = spp, s.ao_rays = ao_rays, s.depth = depth, s.shadow_rays = shadow_rays, s.glossy_rays = glossy_rays;
-  s.max_distance = static_cast<float>(max_distance);
-  s.ambient = static_cast<float>(ambient);
-  s.seed = seed;
-  s.progress = progress;
-  if (ao_directions != "random") {
-    for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
-      if (ao_directions == std::to_string(DirectionLines::count(level))) s.psf_level = level;
-    if (s.psf_level == 0) throw py::value_error("ao_directions: expected 'random', '33', '129', '513', '2049' or '8193', got '" + ao_directions + "'");
+  std::string written;
+  for (const auto& [key_handle, value] : kwargs) {
+    const std::string key = key_handle.cast<std::string>();
+    if (structures && (key == "accel" || key == "occluder" || key == "occluders")) {
+      const std::string text = value.is_none() ? std::string() : value.cast<std::string>();
+      (key == "accel" ? s.accel : key == "occluder" ? s.occluder : s.occluders) = text;
+    } else if (key == "width" || key == "height") {
+      (key == "width" ? s.width : s.height) = value.cast<int>();
+    } else if (key == "region") {
+      if (value.is_none()) continue;
+      const auto r = value.cast<std::array<int, 4>>();
+      s.region = ImageTile{r[0], r[1], r[2], r[3]};
+    } else if (key == "camera") {
+      if (!value.is_none()) frame.camera = value.cast<Camera>();
+    } else if (key == "progress") {
+      s.progress = value.cast<bool>();
+    } else if (key == "stats") {
+      frame.with_stats = value.cast<bool>();
+    } else {
+      bool setting = false;
+      for (const RenderSettingSpec& spec : render_setting_specs()) setting = setting || spec.param.key == key;
+      if (!setting) {
+        std::string valid = structures ? "accel, occluder, occluders, " : "";
+        valid += "width, height, region, camera, progress, stats";
+        for (const RenderSettingSpec& spec : render_setting_specs()) valid += ", " + std::string(spec.param.key);
+        throw py::type_error("unknown keyword argument '" + key + "' (valid: " + valid + ")");
+      }
+      written += (written.empty() ? "" : ",") + key + "=" + spec_text(key, value);
+    }
   }
-  return s;
+  try {
+    return with_render_settings(s, written, "render");
+  } catch (const Error& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+// The help of the render settings, one line each ("spp=1  camera samples per pixel (...)").
+std::string settings_help() {
+  std::vector<ParamSpec> params;
+  for (const RenderSettingSpec& spec : render_setting_specs()) params.push_back(spec.param);
+  return describe_params(params, "  ");
 }
 
 // Runs `body` without the GIL; a vf::Error about the settings (not memory, not a signal) raises ValueError.
@@ -95,15 +124,21 @@ std::shared_ptr<RendererHolder> make_renderer(const SceneHandle& scene, const Re
   return holder;
 }
 
-#define VF_RENDER_ARGS                                                                                                               \
-  py::arg("integrator") = "ao", py::arg("width") = 0, py::arg("height") = 0, py::arg("region") = py::none(), py::arg("camera") = py::none(), \
-      py::arg("spp") = 1, py::arg("ao_rays") = 64, py::arg("ao_directions") = "random",                                              \
-      py::arg("max_distance") = std::numeric_limits<double>::infinity(), py::arg("depth") = 5, py::arg("shadow_rays") = 20,           \
-      py::arg("glossy_rays") = 4, py::arg("ambient") = 0.1, py::arg("seed") = 1, py::arg("progress") = false, py::arg("stats") = false
-
 }  // namespace
 
 void bind_render(py::module_& m) {
+  // Docstrings built from the settings' table, kept for the module's life.
+  static const std::string renderer_render_doc =
+      "Renders an image (height, width, 3) float32, linear. Keywords: width, height (0: the scene camera's, else 512); region "
+      "(x0, y0, x1, y1): those pixels only, each equal to the whole image's; camera: replaces the scene camera; progress; "
+      "stats=True returns (image, stats): seconds, rays by kind, the structures; and the render settings, as `visfield "
+      "render`'s options (default, range):\n" +
+      settings_help() + "Deterministic per (seed, pixel, sample). The GIL is released while it runs.";
+  static const std::string render_doc =
+      "Renders the scene as `visfield render` does (same options, same image): an array (height, width, 3) float32, linear; "
+      "with stats=True, (image, stats). Keywords: accel (default bvh), occluder, occluders (field or exact), width, height, "
+      "region, camera, progress, stats (as Renderer.render), and the render settings (default, range):\n" +
+      settings_help();
   py::class_<RendererHandle>(m, "Renderer",
                              "A scene's structures built once by role (camera rays through `accel`, every later ray through the occluder), "
                              "rendering any number of images: frames of a camera path, regions of one image, several integrators.")
@@ -122,17 +157,12 @@ void bind_render(py::module_& m) {
       .def_property_readonly("build_ms", [](const RendererHandle& h) { return h.get().renderer->build_ms(); })
       .def(
           "render",
-          [](const RendererHandle& h, const std::string& integrator, int width, int height, const std::optional<std::array<int, 4>>& region,
-             const std::optional<Camera>& camera, int spp, int ao_rays, const std::string& ao_directions, double max_distance, int depth,
-             int shadow_rays, int glossy_rays, double ambient, std::uint64_t seed, bool progress, bool with_stats) {
-            const RenderSettings s = settings_of(integrator, "bvh", std::nullopt, std::nullopt, width, height, region, spp, ao_rays, ao_directions,
-                                                 max_distance, depth, shadow_rays, glossy_rays, ambient, seed, progress);
-            return render_with(*h.get().renderer, s, camera, with_stats);
+          [](const RendererHandle& h, const py::kwargs& kwargs) {
+            Frame frame;
+            const RenderSettings s = settings_of(kwargs, false, frame);
+            return render_with(*h.get().renderer, s, frame.camera, frame.with_stats);
           },
-          VF_RENDER_ARGS,
-          "Renders an image (height, width, 3) float32, linear. `region` (x0, y0, x1, y1) renders those pixels only, each equal to the "
-          "whole image's; `camera` replaces the scene camera. With stats=True, (image, stats): seconds, rays by kind, the structures. "
-          "Deterministic per (seed, pixel, sample). The GIL is released while it runs.")
+          renderer_render_doc.c_str())
       .def("close", &RendererHandle::close)
       .def_property_readonly("closed", &RendererHandle::closed)
       .def("__enter__", [](RendererHandle& h) -> RendererHandle& { return h; })
@@ -140,22 +170,22 @@ void bind_render(py::module_& m) {
 
   m.def(
       "render",
-      [](const SceneHandle& scene, const std::string& integrator, const std::string& accel, const std::optional<std::string>& occluder,
-         const std::optional<std::string>& occluders, int width, int height, const std::optional<std::array<int, 4>>& region,
-         const std::optional<Camera>& camera, int spp, int ao_rays, const std::string& ao_directions, double max_distance, int depth,
-         int shadow_rays, int glossy_rays, double ambient, std::uint64_t seed, bool progress, bool with_stats) {
-        const RenderSettings s = settings_of(integrator, accel, occluder, occluders, width, height, region, spp, ao_rays, ao_directions,
-                                             max_distance, depth, shadow_rays, glossy_rays, ambient, seed, progress);
+      [](const SceneHandle& scene, const py::kwargs& kwargs) {
+        Frame frame;
+        const RenderSettings s = settings_of(kwargs, true, frame);
         const std::shared_ptr<RendererHolder> holder = make_renderer(scene, s, 0);
-        return render_with(*holder->renderer, s, camera, with_stats);
+        return render_with(*holder->renderer, s, frame.camera, frame.with_stats);
       },
-      py::arg("scene"), py::arg("integrator") = "ao", py::arg("accel") = "bvh", py::arg("occluder") = py::none(),
-      py::arg("occluders") = py::none(), py::arg("width") = 0, py::arg("height") = 0, py::arg("region") = py::none(),
-      py::arg("camera") = py::none(), py::arg("spp") = 1, py::arg("ao_rays") = 64, py::arg("ao_directions") = "random",
-      py::arg("max_distance") = std::numeric_limits<double>::infinity(), py::arg("depth") = 5, py::arg("shadow_rays") = 20,
-      py::arg("glossy_rays") = 4, py::arg("ambient") = 0.1, py::arg("seed") = 1, py::arg("progress") = false, py::arg("stats") = false,
-      "Renders the scene as `visfield render` does (same options, same image): an array (height, width, 3) float32, linear; with "
-      "stats=True, (image, stats).");
+      py::arg("scene"), render_doc.c_str());
+
+  m.def(
+      "render_settings",
+      [] {
+        std::vector<ParamSpec> params;
+        for (const RenderSettingSpec& spec : render_setting_specs()) params.push_back(spec.param);
+        return params_as_dicts(params);
+      },
+      "The render settings render() and Renderer.render() take, as `visfield render` does: [{key, default, help, expected}, ...].");
 
   m.def(
       "compare",

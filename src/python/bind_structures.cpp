@@ -9,6 +9,7 @@
 
 #include "arrays.hpp"
 #include "handles.hpp"
+#include "keywords.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/registry/scene_geometry.hpp"
 #include "visfield/registry/structure_queries.hpp"
@@ -46,6 +47,9 @@ void edit(StructureHandle& h, Edit&& body) {
 void bind_structures(py::module_& m) {
   m.def(
       "structures", [] { return structure_names(); }, "Names of every structure the registry builds (see `visfield structures`).");
+  m.def(
+      "structure_params", [](const std::string& name) { return params_as_dicts(find_structure(name).params); }, py::arg("name"),
+      "The parameters of structure `name` as its specs take them: [{key, default, help, expected}, ...].");
 
   m.def(
       "build",

@@ -1,6 +1,10 @@
 #include "visfield/registry/render_scene.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -12,6 +16,87 @@
 #include "visfield/registry/scene_geometry.hpp"
 
 namespace vf {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The render settings (render_setting_specs()). Their defaults are RenderSettings{}'s; a test holds
+// them to it.
+constexpr RenderSettingSpec kRenderSettings[] = {
+    {{"integrator", ParamType::choice, "ao",
+      "what to render: raycast (camera rays, diffuse colour lit by the lights, no shadows), whitted (hard shadows, mirror "
+      "reflection and refraction to depth), ao (ambient occlusion), softshadow (sphere lights by shadow_rays rays each), "
+      "glossy (direct light and glossy_rays reflection rays), path (path tracing: light sampling with MIS, Russian "
+      "roulette, depth bounces)",
+      0, 0, "raycast|whitted|ao|softshadow|glossy|path"},
+     ""},
+    {{"spp", ParamType::whole, "1", "camera samples per pixel (jittered when more than 1)", 1, 4096}, ""},
+    {{"ao_rays", ParamType::whole, "64", "rays per camera sample", 1, 65536}, "ao"},
+    {{"ao_directions", ParamType::choice, "random",
+      "random (ao_rays cosine-weighted directions), or 33|129|513|2049|8193: one ray along each line of that octahedral "
+      "set, cosine-weighted (VLF-RT's AO; a beam:dirs= of the same count traces them on its fast path)",
+      0, 0, "random|33|129|513|2049|8193"},
+     "ao"},
+    {{"max_distance", ParamType::number, "inf", "ray length in world units", 0.0, kInfinity, {}, true}, "ao"},
+    {{"depth", ParamType::whole, "5", "whitted: reflection and refraction levels; path: bounces", 1, 64}, "whitted|path"},
+    {{"shadow_rays", ParamType::whole, "20", "rays per sphere light per camera sample", 1, 65536}, "softshadow"},
+    {{"glossy_rays", ParamType::whole, "4", "reflection rays per reflective camera sample", 1, 65536}, "glossy"},
+    {{"ambient", ParamType::number, "0.1", "ambient light as a fraction of the diffuse colour", 0.0, 100.0},
+     "raycast|whitted|softshadow|glossy"},
+    {{"seed", ParamType::whole, "1", "random seed (the image depends on it, never on the thread count)", 0, 0}, ""},
+};
+
+constexpr auto kRenderParams = [] {
+  std::array<ParamSpec, std::size(kRenderSettings)> params{};
+  for (std::size_t i = 0; i < params.size(); ++i) params[i] = kRenderSettings[i].param;
+  return params;
+}();
+
+// "inf", or the shortest text that reads back as the float `v`.
+std::string number_text(float v) {
+  if (std::isinf(v)) return "inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.7g", static_cast<double>(v));
+  return text;
+}
+
+}  // namespace
+
+std::span<const RenderSettingSpec> render_setting_specs() { return kRenderSettings; }
+
+RenderSettings with_render_settings(RenderSettings s, std::string_view settings, const std::string& where) {
+  if (settings.empty()) return s;
+  const ParamValues p = read_params(parse_spec("render:" + std::string(settings), ""), kRenderParams, where);
+  if (p.given("integrator")) s.integrator = *parse_integrator(p.text("integrator"));
+  if (p.given("spp")) s.spp = static_cast<int>(p.whole("spp"));
+  if (p.given("ao_rays")) s.ao_rays = static_cast<int>(p.whole("ao_rays"));
+  if (p.given("ao_directions")) {
+    s.psf_level = 0;
+    for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
+      if (p.text("ao_directions") == std::to_string(DirectionLines::count(level))) s.psf_level = level;
+  }
+  if (p.given("max_distance")) s.max_distance = static_cast<float>(p.number("max_distance"));
+  if (p.given("depth")) s.depth = static_cast<int>(p.whole("depth"));
+  if (p.given("shadow_rays")) s.shadow_rays = static_cast<int>(p.whole("shadow_rays"));
+  if (p.given("glossy_rays")) s.glossy_rays = static_cast<int>(p.whole("glossy_rays"));
+  if (p.given("ambient")) s.ambient = static_cast<float>(p.number("ambient"));
+  if (p.given("seed")) s.seed = p.whole("seed");
+  return s;
+}
+
+std::string render_setting_text(const RenderSettings& s, std::string_view key) {
+  if (key == "integrator") return std::string(integrator_name(s.integrator));
+  if (key == "spp") return std::to_string(s.spp);
+  if (key == "ao_rays") return std::to_string(s.ao_rays);
+  if (key == "ao_directions") return s.psf_level == 0 ? "random" : std::to_string(DirectionLines::count(s.psf_level));
+  if (key == "max_distance") return number_text(s.max_distance);
+  if (key == "depth") return std::to_string(s.depth);
+  if (key == "shadow_rays") return std::to_string(s.shadow_rays);
+  if (key == "glossy_rays") return std::to_string(s.glossy_rays);
+  if (key == "ambient") return number_text(s.ambient);
+  if (key == "seed") return std::to_string(s.seed);
+  throw Error("render setting '" + std::string(key) + "': no such setting");
+}
 
 std::string occluder_spec(const RenderSettings& s, const Scene& scene) {
   if (!s.occluders.empty() && s.occluders != "field" && s.occluders != "exact")

@@ -7,7 +7,9 @@
 #include <fstream>
 
 #include "support/run_command.hpp"
+#include "visfield/field/field_params.hpp"
 #include "visfield/io/image_io.hpp"
+#include "visfield/registry/render_scene.hpp"
 
 namespace vf {
 namespace {
@@ -307,4 +309,31 @@ TEST_F(Cli, UnwritableOutputFailsCleanly) {
 }
 
 }  // namespace
+TEST_F(Cli, EveryRenderSettingAndFieldParameterIsAnOptionWithTheTablesDefault) {
+  // The options are generated from the library's tables (render_setting_specs(), field::kTableParams):
+  // each appears in --help as "--option TEXT=default" with its range in its help.
+  const auto render = visfield("render --help");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  for (const RenderSettingSpec& spec : render_setting_specs()) {
+    std::string option = std::string("--").append(spec.param.key);
+    std::replace(option.begin(), option.end(), '_', '-');
+    const std::size_t at = render.out.find(option + " ");
+    ASSERT_NE(at, std::string::npos) << option << " missing from render --help";
+    const std::string line = render.out.substr(at, render.out.find('\n', at) - at);
+    EXPECT_NE(line.find(std::string("=").append(spec.param.default_value)), std::string::npos) << line;
+  }
+  const auto field = visfield("field build --help");
+  ASSERT_EQ(field.exit_code, 0) << field.err;
+  for (const ParamSpec& param : field::kTableParams) {
+    const std::size_t at = field.out.find(std::string("--").append(param.key).append(" "));
+    ASSERT_NE(at, std::string::npos) << param.key << " missing from field build --help";
+    const std::string line = field.out.substr(at, field.out.find('\n', at) - at);
+    EXPECT_NE(line.find(std::string("=").append(param.default_value)), std::string::npos) << line;
+  }
+  // A value out of a range is refused with the library's wording.
+  const auto r = visfield("render builtin:cornell --ao-rays 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--ao-rays: 0: expected a non-negative integer in 1..65536"), std::string::npos) << r.err;
+}
+
 }  // namespace vf

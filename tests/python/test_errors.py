@@ -118,3 +118,31 @@ def test_bad_scenes_specs_and_settings():
         vf.set_threads(-2)
     with pytest.raises(ValueError, match="images of 4x4 and 5x4 pixels"):
         vf.compare(np.zeros((4, 4, 3)), np.zeros((4, 5, 3)))
+
+
+def test_render_and_field_keywords_are_the_librarys_tables():
+    """render(), Renderer.render() and Field.build() take their keywords, defaults and ranges from the
+    library's one declaration (vf.render_settings(), vf.structure_params("field")): every default is
+    accepted as written, the docstrings list every key, an unknown keyword names the valid ones."""
+    scene = vf.load("builtin:cornell")
+    settings = vf.render_settings()
+    assert {s["key"] for s in settings} >= {"integrator", "spp", "ao_rays", "ao_directions", "max_distance", "depth", "seed"}
+    defaults = {s["key"]: s["default"] for s in settings}
+    typed = {k: (float(v) if k in ("max_distance", "ambient") else int(v) if v.isdigit() else v) for k, v in defaults.items()}
+    with_defaults = vf.render(scene, width=8, height=8, **typed)
+    assert np.array_equal(with_defaults, vf.render(scene, width=8, height=8))
+    for s in settings:
+        assert s["key"] + "=" + s["default"] in vf.render.__doc__, s["key"]
+        assert s["key"] + "=" + s["default"] in vf.Renderer.render.__doc__, s["key"]
+    with pytest.raises(TypeError, match="valid: .*ao_rays"):
+        vf.render(scene, width=8, height=8, colour="red")
+    field_params = [p for p in vf.structure_params("field") if p["key"] not in ("cache", "meshes")]
+    assert {p["key"] for p in field_params} >= {"positions", "directions", "mapping", "storage", "normals", "through"}
+    for p in field_params:
+        assert p["key"] + "=" + p["default"] in vf.Field.build.__doc__, p["key"]
+    field = vf.Field.build(scene, 0, **{p["key"]: p["default"] for p in field_params if p["key"] != "positions"}, positions=290)
+    assert field.directions == int(next(p["default"] for p in field_params if p["key"] == "directions"))
+    with pytest.raises(TypeError, match="valid: .*positions"):
+        vf.Field.build(scene, 0, resolution=3)
+    with pytest.raises(ValueError, match="directions=4"):
+        vf.Field.build(scene, 0, positions=290, directions=4)

@@ -31,7 +31,7 @@ std::vector<std::string> split_spec_list(std::string_view text);
 /// The kinds of parameter values.
 enum class ParamType {
   whole,    ///< A non-negative integer below 2^64 (also written like 1e6).
-  number,   ///< A finite real number.
+  number,   ///< A real number: finite, or "inf" when ParamSpec::max is infinity.
   boolean,  ///< 1/0, true/false, on/off, yes/no.
   choice,   ///< One of the words listed in ParamSpec::choices ("a|b|c").
   text,     ///< Any non-empty text without ',' (a file name, say).
@@ -46,6 +46,7 @@ struct ParamSpec {
   double min = 0.0;                ///< Inclusive lower bound of whole and number values.
   double max = 0.0;                ///< Inclusive upper bound of whole and number values.
   std::string_view choices = {};   ///< "a|b|c" for choice values.
+  bool above_min = false;          ///< number: `min` itself is excluded ("a number > 0").
 };
 
 /// Validated values of the declared parameters (defaults filled in). Plain value.
@@ -82,6 +83,14 @@ class ParamValues {
 /// Checks `spec`'s parameters against `params` and converts them. Throws a one-line vf::Error starting
 /// with `where` on an unknown key (listing the valid ones) or a value of the wrong type or out of range.
 ParamValues read_params(const Spec& spec, std::span<const ParamSpec> params, const std::string& where);
+
+/// What a value of `param` must be, as messages and help texts say it ("a non-negative integer in
+/// 1..128", "a number > 0 (or inf)", "one of u8, u16").
+std::string expected_value(const ParamSpec& param);
+
+/// "" when `value` is a valid value of `param`, else "VALUE: expected ..." (read_params' check and
+/// wording, for front ends that check one value at a time, such as a command-line option).
+std::string param_value_error(const ParamSpec& param, std::string_view value);
 
 /// One line per parameter, "key=default  help (range)", indented by `indent`, for help texts.
 std::string describe_params(std::span<const ParamSpec> params, std::string_view indent);

@@ -7,10 +7,13 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "visfield/core/image.hpp"
 #include "visfield/core/scene.hpp"
+#include "visfield/core/spec.hpp"
 #include "visfield/render/ao.hpp"
 #include "visfield/render/integrators.hpp"
 #include "visfield/render/render_stats.hpp"
@@ -37,6 +40,29 @@ struct RenderSettings {
   std::uint64_t seed = 1;     ///< The image depends on it, never on the thread count or the region.
   bool progress = false;      ///< Progress bars on stderr (precomputes, long renders).
 };
+
+/// One render setting as every front end takes it: `param` holds its key (the Python keyword; the
+/// command line's option is "--" + key with '_' written '-'), type, default (RenderSettings{}'s, as a
+/// test checks), help and range; `integrators` names those that read it ("ao", "whitted|path"; ""
+/// for every one).
+struct RenderSettingSpec {
+  ParamSpec param;
+  std::string_view integrators;
+};
+
+/// The render settings, declared once: integrator, spp, ao_rays, ao_directions, max_distance, depth,
+/// shadow_rays, glossy_rays, ambient, seed. `visfield render` and `visfield walk`, the Python
+/// module's render() and Renderer.render() take their names, defaults, ranges and help from here.
+std::span<const RenderSettingSpec> render_setting_specs();
+
+/// `base` with the settings "key=value,..." gives written over it (render_setting_specs()' keys,
+/// checked against their ranges). Throws a one-line vf::Error starting with `where` on an unknown
+/// key or a bad value.
+RenderSettings with_render_settings(RenderSettings base, std::string_view settings, const std::string& where);
+
+/// Setting `key` of `settings` written as render_setting_specs() writes values ("64", "inf",
+/// "random", "ao"). Throws vf::Error for a key that is not a render setting.
+std::string render_setting_text(const RenderSettings& settings, std::string_view key);
 
 /// The occluder spec `settings` choose for `scene` ("" = the accel structure answers every ray):
 /// occluders "field" asks for fields (the `occluder` field spec, or the default) for every mesh

@@ -21,6 +21,38 @@
 namespace vf {
 namespace {
 
+TEST(RenderSettingsTable, DefaultsAreRenderSettingsOwnAndEveryKeyReachesItsField) {
+  const RenderSettings defaults{};
+  ASSERT_GE(render_setting_specs().size(), 10u);
+  for (const RenderSettingSpec& spec : render_setting_specs()) {
+    EXPECT_EQ(render_setting_text(defaults, spec.param.key), spec.param.default_value) << spec.param.key << ": the table and RenderSettings{} drifted";
+    // The default reads back as itself.
+    EXPECT_EQ(render_setting_text(with_render_settings({}, std::string(spec.param.key) + "=" + std::string(spec.param.default_value), "t"),
+                                  spec.param.key),
+              spec.param.default_value)
+        << spec.param.key;
+  }
+  const RenderSettings s =
+      with_render_settings({}, "integrator=path,spp=3,ao_rays=7,ao_directions=513,max_distance=2.5,depth=9,shadow_rays=11,"
+                               "glossy_rays=13,ambient=0.25,seed=77",
+                           "t");
+  EXPECT_EQ(s.integrator, Integrator::path);
+  EXPECT_EQ(s.spp, 3);
+  EXPECT_EQ(s.ao_rays, 7);
+  EXPECT_EQ(s.psf_level, 4);  // 513 = 2 * 4^4 + 1 lines: level 4 of the octahedral set
+  EXPECT_EQ(s.max_distance, 2.5f);
+  EXPECT_EQ(s.depth, 9);
+  EXPECT_EQ(s.shadow_rays, 11);
+  EXPECT_EQ(s.glossy_rays, 13);
+  EXPECT_EQ(s.ambient, 0.25f);
+  EXPECT_EQ(s.seed, 77u);
+  EXPECT_EQ(render_setting_text(s, "ao_directions"), "513");
+  for (const char* bad : {"spp=0", "ao_rays=65537", "ao_directions=100", "max_distance=0", "max_distance=-1", "integrator=photon",
+                          "ambient=101", "colour=red"})
+    EXPECT_THROW(with_render_settings({}, bad, "t"), Error) << bad;
+  EXPECT_THROW(render_setting_text({}, "colour"), Error);
+}
+
 RenderSettings small(Integrator integrator) {
   RenderSettings s;
   s.integrator = integrator;
