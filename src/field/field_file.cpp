@@ -57,8 +57,6 @@ class Reader {
 
 }  // namespace
 
-std::uint64_t field_checksum(std::string_view bytes_before_checksum) { return fnv1a(bytes_before_checksum); }
-
 std::string with_field_checksum(std::string bytes) {
   if (bytes.size() < 8) return bytes;
   const std::uint64_t sum = fnv1a(std::string_view(bytes).substr(0, bytes.size() - 8));

@@ -137,14 +137,6 @@ BvhConfig bvh_config(const ParamValues& p) {
                                     {"ki", &BvhConfig::intersection_cost}});
 }
 
-BuiltStructure build_bvh(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<Bvh>(p, geometry, bvh_config(p));
-}
-
-double estimate_bvh(const ParamValues& p, const SceneGeometry& geometry) {
-  return estimate_triangle_structure<Bvh>(p, geometry, bvh_config(p));
-}
-
 constexpr ParamSpec kGridParams[] = {
     {"density", ParamType::number, "2", "cells per triangle", 1e-6, 64},
     {"exact", ParamType::boolean, "1", "reference a triangle only from cells its surface meets"},
@@ -153,14 +145,6 @@ constexpr ParamSpec kGridParams[] = {
 
 UniformGridConfig grid_config(const ParamValues& p) {
   return config_from<UniformGridConfig>(p, {{"density", &UniformGridConfig::density}, {"exact", &UniformGridConfig::exact_overlap}});
-}
-
-BuiltStructure build_grid(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<UniformGrid>(p, geometry, grid_config(p));
-}
-
-double estimate_grid(const ParamValues& p, const SceneGeometry& geometry) {
-  return estimate_triangle_structure<UniformGrid>(p, geometry, grid_config(p));
 }
 
 constexpr ParamSpec kKdTreeParams[] = {
@@ -178,14 +162,6 @@ KdTreeConfig kdtree_config(const ParamValues& p) {
                                        {"depth", &KdTreeConfig::max_depth}});
 }
 
-BuiltStructure build_kdtree(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<KdTree>(p, geometry, kdtree_config(p));
-}
-
-double estimate_kdtree(const ParamValues& p, const SceneGeometry& geometry) {
-  return estimate_triangle_structure<KdTree>(p, geometry, kdtree_config(p));
-}
-
 constexpr ParamSpec kMedianBspParams[] = {
     {"depth", ParamType::whole, "0", "most splits above a leaf (0 = round(log2 N))", 0, 64},
     {"leaf", ParamType::whole, "8", "nodes with more triangles are split", 1, 1e9},
@@ -194,14 +170,6 @@ constexpr ParamSpec kMedianBspParams[] = {
 
 MedianBspConfig median_bsp_config(const ParamValues& p) {
   return config_from<MedianBspConfig>(p, {{"depth", &MedianBspConfig::max_depth}, {"leaf", &MedianBspConfig::max_leaf_size}});
-}
-
-BuiltStructure build_median_bsp(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<MedianBsp>(p, geometry, median_bsp_config(p));
-}
-
-double estimate_median_bsp(const ParamValues& p, const SceneGeometry& geometry) {
-  return estimate_triangle_structure<MedianBsp>(p, geometry, median_bsp_config(p));
 }
 
 constexpr ParamSpec kBruteParams[] = {kLevelsParam};
@@ -214,13 +182,19 @@ struct BruteBuild {
   static std::string name() { return BruteForce::name(); }
 };
 
-BuiltStructure build_brute(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
-  return build_triangle_structure<BruteBuild>(p, geometry, NoConfig{});
-}
+NoConfig no_config(const ParamValues&) { return {}; }
 
-double estimate_brute(const ParamValues& p, const SceneGeometry& geometry) {
-  return estimate_triangle_structure<BruteBuild>(p, geometry, NoConfig{});
-}
+// The registry's build and estimate of a triangle structure S (flattened or instanced, by levels=),
+// its Config read from the parameters by ConfigOf: one path for bvh, grid, kdtree, median-bsp, brute.
+template <class S, auto ConfigOf>
+struct TriangleEntry {
+  static BuiltStructure build(const ParamValues& p, SceneGeometry& geometry, const BuildContext&) {
+    return build_triangle_structure<S>(p, geometry, ConfigOf(p));
+  }
+  static double estimate(const ParamValues& p, const SceneGeometry& geometry) {
+    return estimate_triangle_structure<S>(p, geometry, ConfigOf(p));
+  }
+};
 
 constexpr ParamSpec kBeamParams[] = {
     {"dirs", ParamType::choice, "513", "directions (lines) of the field: 2*4^level+1 for level 2..6", 0, 0, "33|129|513|2049|8193"},
@@ -321,15 +295,15 @@ constexpr std::string_view kTwoLevelUpdates = "with levels=2";
 
 const StructureInfo kTable[] = {
     {"bvh", "SAH BVH, 8-wide nodes, SIMD box and triangle tests", Exactness::exact, kTwoLevelUpdates, kBvhParams,
-     build_bvh, estimate_bvh},
+     TriangleEntry<Bvh, bvh_config>::build, TriangleEntry<Bvh, bvh_config>::estimate},
     {"grid", "uniform grid, density x N cells, 3D-DDA traversal (Havran et al.)", Exactness::exact, kTwoLevelUpdates,
-     kGridParams, build_grid, estimate_grid},
+     kGridParams, TriangleEntry<UniformGrid, grid_config>::build, TriangleEntry<UniformGrid, grid_config>::estimate},
     {"kdtree", "SAH kd-tree, O(N log N) event sorting, perfect splits (Wald & Havran)", Exactness::exact,
-     kTwoLevelUpdates, kKdTreeParams, build_kdtree, estimate_kdtree},
+     kTwoLevelUpdates, kKdTreeParams, TriangleEntry<KdTree, kdtree_config>::build, TriangleEntry<KdTree, kdtree_config>::estimate},
     {"median-bsp", "spatial-median BSP, the VLF-RT paper's CRT baseline", Exactness::exact, kTwoLevelUpdates,
-     kMedianBspParams, build_median_bsp, estimate_median_bsp},
+     kMedianBspParams, TriangleEntry<MedianBsp, median_bsp_config>::build, TriangleEntry<MedianBsp, median_bsp_config>::estimate},
     {"brute", "every triangle for every ray: the test oracle, O(N) per ray", Exactness::exact, kTwoLevelUpdates,
-     kBruteParams, build_brute, estimate_brute},
+     kBruteParams, TriangleEntry<BruteBuild, no_config>::build, TriangleEntry<BruteBuild, no_config>::estimate},
     {"beam", "BeamField (VLF-RT): directions x n*n parallel beams x tile-BSP, exact; fast along its directions",
      Exactness::exact, "always", kBeamParams, build_beam, estimate_beam},
     {"field", "ObjectFields: per-mesh 4D distance fields on the bounding sphere, shared by instances; approximate, "

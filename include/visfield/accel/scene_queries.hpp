@@ -29,8 +29,6 @@ class SceneQueries {
   /// occluded[i] = occluded(rays[i]) ? 1 : 0 on the calling thread, through the structure's batch path
   /// when it has one (the ObjectFields' SIMD kernel). Spans of equal size.
   virtual void occluded_block(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const = 0;
-  /// True when the secondary rays are answered by an approximate structure.
-  virtual bool approximate_secondary() const = 0;
 };
 
 /// SceneQueries over two built structures, held by reference (they must outlive this): `closest` for
@@ -50,7 +48,6 @@ class QueriesOver final : public SceneQueries {
     using vf::occluded_block;  // the generic loop, unless the structure's own overload is found by ADL
     occluded_block(occluder_, rays, occluded);
   }
-  bool approximate_secondary() const override { return O::exactness == Exactness::approximate; }
 
  private:
   const C& closest_;

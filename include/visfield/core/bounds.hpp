@@ -22,12 +22,6 @@ struct Bounds3f {
   constexpr Vec3f extent() const { return hi - lo; }
   /// Box centre.
   constexpr Vec3f center() const { return (lo + hi) * 0.5f; }
-  /// Surface area; 0 for an empty box.
-  constexpr float surface_area() const {
-    if (empty()) return 0.0f;
-    const Vec3f e = extent();
-    return 2.0f * (e.x * e.y + e.y * e.z + e.z * e.x);
-  }
   /// Half the surface area (the SAH only needs ratios).
   constexpr float half_area() const {
     if (empty()) return 0.0f;

@@ -6,13 +6,10 @@
 
 namespace vf {
 
-/// Measures wall-clock time (steady clock) since construction or the last restart(). Cheap to copy;
-/// not shared between threads.
+/// Measures wall-clock time (steady clock) since construction. Cheap to copy; not shared between threads.
 class Stopwatch {
  public:
   Stopwatch() : start_(std::chrono::steady_clock::now()) {}
-  /// Starts counting again from now.
-  void restart() { start_ = std::chrono::steady_clock::now(); }
   /// Milliseconds since the start.
   double elapsed_ms() const {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();

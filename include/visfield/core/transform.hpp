@@ -62,8 +62,6 @@ struct Transform {
   /// Maps the cross product of two object-space edges to the cross product of the world-space edges
   /// (R n scale^2): how a triangle's geometric normal moves with its object.
   Vec3f apply_normal(const Vec3f& n) const { return rotation * n * (scale * scale); }
-  /// Maps a world-space point back to object space.
-  Vec3f inverse_point(const Vec3f& p) const { return rotation.transposed() * (p - translation) * (1.0f / scale); }
   /// The inverse map, for rays (see InverseTransform).
   InverseTransform inverse() const;
   /// World bounds of an object-space box (the 8 corners transformed).

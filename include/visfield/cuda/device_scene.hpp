@@ -40,8 +40,6 @@ class DeviceFieldScene {
   static DeviceFieldScene upload(const gpu::PackedFieldScene& packed);
   /// Device addresses for the kernels.
   gpu::FieldSceneView view() const;
-  /// The packed tables' device copy (for the texture variant).
-  const DeviceBuffer& tables_buffer() const { return buffer_; }
   /// Device bytes held.
   std::size_t bytes() const { return buffer_.bytes() + tables_.bytes() + objects_.bytes() + exact_.bytes(); }
 

@@ -33,9 +33,6 @@ struct StoredField {
   std::uint32_t version = kFieldFileVersion;  ///< The file's format version.
 };
 
-/// The checksum a .vfield file ends with: FNV-1a (64 bits) of every byte before it.
-std::uint64_t field_checksum(std::string_view bytes_before_checksum);
-
 /// `bytes` (a whole .vfield file, at least 8 bytes) with its last 8 bytes made the checksum of the
 /// rest again: for tests and fuzzing, to reach the checks behind the checksum.
 std::string with_field_checksum(std::string bytes);

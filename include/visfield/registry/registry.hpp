@@ -92,8 +92,8 @@ std::string structures_help(std::string_view indent = "  ");
 /// Build statistics of whichever structure `structure` holds.
 AccelStats structure_stats(const AnyStructure& structure);
 
-/// Moves object `id` to `t` and commits, when `structure` is updatable (UpdatableStructure: BeamField);
-/// returns false, leaving it untouched, when it is not (the caller rebuilds it).
+/// Moves object `id` to `t` and commits, when `structure` is updatable (UpdatableStructure: BeamField and
+/// the levels=2 instance layer); returns false, leaving it untouched, when it is not (the caller rebuilds it).
 bool update_in_place(AnyStructure& structure, ObjectId id, const Transform& t);
 
 /// The renderers' view of two built structures (they must outlive the result): camera rays through

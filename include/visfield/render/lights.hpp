@@ -63,8 +63,6 @@ class SceneLights {
   std::span<const PointLight> point_lights() const { return points_; }
   /// The scene's sphere lights.
   std::span<const SphereLight> sphere_lights() const { return spheres_; }
-  /// Number of emitting triangles collected.
-  std::size_t emitter_count() const { return triangles_.size(); }
 
   /// One light sample for a shading point at `from`: a light chosen uniformly among the point lights,
   /// the sphere lights and (as one more choice) the emitting triangles, then a point on it (sphere:

@@ -20,7 +20,8 @@ TEST(Transform, RotationScaleTranslationRoundTrip) {
   t.translation = {1, 2, 3};
   t.scale = 2.5f;
   const Vec3f p{0.3f, -0.7f, 1.1f};
-  const Vec3f back = t.inverse_point(t.apply_point(p));
+  // The inverse the queries use maps the point back: the origin of a ray through it.
+  const Vec3f back = t.inverse().apply(Ray{t.apply_point(p), {0, 0, 1}}).org;
   EXPECT_NEAR(back.x, p.x, 1e-5f);
   EXPECT_NEAR(back.y, p.y, 1e-5f);
   EXPECT_NEAR(back.z, p.z, 1e-5f);
