@@ -6,8 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "bvh/binary_builder.hpp"
-#include "bvh/collapse.hpp"
+#include "visfield/accel/bvh_data.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/gpu/bvh_traversal.hpp"
@@ -36,12 +35,13 @@ unsigned int first_exponent(float extent) {
 
 /// Quantises the child boxes of `src` on `axis` into `out`, outward: every decoded lower bound at or
 /// below the child's, every upper one at or above, checked with the device's own decode().
-void quantise_axis(const bvh::Node8& src, int axis, WideNode& out) {
+void quantise_axis(const WideBvhNode& src, int axis, WideNode& out) {
+  const auto box = [&](int slot) -> const Bounds3f& { return src.children[static_cast<std::size_t>(slot)].bounds; };
   float origin = std::numeric_limits<float>::infinity(), top = -std::numeric_limits<float>::infinity();
   for (int slot = 0; slot < 8; ++slot) {
     if (out.meta[slot] == kEmptySlot) continue;
-    origin = std::min(origin, src.bounds[bvh::kLoX + axis][slot]);
-    top = std::max(top, src.bounds[bvh::kHiX + axis][slot]);
+    origin = std::min(origin, box(slot).lo[axis]);
+    top = std::max(top, box(slot).hi[axis]);
   }
   out.origin[axis] = origin;
   for (unsigned int e = first_exponent(top - origin); e <= 254; ++e) {
@@ -53,7 +53,7 @@ void quantise_axis(const bvh::Node8& src, int axis, WideNode& out) {
         out.hi[axis][slot] = 0;
         continue;
       }
-      const float lo = src.bounds[bvh::kLoX + axis][slot], hi = src.bounds[bvh::kHiX + axis][slot];
+      const float lo = box(slot).lo[axis], hi = box(slot).hi[axis];
       double q = std::floor((static_cast<double>(lo) - origin) / scale);
       unsigned int qlo = static_cast<unsigned int>(std::clamp(q, 0.0, 255.0));
       while (qlo > 0 && decode(origin, qlo, scale) > lo) --qlo;
@@ -78,21 +78,11 @@ GpuBvh GpuBvh::build(const TriangleSet& set, const GpuBvhConfig& config) {
   validate(config, set.size());
   const Stopwatch watch;
   GpuBvh result;
-  std::vector<Bounds3f> boxes(set.size());
-  for (std::size_t i = 0; i < set.size(); ++i)
-    for (const Vec3f& p : set.triangles[i]) boxes[i].extend(p);
   BvhConfig binary;
   binary.bin_count = config.bin_count;
   binary.max_leaf_size = config.max_leaf_size;
-  const bvh::BinaryTree tree = bvh::build_binary_tree(boxes, binary, 1);
-  AlignedVector<bvh::Node8> wide;
-  std::vector<std::uint32_t> items;  // TriangleSet indices of the binary leaves, leaf after leaf
-  AccelStats wide_stats;
-  bvh::collapse_to_wide(tree, wide, wide_stats, [&](const bvh::BinaryNode& leaf) {
-    const auto first = static_cast<std::uint32_t>(items.size());
-    items.insert(items.end(), tree.order.begin() + leaf.begin, tree.order.begin() + leaf.begin + leaf.count);
-    return bvh::leaf_ref(first, leaf.count);
-  });
+  // One triangle a leaf cost unit: a GPU thread tests a leaf's triangles one by one.
+  const WideBvhData wide = build_wide_bvh(set, binary, 1);
 
   // Breadth first, so that each node's interior children are consecutive and its leaves' triangles too.
   struct Pending {
@@ -101,40 +91,39 @@ GpuBvh GpuBvh::build(const TriangleSet& set, const GpuBvhConfig& config) {
     unsigned int stacked;  // entries its ancestors can leave on a traversal stack
   };
   std::vector<Pending> queue;
-  if (!wide.empty()) {
+  if (!wide.nodes.empty()) {
     result.nodes_.resize(1);
     queue.push_back({0, 0, 1, 0});
   }
   for (std::size_t q = 0; q < queue.size(); ++q) {
     const Pending p = queue[q];
-    const bvh::Node8& src = wide[p.source];
+    const WideBvhNode& src = wide.nodes[p.source];
     WideNode out{};
     std::fill(std::begin(out.meta), std::end(out.meta), kEmptySlot);
     out.child_base = static_cast<unsigned int>(result.nodes_.size());
     out.triangle_base = static_cast<unsigned int>(result.triangles_.size());
     unsigned int slots_used = 0;
-    for (int slot = 0; slot < 8; ++slot) slots_used += src.bounds[bvh::kLoX][slot] <= src.bounds[bvh::kHiX][slot] ? 1u : 0u;
+    for (const WideBvhChild& c : src.children) slots_used += c.kind != WideBvhChild::Kind::empty ? 1u : 0u;
     // Expanding this node walks one child and pushes at most the others.
     const unsigned int stacked = p.stacked + (slots_used > 0 ? slots_used - 1 : 0);
     result.stack_bound_ = std::max(result.stack_bound_, stacked);
     unsigned int children = 0, leaf_triangles = 0;
     for (int slot = 0; slot < 8; ++slot) {
-      const std::uint32_t ref = src.child[slot];
-      if (!(src.bounds[bvh::kLoX][slot] <= src.bounds[bvh::kHiX][slot])) continue;  // unused: an empty box
-      if (!bvh::is_leaf(ref)) {
+      const WideBvhChild& c = src.children[static_cast<std::size_t>(slot)];
+      if (c.kind == WideBvhChild::Kind::empty) continue;
+      if (c.kind == WideBvhChild::Kind::node) {
         out.interior |= static_cast<unsigned char>(1u << slot);
         out.meta[slot] = static_cast<unsigned char>(children++);
-        queue.push_back({ref / sizeof(bvh::Node8), out.child_base + children - 1, p.depth + 1, stacked});
+        queue.push_back({c.index, out.child_base + children - 1, p.depth + 1, stacked});
         continue;
       }
-      const std::uint32_t first = bvh::leaf_first_item(ref), count = bvh::leaf_item_count(ref);
-      out.meta[slot] = static_cast<unsigned char>((count - 1) << 5 | leaf_triangles);
-      leaf_triangles += count;
-      for (std::uint32_t k = first; k < first + count; ++k) {
-        const std::uint32_t t = items[k];
-        const auto& c = set.triangles[t];
-        result.triangles_.push_back(
-            WideTriangle{{c[0].x, c[0].y, c[0].z}, t, {c[1].x, c[1].y, c[1].z}, 0u, {c[2].x, c[2].y, c[2].z}, 0u});
+      out.meta[slot] = static_cast<unsigned char>((c.count - 1) << 5 | leaf_triangles);
+      leaf_triangles += c.count;
+      for (std::uint32_t k = c.index; k < c.index + c.count; ++k) {
+        const std::uint32_t t = wide.triangles[k];
+        const auto& corners = set.triangles[t];
+        result.triangles_.push_back(WideTriangle{{corners[0].x, corners[0].y, corners[0].z}, t, {corners[1].x, corners[1].y, corners[1].z}, 0u,
+                                                 {corners[2].x, corners[2].y, corners[2].z}, 0u});
       }
       ++result.stats_.leaf_count;
       result.stats_.max_depth = std::max(result.stats_.max_depth, p.depth);

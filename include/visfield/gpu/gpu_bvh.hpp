@@ -1,8 +1,8 @@
 #pragma once
-/// \file The exact BVH in its GPU layout (bvh_layout.hpp), built on the host by the CPU Bvh's own
-/// builder: the binned SAH binary tree (src/accel/bvh/binary_builder) collapsed to 8-wide nodes
-/// (collapse.cpp, whose boxes are padded for the watertight test), then laid out breadth first with
-/// each node's children and triangles consecutive and its child boxes quantised outward. The host
+/// \file The exact BVH in its GPU layout (bvh_layout.hpp), made on the host from the CPU Bvh's tree
+/// as plain data (accel/bvh_data.hpp: the binned SAH tree collapsed to 8-wide nodes whose boxes are
+/// grown for the watertight test), laid out breadth first with each node's children and triangles
+/// consecutive and its child boxes quantised outward. The host
 /// queries run the device traversal's code (bvh_traversal.hpp) on the host copy.
 
 #include <cstdint>

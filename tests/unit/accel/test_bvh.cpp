@@ -7,6 +7,7 @@
 #include "support/same_hit.hpp"
 #include "visfield/accel/brute_force.hpp"
 #include "visfield/accel/bvh.hpp"
+#include "visfield/accel/bvh_data.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
 
@@ -114,6 +115,61 @@ TEST(Bvh, RejectsBadConfig) {
   EXPECT_THROW(Bvh::build(set, BvhConfig{.max_leaf_size = 0}), Error);
   EXPECT_THROW(Bvh::build(set, BvhConfig{.max_leaf_size = 100000}), Error);
   EXPECT_THROW(Bvh::build(set, BvhConfig{.intersection_cost = 0.0f}), Error);
+}
+
+}  // namespace
+}  // namespace vf
+
+namespace vf {
+namespace {
+
+// The tree as public data (bvh_data.hpp): every triangle in exactly one leaf, every child's box
+// holding its leaf's triangles or its node's children's boxes, indices in range, leaves within the
+// leaf size; empty for an empty set; the same tree whatever the thread count.
+TEST(BvhData, EveryTriangleOnceInsideEveryBoxOnItsPath) {
+  const TriangleSet set = test::set_from_triangles(test::random_soup(31, 4000, 0.002f, 0.05f));
+  const WideBvhData data = build_wide_bvh(set, {.max_leaf_size = 4}, 1);
+  ASSERT_FALSE(data.nodes.empty());
+  EXPECT_EQ(data.triangles.size(), set.size());
+  std::vector<int> seen(set.size(), 0);
+  const auto inside = [](const Bounds3f& outer, const Bounds3f& inner) {
+    for (int a = 0; a < 3; ++a)
+      if (!(outer.lo[a] <= inner.lo[a] && inner.hi[a] <= outer.hi[a])) return false;
+    return true;
+  };
+  std::size_t leaves = 0;
+  for (const WideBvhNode& node : data.nodes)
+    for (const WideBvhChild& c : node.children) {
+      if (c.kind == WideBvhChild::Kind::node) {
+        ASSERT_LT(c.index, data.nodes.size());
+        for (const WideBvhChild& grandchild : data.nodes[c.index].children) {
+          if (grandchild.kind != WideBvhChild::Kind::empty) {
+            EXPECT_TRUE(inside(c.bounds, grandchild.bounds));
+          }
+        }
+      } else if (c.kind == WideBvhChild::Kind::leaf) {
+        ++leaves;
+        ASSERT_GE(c.count, 1u);
+        ASSERT_LE(c.count, 4u);
+        ASSERT_LE(c.index + c.count, data.triangles.size());
+        for (std::uint32_t k = c.index; k < c.index + c.count; ++k) {
+          const std::uint32_t t = data.triangles[k];
+          ++seen[t];
+          Bounds3f box;
+          for (const Vec3f& p : set.triangles[t]) box.extend(p);
+          EXPECT_TRUE(inside(c.bounds, box)) << t;
+        }
+      }
+    }
+  for (std::size_t t = 0; t < set.size(); ++t) ASSERT_EQ(seen[t], 1) << t;
+  EXPECT_EQ(data.stats.leaf_count, leaves);
+  EXPECT_TRUE(build_wide_bvh(TriangleSet{}).nodes.empty());
+  EXPECT_THROW(build_wide_bvh(set, {.max_leaf_size = 17}), Error);
+  // Thread independence: one thread builds the same nodes.
+  const ThreadLimit one(1);
+  const WideBvhData serial = build_wide_bvh(set, {.max_leaf_size = 4}, 1);
+  ASSERT_EQ(serial.nodes.size(), data.nodes.size());
+  EXPECT_EQ(serial.triangles, data.triangles);
 }
 
 }  // namespace
