@@ -5,9 +5,6 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
-#include "cuda_figure_names.hpp"
-#include "field_figures.hpp"
-#include "render_figures.hpp"
 #include "visfield/core/direction_lines.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
@@ -17,34 +14,15 @@ namespace vf::bench {
 
 namespace {
 
-// Every --figure name: the ObjectField papers' ray-set figures, then the rendered ones, then the
-// GPU-only ones (--device cuda).
-std::vector<std::string> figure_names() {
-  std::vector<std::string> names = field_figure_names();
-  for (const std::string& name : render_figure_names()) names.push_back(name);
-  for (const std::string& name : cuda_only_figure_names()) names.push_back(name);
-  return names;
-}
-
-
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& name : names) out += (out.empty() ? "" : ", ") + name;
   return out;
 }
 
-// --device cuda runs the static benchmark and the GPU figures; the CPU-only figures and modes, and
-// the GPU-only figures without it, are usage errors.
+// --device cuda runs the static benchmark: the walkthrough and moving-object modes are usage errors.
 void check_device(const BenchOptions& o) {
-  const std::vector<std::string> gpu = cuda_figure_names(), gpu_only = cuda_only_figure_names();
-  const bool gpu_figure = std::find(gpu.begin(), gpu.end(), o.figure) != gpu.end();
-  if (o.device != "cuda") {
-    if (std::find(gpu_only.begin(), gpu_only.end(), o.figure) != gpu_only.end())
-      throw UsageError("--figure " + o.figure + ": only with --device cuda");
-    return;
-  }
-  if (!o.figure.empty() && !gpu_figure) throw UsageError("--figure " + o.figure + ": not with --device cuda (GPU figures: " + joined(gpu) + ")");
-  if (o.walk_frames > 0 || o.dynamic_frames > 0) throw UsageError("--device cuda: not with --walk or --dynamic");
+  if (o.device == "cuda" && (o.walk_frames > 0 || o.dynamic_frames > 0)) throw UsageError("--device cuda: not with --walk or --dynamic");
 }
 
 void check_accel_specs(const std::vector<std::string>& requested) {
@@ -76,12 +54,12 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
 
   CLI::App app{"Times the same rays through visfield's structures and Embree 3 in one process.", "visfield-bench"};
   app.add_option("--scene", options.scene, "Mesh file, scene .json, or builtin:NAME[:size=N,seed=S]")->required();
-  app.add_option("--rays", kind_name, "Ray set: primary, ao, shadow or random (required, except with --figure)")
+  app.add_option("--rays", kind_name, "Ray set: primary, ao, shadow or random (required, except with --walk)")
       ->check(CLI::IsMember({"primary", "ao", "shadow", "random"}));
   std::string accel_list;
   app.add_option("--accel", accel_list,
                  "Comma-separated structures, each NAME[:key=value,...] (`visfield structures` lists the parameters): " +
-                     joined(bench_accel_names()) + " (required, except with --figure)");
+                     joined(bench_accel_names()) + " (required)");
   app.add_option("--count", count, "Exact number of rays (default: one image's worth)")
       ->check(CLI::Range(std::int64_t{1}, kMaxRayCount));
   app.add_option("--threads", options.threads, "Worker threads for every structure, 0 = all hardware threads")
@@ -128,20 +106,10 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
       ->check(CLI::IsMember({"raycast", "whitted", "ao", "softshadow", "glossy", "path"}));
   app.add_option("--walk-csv", options.walk_csv_dir, "--walk: folder to write one CSV of frame times per structure in");
   app.add_option("--walk-plot", options.walk_plot, "--walk: the plot (.svg) of every structure's frame times");
-  app.add_option("--figure-images", options.figure_images,
-                 "gpu7, gpu8, gpu9: folder to write every rendered image in (PNG; compare pairs with `visfield compare`)")
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--figure", options.figure,
-                 "Reproduce an ObjectField paper experiment with --scene as the caster in the Figure-6 corner: fig6 "
-                 "(positions x directions: precompute, AO time, RMS), fig5 (mappings, 1-bit variant), fig8 (--scene: a folder "
-                 "of models; each model alone, then three together), lookups, gpu3 (the GPU paper's Figure 3), and "
-                 "with visfield's integrators the GPU paper's gpu7 (soft shadows), gpu8 (--scene: the models' folder; "
-                 "three models' soft shadows) and gpu9 (glossy reflections with normal fields)")
-      ->check(CLI::IsMember(figure_names()));
   app.add_option("--device", options.device,
                  "cpu, or cuda: the same rays through the GPU BVH and the --accel fields on the GPU beside the CPU's, "
-                 "AO rays generated on the device, G rays/s, agreement and the roofline; with --figure gpu3, gpu5 "
-                 "(the GPU paper's Figure 5 timing) or gpu7 on the GPU")
+                 "AO rays generated on the device, G rays/s, agreement and the roofline (the GPU paper's figures: "
+                 "visfield-experiments --device cuda)")
       ->check(CLI::IsMember({"cpu", "cuda"}));
 
   try {
@@ -158,7 +126,6 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
   }
   check_device(options);
-  if (!options.figure.empty()) return options;  // the figure chooses its rays and structures
   if (options.walk_frames > 0) {
     if (accel_list.empty()) throw UsageError("--accel is required");
     options.accels = split_spec_list(accel_list);

@@ -37,8 +37,6 @@ struct BenchOptions {
   int warmup = 1;                                               ///< --warmup: untimed runs before the timed ones.
   int dynamic_frames = 0;                 ///< --dynamic: frames of the moving-object mode; 0 = the static benchmark.
   std::optional<std::uint32_t> move_object;  ///< --move-object: the object id moved in --dynamic (default: chosen).
-  std::string figure;                     ///< --figure: an ObjectField paper experiment to reproduce ("" = none).
-  std::string figure_images;              ///< --figure-images: folder for the rendered figures' images ("" = none).
   int walk_frames = 0;                    ///< --walk: frames of the scene's walkthrough per structure; 0 = no walkthrough.
   std::string integrator = "raycast";     ///< --integrator: what --walk renders (raycast, whitted, ...).
   std::string walk_csv_dir;               ///< --walk-csv: folder for one CSV of frame times per structure ("" = none).

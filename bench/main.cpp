@@ -9,11 +9,8 @@
 #include "bench_run.hpp"
 #if VISFIELD_HAVE_CUDA
 #include "cuda_bench.hpp"
-#include "cuda_figures.hpp"
 #endif
 #include "dynamic_run.hpp"
-#include "field_figures.hpp"
-#include "render_figures.hpp"
 #include "walk_run.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/error.hpp"
@@ -42,23 +39,11 @@ int main(int argc, char** argv) {
     if (!options || vf::parse_only()) return 0;
     if (options->device == "cuda") {
 #if VISFIELD_HAVE_CUDA
-      if (!options->figure.empty())
-        vf::bench::run_cuda_figure(*options, std::cout);
-      else
-        vf::bench::run_cuda_bench(*options, std::cout);
+      vf::bench::run_cuda_bench(*options, std::cout);
       return 0;
 #else
       return fail("--device cuda: this build has no CUDA (configure with -DVISFIELD_CUDA=ON)", kExitUsage);
 #endif
-    }
-    if (!options->figure.empty()) {
-      const vf::ThreadLimit limit(options->threads);
-      const std::vector<std::string> rendered = vf::bench::render_figure_names();
-      if (std::find(rendered.begin(), rendered.end(), options->figure) != rendered.end())
-        vf::bench::run_render_figure(options->figure, options->scene, options->figure_images, std::cout);
-      else
-        vf::bench::run_field_figure(options->figure, options->scene, std::cout);
-      return 0;
     }
     if (options->walk_frames > 0) {
       vf::bench::run_walk_bench(*options, std::cout);

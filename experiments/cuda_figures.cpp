@@ -24,8 +24,10 @@
 #include "visfield/io/scene_file.hpp"
 #include "visfield/render/ray_sets.hpp"
 
-namespace vf::bench {
+namespace vf::experiments {
 namespace {
+
+using namespace vf::bench;  // the benchmark's building blocks: structures by spec, ray sets, timing
 
 const TimingPlan kPlan{2, 9};
 
@@ -282,19 +284,19 @@ void figure7(const std::string& caster, std::ostream& out) {
 
 }  // namespace
 
-void run_cuda_figure(const BenchOptions& options, std::ostream& out) {
+void run_cuda_figure(const std::string& name, const std::string& caster_path, int threads, std::ostream& out) {
   cuda::require_device();
-  const ThreadLimit limit(options.threads);
-  out << "## " << options.figure << " on the GPU (" << cuda::device_info().name << "), caster " << options.scene << ", "
-      << limit.threads() << " CPU threads for the precomputes\n\n";
-  if (options.figure == "gpu3")
-    figure3(options.scene, out);
-  else if (options.figure == "gpu5")
-    figure5(options.scene, out);
-  else if (options.figure == "gpu7")
-    figure7(options.scene, out);
+  const ThreadLimit limit(threads);
+  out << "## " << name << " on the GPU (" << cuda::device_info().name << "), caster " << caster_path << ", " << limit.threads()
+      << " CPU threads for the precomputes\n\n";
+  if (name == "gpu3")
+    figure3(caster_path, out);
+  else if (name == "gpu5")
+    figure5(caster_path, out);
+  else if (name == "gpu7")
+    figure7(caster_path, out);
   else
-    throw Error("--figure " + options.figure + ": not a GPU figure");
+    throw Error("--figure " + name + ": not a GPU figure");
 }
 
-}  // namespace vf::bench
+}  // namespace vf::experiments

@@ -24,8 +24,10 @@
 #include "visfield/io/mesh_loader.hpp"
 #include "visfield/registry/scene_geometry.hpp"
 
-namespace vf::bench {
+namespace vf::experiments {
 namespace {
+
+using namespace vf::bench;  // the benchmark's building blocks: structures by spec, ray sets, timing
 
 // The corner of Figure 6: three square faces of 33 x 33 vertices meeting at the origin (the floor
 // y = 0 and the walls x = 0 and z = 0), side kCornerSide; the caster stands on the floor with its
@@ -500,4 +502,4 @@ void run_field_figure(const std::string& name, const std::string& caster_path, s
     throw Error("--figure " + name + ": unknown figure");
 }
 
-}  // namespace vf::bench
+}  // namespace vf::experiments

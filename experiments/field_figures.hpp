@@ -1,5 +1,5 @@
 #pragma once
-/// \file The ObjectField papers' experiments, reproduced on this machine: `visfield-bench --figure
+/// \file The ObjectField papers' experiments, reproduced on this machine: `visfield-experiments --figure
 /// NAME --scene CASTER`. Each prints a markdown table: what we measured, beside the paper's numbers
 /// where the paper gives them.
 
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace vf::bench {
+namespace vf::experiments {
 
 /// The figures --figure accepts: "fig6" (positional x directional resolution: precompute, AO time,
 /// RMS; also the GPU paper's 16642-position row), "fig5" (mappings and the 1-bit variant of
@@ -23,4 +23,4 @@ std::vector<std::string> field_figure_names();
 /// vf::Error on a bad mesh.
 void run_field_figure(const std::string& name, const std::string& caster_path, std::ostream& out);
 
-}  // namespace vf::bench
+}  // namespace vf::experiments

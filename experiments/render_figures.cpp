@@ -15,7 +15,7 @@
 #include "visfield/render/compare.hpp"
 #include "visfield/render/integrators.hpp"
 
-namespace vf::bench {
+namespace vf::experiments {
 namespace {
 
 std::string format(const char* pattern, double a, double b = 0.0) {
@@ -272,4 +272,4 @@ void run_render_figure(const std::string& name, const std::string& scene_path, c
   else throw Error("--figure " + name + ": unknown figure");
 }
 
-}  // namespace vf::bench
+}  // namespace vf::experiments

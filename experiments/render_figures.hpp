@@ -1,6 +1,6 @@
 #pragma once
 /// \file The GPU visibility-fields paper's ray-tracing figures reproduced on the CPU with visfield's
-/// integrators: `visfield-bench --figure gpu7|gpu8|gpu9 --scene ...`. Each renders the same view with
+/// integrators: `visfield-experiments --figure gpu7|gpu8|gpu9 --scene ...`. Each renders the same view with
 /// field occluders and with the exact BVH and prints a markdown table: render time, field memory, and
 /// RMS (0-255, all pixels, values clamped to [0, 1]) against the exact reference.
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace vf::bench {
+namespace vf::experiments {
 
 /// "gpu7" (soft shadows of the caster on a ground, 3 sphere lights, 20 shadow rays, fields at
 /// {4226, 16642} x {32^2, 64^2, 128^2} against an exact 256-ray reference), "gpu8" (three models of a
@@ -22,4 +22,4 @@ std::vector<std::string> render_figure_names();
 /// be checked with `visfield compare`. Throws vf::Error on a bad mesh or folder.
 void run_render_figure(const std::string& name, const std::string& scene_path, const std::string& images, std::ostream& out);
 
-}  // namespace vf::bench
+}  // namespace vf::experiments

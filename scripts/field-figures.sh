@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the ObjectField measurements (docs/objectfield-measurements.md): the speed against
 # Embree on the same AO rays, the 2008 paper's Figures 6, 5/7 and 8 and the lookup options with
-# visfield-bench --figure, and the GPU paper's Figures 3 and 5 on the CPU.
+# visfield-experiments --figure, and the GPU paper's Figures 3 and 5 on the CPU.
 # Usage: scripts/field-figures.sh MODELS_DIR [OUT.md]   (MODELS_DIR holds bun_zipper.ply, cow.obj, ...)
 # Takes about 15 minutes on 2 cores (the 16642 x 256^2 fields of Figure 6 most of it).
 set -euo pipefail
@@ -31,15 +31,15 @@ threads=$(nproc)
     echo '```'
     echo
   done
-  "$bin/visfield-bench" --figure fig6 --scene "$models/bun_zipper.ply"
+  "$bin/visfield-experiments" --figure fig6 --scene "$models/bun_zipper.ply"
   echo
-  "$bin/visfield-bench" --figure lookups --scene "$models/bun_zipper.ply"
+  "$bin/visfield-experiments" --figure lookups --scene "$models/bun_zipper.ply"
   echo
-  "$bin/visfield-bench" --figure fig5 --scene "$models/bun_zipper.ply"
+  "$bin/visfield-experiments" --figure fig5 --scene "$models/bun_zipper.ply"
   echo
-  "$bin/visfield-bench" --figure fig8 --scene "$models"
+  "$bin/visfield-experiments" --figure fig8 --scene "$models"
   echo
-  "$bin/visfield-bench" --figure gpu3 --scene "$models/bun_zipper.ply"
+  "$bin/visfield-experiments" --figure gpu3 --scene "$models/bun_zipper.ply"
   echo
   echo "## GPU paper, Figure 5 on the CPU: intra-object AO, 512x512 pixels, 121 rays per pixel, 16642 x 64x64"
   echo

@@ -10,7 +10,8 @@
 #             against the CPU bit for bit on >= 10M rays; test_gpu (the device code on the host)
 #   memcheck  a subset of test_cuda under compute-sanitizer memcheck, a hundredth of the rays
 #   bench     visfield-bench --device cuda: AO on bunny and sponza, fields and exact BVH, GPU vs CPU
-#   figures   the GPU paper's Figures 5, 3 and 7 (--figure gpu5 gpu3 gpu7), an AO render of igea
+#   figures   the GPU paper's Figures 5, 3 and 7 (visfield-experiments --device cuda --figure gpu5, gpu3,
+#             gpu7), an AO render of igea
 #   ncu       Nsight Compute on one field AO launch, when a minute is left
 # Writes to $OUT (else gpu-bundle/out), at most 8 files: summary.md (the one-screen table, also
 # printed last), device.txt, tests.log, memcheck.log, bench.log, figures.log, igea-ao.png, ncu.log.
@@ -45,6 +46,7 @@ check_loads() {
   "$bin/test_cuda" --gtest_list_tests >/dev/null 2>&1 || { echo "run.sh: error: test_cuda does not start" >&2; bad=1; }
   "$bin/visfield" structures >/dev/null 2>&1 || { echo "run.sh: error: visfield does not start" >&2; bad=1; }
   "$bin/visfield-bench" --help >/dev/null 2>&1 || { echo "run.sh: error: visfield-bench does not start" >&2; bad=1; }
+  "$bin/visfield-experiments" --help >/dev/null 2>&1 || { echo "run.sh: error: visfield-experiments does not start" >&2; bad=1; }
   return $bad
 }
 check_loads || exit 1
@@ -118,9 +120,9 @@ for scene in bun_zipper.ply sponza.obj; do
 done
 
 # 5. The GPU paper's figures and an AO image rendered on the device.
-step gpu5 90 "$out/figures.log" "$bin/visfield-bench" --device cuda --figure gpu5 --scene "$models/igea-triangles.ply" --threads "$threads"
-step gpu3 90 "$out/figures.log" "$bin/visfield-bench" --device cuda --figure gpu3 --scene "$models/bun_zipper.ply" --threads "$threads"
-step gpu7 90 "$out/figures.log" "$bin/visfield-bench" --device cuda --figure gpu7 --scene "$models/bun_zipper.ply" --threads "$threads"
+step gpu5 90 "$out/figures.log" "$bin/visfield-experiments" --device cuda --figure gpu5 --scene "$models/igea-triangles.ply" --threads "$threads"
+step gpu3 90 "$out/figures.log" "$bin/visfield-experiments" --device cuda --figure gpu3 --scene "$models/bun_zipper.ply" --threads "$threads"
+step gpu7 90 "$out/figures.log" "$bin/visfield-experiments" --device cuda --figure gpu7 --scene "$models/bun_zipper.ply" --threads "$threads"
 step render 60 "$out/figures.log" "$bin/visfield" render "$models/igea-triangles.ply" --device cuda --occluders field --ao-rays 121 \
   --width 512 --height 512 --out "$out/igea-ao.png" --no-progress
 

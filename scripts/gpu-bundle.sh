@@ -8,7 +8,7 @@
 # Builds Release with VISFIELD_CUDA=ON for sm_90 and x86-64-v3 host code (not -march=native: the GPU
 # machine's processor is not this one) in build-gpu-bundle/ (incremental after the first time; ccache
 # when installed), then stages in gpu-bundle/ (ignored through .git/info/exclude):
-#   bin/     test_cuda, test_gpu, visfield, visfield-bench (visfield-bench without Embree: 42 MiB)
+#   bin/     test_cuda, test_gpu, visfield, visfield-bench, visfield-experiments (without Embree: 42 MiB)
 #   lib/     every shared library they load except glibc's and the driver's (found with ldd)
 #   models/  the meshes the checks read, gzip-compressed
 #   run.sh   scripts/gpu-bundle-run.sh: the whole GPU run, results under $OUT
@@ -39,12 +39,12 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
     -DVISFIELD_NATIVE=OFF -DCMAKE_CXX_FLAGS=-march=x86-64-v3 -DVISFIELD_PYTHON=OFF -DVISFIELD_EMBREE=OFF \
     "${launcher[@]}" >/dev/null
 fi
-cmake --build "$build" -j"$(nproc)" --target test_cuda test_gpu visfield visfield-bench
+cmake --build "$build" -j"$(nproc)" --target test_cuda test_gpu visfield visfield-bench visfield-experiments
 
 # 2. Stage binaries, libraries and meshes.
 rm -rf "$bundle"
 mkdir -p "$bundle/bin" "$bundle/lib" "$bundle/models"
-programs=(test_cuda test_gpu visfield visfield-bench)
+programs=(test_cuda test_gpu visfield visfield-bench visfield-experiments)
 for p in "${programs[@]}"; do cp "$build/bin/$p" "$bundle/bin/"; done
 # glibc's libraries and the loader come with any Linux; the driver's (libcuda, libnvidia-*) with the GPU.
 system='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libutil|libcuda|libnvidia-)[.-]'

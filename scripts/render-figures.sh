@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 models=$(cd "${1:?usage: scripts/render-figures.sh MODELS_DIR [OUT.md]}" && pwd)
 out=${2:-docs/render-figures.md}
-bench=build/bin/visfield-bench
+experiments=build/bin/visfield-experiments
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 compare() {  # IMAGE REFERENCE: one table row of visfield compare's figures
@@ -24,13 +24,13 @@ compare() {  # IMAGE REFERENCE: one table row of visfield compare's figures
   echo "Render times are medians of three after a warm-up and include the camera rays (through the BVH) and the shading."
   echo "RMS is over all pixels on the 0-255 scale, values clamped to [0, 1]."
   echo
-  "$bench" --figure gpu7 --scene "$models/bun_zipper.ply" --figure-images "$work"
+  "$experiments" --figure gpu7 --scene "$models/bun_zipper.ply" --figure-images "$work"
   echo
-  "$bench" --figure gpu8 --scene "$models" --figure-images "$work"
+  "$experiments" --figure gpu8 --scene "$models" --figure-images "$work"
   echo
-  "$bench" --figure gpu9 --scene "$models/bun_zipper.ply" --figure-images "$work"
+  "$experiments" --figure gpu9 --scene "$models/bun_zipper.ply" --figure-images "$work"
   echo
-  "$bench" --figure gpu9 --scene "$models/Armadillo.ply" --figure-images "$work"
+  "$experiments" --figure gpu9 --scene "$models/Armadillo.ply" --figure-images "$work"
   echo
   echo "## visfield compare on every field-vs-exact pair"
   echo

@@ -2,12 +2,12 @@
 """Holds the README and docs/ to their word (ctest label docs):
 
 - every relative link names a file that exists, and a '#anchor' a heading of that file;
-- every command they quote parses: `visfield ...` and `visfield-bench ...` (in sh blocks, and in
+- every command they quote parses: `visfield`, `visfield-bench` and `visfield-experiments` (in sh blocks, and in
   inline code that is a command rather than a synopsis) are run with VISFIELD_PARSE_ONLY=1, which
   checks the command line and stops before any work; a script they run exists; a CMake preset they
   name is in CMakePresets.json.
 
-Usage: check_docs.py --root SOURCE_DIR --visfield PATH [--bench PATH]
+Usage: check_docs.py --root SOURCE_DIR --visfield PATH [--bench PATH] [--experiments PATH] [--cuda]
 """
 
 import argparse
@@ -111,7 +111,7 @@ def commands_in(prose, blocks):
         for m in INLINE_CODE.finditer(line):
             code = m.group(1).strip()
             # A whole command, not a mention of one or of an option: it names a file or a scene.
-            if (re.match(r"^(build/bin/)?visfield(-bench)? ", code) and not re.search(r"[\[\]|…<>]|\.\.\.|[A-Z]{4,}", code)
+            if (re.match(r"^(build/bin/)?visfield(-bench|-experiments)? ", code) and not re.search(r"[\[\]|…<>]|\.\.\.|[A-Z]{4,}", code)
                     and re.search(r"\s(--scene\s)?\S+\.[a-z]{3,6}\b|builtin:", code)):
                 out.append((number, code))
     return out
@@ -228,7 +228,7 @@ def check_commands(path, prose, blocks, tools, root, presets, cuda, stand_ins, e
             continue
         program = argv[0]
         name = os.path.basename(program)
-        if name in ("visfield", "visfield-bench"):
+        if name in ("visfield", "visfield-bench", "visfield-experiments"):
             tool = tools.get(name)
             if not tool:
                 counts["skipped"] += 1
@@ -267,9 +267,10 @@ def main():
     parser.add_argument("--root", required=True)
     parser.add_argument("--visfield", required=True)
     parser.add_argument("--bench", default="")
+    parser.add_argument("--experiments", default="")
     parser.add_argument("--cuda", action="store_true", help="the tools were built with CUDA")
     args = parser.parse_args()
-    tools = {"visfield": args.visfield, "visfield-bench": args.bench}
+    tools = {"visfield": args.visfield, "visfield-bench": args.bench, "visfield-experiments": args.experiments}
     presets_doc = json.load(open(os.path.join(args.root, "CMakePresets.json")))
     presets = {p["name"] for kind in ("configurePresets", "buildPresets", "testPresets") for p in presets_doc.get(kind, [])}
     errors, counts = [], {"commands": 0, "scripts": 0, "presets": 0, "skipped": 0, "cuda": 0}
