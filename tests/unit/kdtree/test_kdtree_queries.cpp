@@ -230,23 +230,21 @@ TYPED_TEST(KdStructureQueries, SharedEdgesAndVerticesAreNeverMissed) {
     EXPECT_GT(test::expect_matches_oracle(accel, oracle, "height field"), 1000u);
 }
 
-TYPED_TEST(KdStructureQueries, AgreesWithBruteForceWithinTolerance) {
-  // The project's oracle, compared the way the differential suite does: t within 1e-5 relative,
-  // the same triangle except on exact ties.
+TYPED_TEST(KdStructureQueries, AgreesWithBruteForceBitForBit) {
+  // The project's oracle, held to what the headers promise: the same t, u, v, triangle and normal,
+  // ties to the lowest index, and the same occlusion.
   const TriangleSet set = test::set_from_triangles(test::random_soup(19, 5000, 0.002f, 0.1f));
   const BruteForce oracle = BruteForce::build(set);
   const std::vector<Ray> rays = adversarial_rays(set, 20, 300);
   for (const TypeParam& accel : builds<TypeParam>(set)) {
+    std::size_t hits = 0;
     for (const Ray& ray : rays) {
       const Hit expected = oracle.intersect(ray), got = accel.intersect(ray);
-      ASSERT_EQ(got.found, expected.found);
+      ASSERT_TRUE(test::same_bits(got, expected)) << "t " << got.t << " vs " << expected.t;
       ASSERT_EQ(accel.occluded(ray), oracle.occluded(ray));
-      if (!got) continue;
-      EXPECT_NEAR(got.t, expected.t, 1e-5 * std::fabs(expected.t));
-      if (got.t != expected.t) {
-        EXPECT_EQ(got.prim, expected.prim);
-      }
+      hits += got ? 1 : 0;
     }
+    EXPECT_GT(hits, rays.size() / 10);
   }
 }
 
