@@ -1,6 +1,7 @@
 // Grid queries against the BruteForce oracle: random soups, adversarial rays, hits on cell
 // boundaries, t ranges ending at hits, flat and far-away scenes, real models.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -9,6 +10,7 @@
 
 #include "differential/ray_sets.hpp"
 #include "support/models.hpp"
+#include "support/test_scale.hpp"
 #include "unit/grid/grid_test_support.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/io/scene_file.hpp"
@@ -223,7 +225,8 @@ TEST(GridQueries, FarOriginsAndAFarAwayScene) {
 TEST(GridQueries, BuiltinScenes) {
   for (const char* name : {"stadium", "boxes", "cornell", "sphere"}) {
     const TriangleSet set = flatten(make_builtin_scene(name, {.seed = 3, .size = 0}));
-    check_scene(set, name, 15, 300);
+    // The brute-force oracle over the full-size scenes: a tenth of the rays under the sanitizers.
+    check_scene(set, name, 15, std::max<std::size_t>(60, test::scaled_count(300)));
   }
 }
 
