@@ -193,8 +193,16 @@ TEST(StructureQueries, EditsNeedAnUpdatableStructure) {
   }
   BuiltStructure beam = build_structure("beam:dirs=33,n=16", geometry);
   EXPECT_TRUE(is_updatable(beam.structure));
-  EXPECT_NO_THROW(remove_object(beam.structure, scene.instances()[0].id));
-  EXPECT_NO_THROW(commit_objects(beam.structure));
+  // The object a ray down through the scene hits first is gone from its answers once removed and committed.
+  const Bounds3f box = scene.bounds();
+  const Ray down{box.center() + Vec3f{0.0f, box.extent().y, 0.0f}, {0.0f, -1.0f, 0.0f}};
+  const auto hit_of = [&](const AnyStructure& s) { return std::visit([&](const auto& x) { return x.intersect(down); }, s); };
+  const Hit before = hit_of(beam.structure);
+  ASSERT_TRUE(before) << "the probe ray should hit an object";
+  remove_object(beam.structure, before.instance);
+  commit_objects(beam.structure);
+  const Hit after = hit_of(beam.structure);
+  EXPECT_TRUE(!after || after.instance != before.instance) << "the removed object is still hit";
 }
 
 }  // namespace
