@@ -97,16 +97,10 @@ GpuRow batch_row(const std::string& name, const D& device, const cuda::DeviceArr
 template <class S>
 std::vector<std::uint32_t> cpu_ao(const S& structure, const std::vector<gpu::SurfaceFrame>& points, const cuda::AoParams& p,
                                   const TimingPlan& plan, double& ms) {
-  const std::size_t k = static_cast<std::size_t>(p.rays_per_point);
-  std::vector<Ray> rays(points.size() * k);
-  vf::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
-    for (std::size_t j = 0; j < k; ++j) rays[i * k + j] = gpu::ao_ray(points[i], p.seed, i, j, p.max_distance);
-  });
+  const std::vector<Ray> rays = kernel_ao_rays(points, p);
   std::vector<std::uint8_t> occluded(rays.size());
   ms = time_runs(plan, [&] { occluded_batch(structure, std::span<const Ray>(rays), std::span<std::uint8_t>(occluded)); }).median_ms();
-  std::vector<std::uint32_t> open(points.size(), 0);
-  for (std::size_t r = 0; r < rays.size(); ++r) open[r / k] += occluded[r] ? 0 : 1;
-  return open;
+  return open_counts(occluded, static_cast<std::size_t>(p.rays_per_point));
 }
 
 std::size_t count_differences(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {

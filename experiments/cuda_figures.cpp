@@ -1,5 +1,6 @@
 #include "cuda_figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -98,8 +99,10 @@ GBuffer g_buffer(const Scene& scene, const Camera& camera, const Bvh& bvh, Keep&
   return g;
 }
 
-/// The device scene of `scene`'s fields at `positions` x `directions`^2 (meshes marked field).
+/// `scene`'s fields at `positions` x `directions`^2 (meshes marked field): the CPU's, and the same
+/// packed and on the device.
 struct DeviceFields {
+  field::FieldScene cpu;
   gpu::PackedFieldScene packed;
   cuda::DeviceFieldScene device;
 };
@@ -107,10 +110,10 @@ DeviceFields device_fields(const Scene& scene, int positions, int directions) {
   field::ObjectFieldConfig config;
   config.positions = positions;
   config.directions = directions;
-  const field::FieldScene fields = field::FieldScene::build(scene, config, {}, "", field::FieldMeshes::marked);
+  field::FieldScene fields = field::FieldScene::build(scene, config, {}, "", field::FieldMeshes::marked);
   gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(scene, fields);
   cuda::DeviceFieldScene device = cuda::DeviceFieldScene::upload(packed);
-  return {std::move(packed), std::move(device)};
+  return {std::move(fields), std::move(packed), std::move(device)};
 }
 
 /// AO counts of `frames` (device) through `occluder`, with the kernel's median time.
@@ -124,9 +127,21 @@ std::vector<std::uint32_t> timed_ao(const D& occluder, const cuda::DeviceArray<g
   return open.to_host();
 }
 
+/// The CPU's counts for the kernels' `rays` through `structure`: unoccluded rays per run of `per_group`.
+template <class S>
+std::vector<std::uint32_t> cpu_counts(const S& structure, const std::vector<Ray>& rays, std::size_t per_group) {
+  std::vector<std::uint8_t> occluded(rays.size());
+  occluded_batch(structure, std::span<const Ray>(rays), std::span<std::uint8_t>(occluded));
+  return open_counts(occluded, per_group);
+}
+
+/// |a - b| / b in percent (0 when both are 0).
+double percent_apart(double a, double b) { return b != 0.0 ? 100.0 * std::abs(a - b) / b : a == b ? 0.0 : 100.0; }
+
 // The GPU paper's Figure 3 on the GPU: the ground's AO under the caster, 256 rays per ground pixel of
 // a 256x256 view (the caster flat grey, the background white), fields at {1090, 4226, 16642} x
-// {32^2, 64^2, 128^2} against the exact GPU BVH on the same rays.
+// {32^2, 64^2, 128^2} against the exact GPU BVH on the same rays; beside each, the CPU's RMS: its
+// fields against its exact BVH on the kernels' rays made on the host.
 void figure3(const std::string& caster, std::ostream& out) {
   const Scene scene = caster_on_ground(caster, 3.0f, 0.0f);
   const Camera camera = scene.camera_or_default(256, 256);
@@ -145,10 +160,13 @@ void figure3(const std::string& caster, std::ostream& out) {
   const cuda::DeviceBvh exact = cuda::DeviceBvh::upload(gpu::GpuBvh::build(set));
   double exact_ms = 0.0;
   const std::vector<double> reference = image(timed_ao(exact, frames, p, exact_ms));
+  const std::vector<Ray> cpu_rays = kernel_ao_rays(g.frames, p);
+  const std::vector<double> cpu_reference = image(cpu_counts(bvh, cpu_rays, 256));
+  double worst_percent = 0.0;
   const std::size_t rays = g.frames.size() * 256;
   out << rays << " AO rays (256 per ground pixel of a 256x256 view). Exact GPU BVH: " << format("%.3f ms (%.2f G rays/s)", exact_ms, grays(rays, exact_ms))
-      << ".\n\nEach cell: AO kernel ms / RMS (0-255, all pixels) against the exact GPU image / field memory; the GPU paper's (its "
-         "2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
+      << ".\n\nEach cell: AO kernel ms / RMS (0-255, all pixels) against the exact GPU image (the CPU's against its exact image, "
+         "on the same rays) / field memory; the GPU paper's (its 2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
   const char* const paper[3][3] = {{"81.2 ms / 0.596", "82.7 ms / 0.589", "82.9 ms / 0.586"},
                                    {"83.2 ms / 0.454", "83.3 ms / 0.424", "-"},
                                    {"84.2 ms / 0.421", "-", "-"}};
@@ -159,10 +177,13 @@ void figure3(const std::string& caster, std::ostream& out) {
       const DeviceFields f = device_fields(scene, positions[k], n);
       double ms = 0.0;
       const std::vector<double> field = image(timed_ao(f.device, frames, p, ms));
-      out << " | " << format("%.3f ms / %.3f / ", ms, rms(field, reference)) << format_bytes(static_cast<double>(f.packed.buffer().size()));
+      const double gpu_rms = rms(field, reference), cpu_rms = rms(image(cpu_counts(f.cpu, cpu_rays, 256)), cpu_reference);
+      worst_percent = std::max(worst_percent, percent_apart(gpu_rms, cpu_rms));
+      out << " | " << format("%.3f ms / %.3f (CPU %.3f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
     }
     out << " |\n| paper | " << paper[k][0] << " | " << paper[k][1] << " | " << paper[k][2] << " |\n";
   }
+  out << "\nGPU RMS against the CPU's: at most " << format("%.3f", worst_percent) << "% apart (target: within 1%).\n";
 }
 
 // The GPU paper's Figure 5 setting: intra-object AO of the caster alone (the paper's igea), fields of
@@ -211,7 +232,8 @@ void figure5(const std::string& caster, std::ostream& out) {
 // reference is the exact GPU BVH with 256 rays per light. A pixel is its diffuse surface lit by each
 // light's unoccluded irradiance (radiance x the cone's solid angle x the cosine to its axis) times
 // the fraction of that light's rays that reach it, plus 0.1 ambient: the soft-shadow integrator's
-// estimate with the cosine taken at the cone's axis.
+// estimate with the cosine taken at the cone's axis. Beside each RMS, the CPU's: its fields against its
+// exact BVH, on the kernels' rays made on the host.
 void figure7(const std::string& caster, std::ostream& out) {
   Scene scene = caster_on_ground(caster, 6.0f, 1.0f);
   const float distance = 4.0f, radius = 0.3f, radiance = 60.0f;
@@ -230,14 +252,9 @@ void figure7(const std::string& caster, std::ostream& out) {
   const auto frames = cuda::DeviceArray<gpu::SurfaceFrame>::from(std::span<const gpu::SurfaceFrame>(g.frames));
   const auto d_lights = cuda::DeviceArray<gpu::SphereLightData>::from(std::span<const gpu::SphereLightData>(lights));
   const int light_count = static_cast<int>(lights.size());
-  const auto shadows = [&](const auto& occluder, int per_light, double& ms) {
-    cuda::DeviceArray<std::uint32_t> visible(g.frames.size() * lights.size());
-    ms = time_runs_measured(kPlan, [&] {
-           return cuda::kernel_ms([&] {
-             cuda::soft_shadows(occluder, frames.data(), g.frames.size(), d_lights.data(), light_count, per_light, 1, visible.data());
-           });
-         }).median_ms();
-    const std::vector<std::uint32_t> v = visible.to_host();
+  const std::uint64_t seed = 1;
+  // The image from visible[point * lights + light], the rays of `per_light` per light that got through.
+  const auto shade = [&](const std::vector<std::uint32_t>& v, int per_light) {
     std::vector<double> pixels(g.hits.size(), 0.0);
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       if (g.pixel_point[i] < 0) continue;
@@ -257,6 +274,29 @@ void figure7(const std::string& caster, std::ostream& out) {
     }
     return pixels;
   };
+  const auto shadows = [&](const auto& occluder, int per_light, double& ms) {
+    cuda::DeviceArray<std::uint32_t> visible(g.frames.size() * lights.size());
+    ms = time_runs_measured(kPlan, [&] {
+           return cuda::kernel_ms([&] {
+             cuda::soft_shadows(occluder, frames.data(), g.frames.size(), d_lights.data(), light_count, per_light, seed, visible.data());
+           });
+         }).median_ms();
+    return shade(visible.to_host(), per_light);
+  };
+  // The kernel's shadow rays on the host: point-major, then light, then sample l * per_light + k.
+  const auto cpu_rays = [&](int per_light) {
+    const std::size_t n = static_cast<std::size_t>(per_light);
+    std::vector<Ray> rays(g.frames.size() * lights.size() * n);
+    vf::parallel_for(std::size_t{0}, g.frames.size(), [&](std::size_t i) {
+      for (std::size_t l = 0; l < lights.size(); ++l)
+        for (std::size_t k = 0; k < n; ++k)
+          rays[(i * lights.size() + l) * n + k] = gpu::cone_ray(g.frames[i].position, lights[l], seed, i, l * n + k);
+    });
+    return rays;
+  };
+  const std::vector<Ray> cpu_rays20 = cpu_rays(20);
+  const std::vector<double> cpu_reference = shade(cpu_counts(bvh, cpu_rays(256), 256), 256);
+  double worst_percent = 0.0;
   double reference_ms = 0.0, exact20_ms = 0.0;
   const cuda::DeviceBvh exact = cuda::DeviceBvh::upload(gpu::GpuBvh::build(set));
   const std::vector<double> reference = shadows(exact, 256, reference_ms);
@@ -265,8 +305,8 @@ void figure7(const std::string& caster, std::ostream& out) {
   out << "256x256 pixels, 3 sphere lights, 20 shadow rays per light and pixel (" << rays20 << " rays). Reference: exact GPU BVH, "
       << "256 rays per light, " << format("%.3f ms", reference_ms) << ". Exact GPU BVH with 20 rays: "
       << format("%.3f ms (%.2f G rays/s), RMS %.2f", exact20_ms, grays(rays20, exact20_ms), rms(exact20, reference))
-      << " (the noise of 20 rays alone).\n\nEach cell: kernel ms / RMS (0-255) against the reference / field memory; the GPU "
-         "paper's (its 2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
+      << " (the noise of 20 rays alone).\n\nEach cell: kernel ms / RMS (0-255) against the reference (the CPU's against its "
+         "reference, on the same rays) / field memory; the GPU paper's (its 2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
   const char* const paper[2][3] = {{"348.0 ms / 5.95 / 4.1 MB", "348.5 ms / 4.82 / 16.5 MB", "348.7 ms / 4.44 / 66.0 MB"},
                                    {"348.5 ms / 5.94 / 16.3 MB", "348.6 ms / 4.80 / 65.0 MB", "-"}};
   const int positions[] = {4226, 16642};
@@ -276,10 +316,13 @@ void figure7(const std::string& caster, std::ostream& out) {
       const DeviceFields f = device_fields(scene, positions[k], n);
       double ms = 0.0;
       const std::vector<double> field = shadows(f.device, 20, ms);
-      out << " | " << format("%.3f ms / %.2f / ", ms, rms(field, reference)) << format_bytes(static_cast<double>(f.packed.buffer().size()));
+      const double gpu_rms = rms(field, reference), cpu_rms = rms(shade(cpu_counts(f.cpu, cpu_rays20, 20), 20), cpu_reference);
+      worst_percent = std::max(worst_percent, percent_apart(gpu_rms, cpu_rms));
+      out << " | " << format("%.3f ms / %.2f (CPU %.2f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
     }
     out << " |\n| paper | " << paper[k][0] << " | " << paper[k][1] << " | " << paper[k][2] << " |\n";
   }
+  out << "\nGPU RMS against the CPU's: at most " << format("%.3f", worst_percent) << "% apart (target: within 1%).\n";
 }
 
 }  // namespace

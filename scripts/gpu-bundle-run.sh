@@ -8,11 +8,11 @@
 #   device    nvidia-smi, the driver, the kernels' registers and stack frames (cuobjdump)
 #   tests     test_cuda with VISFIELD_REQUIRE_CUDA=1 (no device: fail, not skip), every kernel kind
 #             against the CPU bit for bit on >= 10M rays; test_gpu (the device code on the host)
-#   memcheck  a subset of test_cuda under compute-sanitizer memcheck, a hundredth of the rays
-#   bench     visfield-bench --device cuda: AO on bunny and sponza, fields and exact BVH, GPU vs CPU
+#   memcheck  a subset of test_cuda under compute-sanitizer memcheck, a tenth of the rays
+#   bench     visfield-bench --device cuda: AO on bunny, sponza and conference, fields and exact BVH, GPU vs CPU
 #   figures   the GPU paper's Figures 5, 3 and 7 (visfield-experiments --device cuda --figure gpu5, gpu3,
 #             gpu7), an AO render of igea
-#   ncu       Nsight Compute on one field AO launch, when a minute is left
+#   ncu       Nsight Compute on the AO kernel's two launches (fields, then the exact BVH), when a minute is left
 # Writes to $OUT (else gpu-bundle/out), at most 8 files: summary.md (the one-screen table, also
 # printed last), device.txt, tests.log, memcheck.log, bench.log, figures.log, igea-ao.png, ncu.log.
 # Without a GPU it checks that every program loads from the bundle alone, says so in one line and
@@ -107,14 +107,14 @@ echo "run.sh: $device, driver $driver, $(date -u +%Y-%m-%d), budget ${budget}s"
 VISFIELD_REQUIRE_CUDA=1 step tests 200 "$out/tests.log" "$bin/test_cuda"
 step gpu-unit 60 "$out/tests.log" "$bin/test_gpu"
 
-# 3. compute-sanitizer memcheck on a subset at a hundredth of the rays (memcheck slows kernels ~100x).
-VISFIELD_REQUIRE_CUDA=1 VISFIELD_TEST_SCALE=0.01 step memcheck 120 "$out/memcheck.log" \
+# 3. compute-sanitizer memcheck on a subset at a tenth of the rays (memcheck slows kernels ~100x).
+VISFIELD_REQUIRE_CUDA=1 VISFIELD_TEST_SCALE=0.1 step memcheck 120 "$out/memcheck.log" \
   compute-sanitizer --tool memcheck --leak-check full --error-exitcode 99 "$bin/test_cuda" \
   --gtest_filter='Cuda.EmptyInputs*:Cuda.ExactBvhBatch*:Cuda.FieldBatch*:Cuda.AoKernels*:Cuda.SoftShadowAndGlossy*'
 
 # 4. The benchmark: AO from the camera's hits of a 1024x1024 view, 64 rays a hit, on the GPU beside
 #    the CPU (all cores), fields 4226 x 32^2 (the default) and the exact GPU BVH.
-for scene in bun_zipper.ply sponza.obj; do
+for scene in bun_zipper.ply sponza.obj conference.obj; do
   step "bench-${scene%%.*}" 90 "$out/bench.log" "$bin/visfield-bench" --device cuda --scene "$models/$scene" --rays ao \
     --ao-rays 64 --width 1024 --height 1024 --accel bvh,field --threads "$threads" --warmup 1 --reps 5
 done
@@ -126,12 +126,14 @@ step gpu7 90 "$out/figures.log" "$bin/visfield-experiments" --device cuda --figu
 step render 60 "$out/figures.log" "$bin/visfield" render "$models/igea-triangles.ply" --device cuda --occluders field --ao-rays 121 \
   --width 512 --height 512 --out "$out/igea-ao.png" --no-progress
 
-# 6. What bounds the field AO kernel: one launch through Nsight Compute, if a minute is left.
+# 6. What bounds the AO kernel over fields and over the exact BVH: one launch of each through Nsight
+#    Compute, if a minute is left.
 if command -v ncu >/dev/null && ((budget - (SECONDS - start) >= 60)); then
-  step ncu 60 "$out/ncu.log" ncu --clock-control none --kernel-name regex:ao_kernel --launch-skip 1 --launch-count 1 \
-    --section SpeedOfLight --section MemoryWorkloadAnalysis --section Occupancy --section LaunchStats \
+  step ncu 60 "$out/ncu.log" ncu --clock-control none --kernel-name regex:^ao_kernel --launch-count 2 \
+    --section SpeedOfLight --section ComputeWorkloadAnalysis --section MemoryWorkloadAnalysis --section Occupancy \
+    --section LaunchStats --section WarpStateStats \
     "$bin/visfield-bench" --device cuda --scene "$models/bun_zipper.ply" --rays ao --ao-rays 64 --width 512 --height 512 \
-    --accel field --threads "$threads" --warmup 0 --reps 1
+    --accel bvh,field --threads "$threads" --warmup 0 --reps 1
 fi
 
 # 7. The summary: one screen.
@@ -140,6 +142,11 @@ column() {  # column FILE PATTERN N: field N (|-separated, trimmed) of the first
 }
 rays() {  # rays KIND: rays test_cuda compared bit for bit for KIND
   awk -v k="$1" '$1 == "rays" && $2 == "compared:" && $3 == k {s += $4} END {printf "%.1fM", s / 1e6}' "$out/tests.log" 2>/dev/null
+}
+apart() {  # apart FIGURE: how far the figure's GPU RMS lie from the CPU's ("at most X%"), or its step's status
+  local a
+  a=$(awk -v f="## $1 (" 'index($0, f) == 1 {on = 1} on && match($0, /at most [0-9.]+%/) {print substr($0, RSTART, RLENGTH); exit}' "$out/figures.log" 2>/dev/null)
+  echo "${a:-${status[$1]:-not run}}"
 }
 cuda_log=$(sed -n '/^## tests (/,/^## tests:/p' "$out/tests.log" 2>/dev/null)
 passed=$(grep -m1 -oE '^\[  PASSED  \] [0-9]+' <<<"$cuda_log" | grep -oE '[0-9]+$')
@@ -166,13 +173,14 @@ $(cat "$here/BUILD" | head -1); $threads CPU threads; $((SECONDS - start)) s of 
 | field AO through 3D textures, bunny (G rays/s) | $(column "$out/bench.log" '| fields in 3D textures: ' 4) | (measured) |
 | exact GPU BVH AO, bunny (G rays/s) | $(column "$out/bench.log" '| exact GPU BVH: ' 4) | >= 1.5 |
 | exact GPU BVH AO, sponza (G rays/s) | $(grep -F '| exact GPU BVH: ' "$out/bench.log" 2>/dev/null | sed -n 2p | awk -F'|' '{gsub(/ /, "", $4); print $4}') | >= 1.5 |
+| exact GPU BVH AO, conference (G rays/s) | $(grep -F '| exact GPU BVH: ' "$out/bench.log" 2>/dev/null | sed -n 3p | awk -F'|' '{gsub(/ /, "", $4); print $4}') | (measured) |
 | bench rows where GPU and CPU differ | $(grep -c ' differ |' "$out/bench.log" 2>/dev/null) of $(grep -c -E 'bit-identical|differ \|' "$out/bench.log" 2>/dev/null) | 0 |
 | Figure 5: igea 16642 x 64^2, 121 rays, 512x512 (ms a frame) | ${frame:-?} | <= 5 |
-| Figures 3 and 7 (RMS beside the CPU's) | gpu3 ${status[gpu3]:-not run}, gpu7 ${status[gpu7]:-not run}: figures.log | within 1% |
+| Figures 3 and 7: GPU RMS against the CPU's | gpu3 $(apart gpu3), gpu7 $(apart gpu7) | within 1% |
 | AO render of igea on the device | ${status[render]:-not run}: igea-ao.png | |
 | ncu, field AO kernel | ${status[ncu]:-not run}: ncu.log | |
 
-Steps (s): $(for s in kernels tests gpu-unit memcheck bench-bun_zipper bench-sponza gpu5 gpu3 gpu7 render ncu; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
+Steps (s): $(for s in kernels tests gpu-unit memcheck bench-bun_zipper bench-sponza bench-conference gpu5 gpu3 gpu7 render ncu; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
 EOF
 )
 echo "$summary" >"$out/summary.md"
