@@ -201,11 +201,13 @@ constexpr ParamSpec kBeamParams[] = {
     {"n", ParamType::whole, "64", "tiles per side of each direction's parallel subfield", 16, 1024},
     {"depth", ParamType::whole, "4", "deepest tile-BSP: at most 2^depth leaves per tile", 0, 12},
     {"leaf", ParamType::whole, "4", "a tile of c references gets about c/leaf leaves", 1, 4096},
+    {"stream", ParamType::whole, "1", "trace rays along a stored line in per-tile packets (1) or one by one (0); same answers", 0, 1},
 };
 
 BeamFieldConfig beam_config(const ParamValues& p) {
   BeamFieldConfig c = config_from<BeamFieldConfig>(
-      p, {{"n", &BeamFieldConfig::resolution}, {"depth", &BeamFieldConfig::max_depth}, {"leaf", &BeamFieldConfig::leaf_size}});
+      p, {{"n", &BeamFieldConfig::resolution}, {"depth", &BeamFieldConfig::max_depth}, {"leaf", &BeamFieldConfig::leaf_size},
+          {"stream", &BeamFieldConfig::stream}});
   const std::uint64_t dirs = std::stoull(p.text("dirs"));
   for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
     if (DirectionLines::count(level) == dirs) c.level = level;

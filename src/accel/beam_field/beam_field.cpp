@@ -140,6 +140,7 @@ void BeamField::validate(const BeamFieldConfig& c) {
   if (c.resolution < 16 || c.resolution > 1024) throw Error(beam::out_of_range("n", c.resolution, 16, 1024));
   if (c.max_depth < 0 || c.max_depth > beam::kMaxTileDepth) throw Error(beam::out_of_range("depth", c.max_depth, 0, beam::kMaxTileDepth));
   if (c.leaf_size < 1 || c.leaf_size > 4096) throw Error(beam::out_of_range("leaf", c.leaf_size, 1, 4096));
+  if (c.stream < 0 || c.stream > 1) throw Error(beam::out_of_range("stream", c.stream, 0, 1));
 }
 
 BeamField::BeamField(std::unique_ptr<BeamLayout> layout) : layout_(std::move(layout)) {}

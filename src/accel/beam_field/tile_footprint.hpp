@@ -49,6 +49,28 @@ inline bool footprint_overlaps(std::uint32_t box, std::uint32_t key) {
   return true;
 }
 
+/// The lanes l < W whose ray key keys[l] footprint `box` overlaps (bit l set): one footprint against
+/// W rays, the transpose of for_each_overlapping. `keys` is aligned to 4 W bytes.
+template <int W>
+inline std::uint32_t overlapping_keys(std::uint32_t box, const std::uint32_t* keys) {
+#if defined(__AVX512BW__)
+  if constexpr (W == 16) {
+    const __m512i k = _mm512_load_si512(keys);
+    return _mm512_cmpeq_epi32_mask(_mm512_max_epu8(_mm512_set1_epi32(static_cast<int>(box)), k), k);
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (W == 8) {
+    const __m256i k = _mm256_load_si256(reinterpret_cast<const __m256i*>(keys));
+    const __m256i same = _mm256_cmpeq_epi32(_mm256_max_epu8(_mm256_set1_epi32(static_cast<int>(box)), k), k);
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(same)));
+  }
+#endif
+  std::uint32_t lanes = 0;
+  for (int l = 0; l < W; ++l) lanes |= static_cast<std::uint32_t>(footprint_overlaps(box, keys[l])) << l;
+  return lanes;
+}
+
 /// Calls visit(r) for every r in [begin, end), in increasing order, whose footprint boxes[r]
 /// overlaps `key`; stops and returns true as soon as visit returns true. AVX-512 (16 per step),
 /// AVX2 (8) or scalar, with the same calls in the same order.

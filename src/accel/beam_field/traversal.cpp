@@ -14,6 +14,8 @@
 // hit has been covered, with a margin for the rounding of the float t.
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -67,6 +69,84 @@ constexpr double kTRelativeMargin = 1e-5;
 // origins within 4 R of the centre, and a ray from farther widens its own walk by it.
 constexpr double kLateralError = 4e-6;
 
+/// A ray in the frame of a line: the part of it inside the bounding sphere (a little wider, for
+/// rounding), τ in [ta, tb], and its origin and direction in PSF coordinates (s, t across the line,
+/// shifted by R so that tiles start at 0; w along it). Every walk and the per-tile packets start here,
+/// so that they pick the same tiles, leaves and footprint keys.
+struct LineFrameRay {
+  double ta = 0, tb = 0;
+  double s0 = 0, t0 = 0, w0 = 0, ds = 0, dt = 0, dw = 0;
+  double inv_dir_length = 0;  ///< 1 / |dir|
+  double lateral = 0;         ///< How far a reported hit point may lie from its triangle (kLateralError).
+  bool forward = true;        ///< Along the line (w grows with τ).
+
+  /// Sets up `ray` (valid) in the frame of `line`; false when it misses the sphere or its part inside
+  /// is empty.
+  bool set(const BeamLayout& layout, const Ray& ray, std::uint32_t line) {
+    const TileGeometry& g = layout.geometry;
+    const FrameD& f = layout.frames[line];
+    const double dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
+    const double ox = static_cast<double>(ray.org.x) - g.center[0], oy = static_cast<double>(ray.org.y) - g.center[1],
+                 oz = static_cast<double>(ray.org.z) - g.center[2];
+    const double dd = dx * dx + dy * dy + dz * dz;
+    const double b = ox * dx + oy * dy + oz * dz;
+    const double oo = ox * ox + oy * oy + oz * oz;
+    const double r2 = g.radius * g.radius;
+    const double disc = b * b - dd * (oo - r2);
+    if (!(disc >= 0.0)) return false;
+    const double root = std::sqrt(disc);
+    const double pad = 1e-9 * (std::fabs(b) + root) / dd + g.slack / std::sqrt(dd);
+    const double t_in = (-b - root) / dd - pad, t_out = (-b + root) / dd + pad;
+    ta = std::max<double>(ray.tmin, t_in), tb = std::min<double>(ray.tmax, t_out);
+    if (!(ta <= tb)) return false;
+    s0 = f.u[0] * ox + f.u[1] * oy + f.u[2] * oz + g.radius;
+    t0 = f.v[0] * ox + f.v[1] * oy + f.v[2] * oz + g.radius;
+    w0 = f.w[0] * ox + f.w[1] * oy + f.w[2] * oz;
+    ds = f.u[0] * dx + f.u[1] * dy + f.u[2] * dz;
+    dt = f.v[0] * dx + f.v[1] * dy + f.v[2] * dz;
+    dw = f.w[0] * dx + f.w[1] * dy + f.w[2] * dz;
+    forward = dw >= 0.0;
+    inv_dir_length = 1.0 / std::sqrt(dd);
+    lateral = kLateralError * (std::sqrt(oo) + g.radius);
+    return true;
+  }
+
+  /// The tile (ix, iy) where τ = ta projects and whether τ = tb projects into the same one (clamped
+  /// to the grid): the single-tile fast path.
+  bool single_tile(const TileGeometry& g, int& ix, int& iy) const {
+    const double inv = g.inv_tile_size;
+    const double xa = (s0 + ta * ds) * inv, xb = (s0 + tb * ds) * inv;
+    const double ya = (t0 + ta * dt) * inv, yb = (t0 + tb * dt) * inv;
+    ix = clamp_cell(xa, g.n), iy = clamp_cell(ya, g.n);
+    return ix == clamp_cell(xb, g.n) && iy == clamp_cell(yb, g.n);
+  }
+
+  /// The footprint key of the ray's points over τ in [enter, exit] in tile (ix, iy), widened by
+  /// `margin` (a hit point lies within it of the triangle) and a rounding allowance.
+  std::uint32_t segment_key(const TileGeometry& g, int ix, int iy, double enter, double exit, double margin) const {
+    const double x = ix, y = iy;
+    const double inv = g.inv_tile_size, e = margin * inv + 1e-9;
+    const double sa = (s0 + enter * ds) * inv - x, sb = (s0 + exit * ds) * inv - x;
+    const double ya = (t0 + enter * dt) * inv - y, yb = (t0 + exit * dt) * inv - y;
+    return footprint_key(std::min(sa, sb) - e, std::max(sa, sb) + e, std::min(ya, yb) - e, std::max(ya, yb) + e);
+  }
+
+  /// The leaves of `record` from the one holding the depth at τ = enter to the one holding it at
+  /// τ = exit (walk order; `from` > `to` walking against the line), widened by `depth_margin`.
+  void leaves(const RecordView& record, double enter, double exit, double depth_margin, int& from, int& to) const {
+    const double sign = forward ? 1.0 : -1.0;
+    const double w_enter = w0 + enter * dw - sign * depth_margin, w_exit = w0 + exit * dw + sign * depth_margin;
+    from = leaf_of(w_enter, record.lo(), record.scale(), record.last_leaf());
+    to = leaf_of(w_exit, record.lo(), record.scale(), record.last_leaf());
+  }
+
+  static int clamp_cell(double x, int n) {
+    if (!(x > 0.0)) return 0;
+    if (x >= n - 1) return n - 1;
+    return static_cast<int>(x);
+  }
+};
+
 /// The walk of one ray. kAny: stop at the first hit (occlusion).
 template <bool kAny, class Counter>
 class Walk {
@@ -80,49 +160,22 @@ class Walk {
     if (!ray_.is_valid() || layout_.live_slots == 0) return {};
     const TileGeometry& g = layout_.geometry;
     const std::uint32_t line = given_line == kNoLine ? layout_.lines.nearest(ray_.dir).line : given_line;
-    const FrameD& f = layout_.frames[line];
     dir_ = &layout_.directions[line];
-
-    const double dx = ray_.dir.x, dy = ray_.dir.y, dz = ray_.dir.z;
-    const double ox = static_cast<double>(ray_.org.x) - g.center[0], oy = static_cast<double>(ray_.org.y) - g.center[1],
-                 oz = static_cast<double>(ray_.org.z) - g.center[2];
-    // The part of the ray inside the bounding sphere (a little wider, for rounding).
-    const double dd = dx * dx + dy * dy + dz * dz;
-    const double b = ox * dx + oy * dy + oz * dz;
-    const double oo = ox * ox + oy * oy + oz * oz;
-    const double r2 = g.radius * g.radius;
-    const double disc = b * b - dd * (oo - r2);
-    if (!(disc >= 0.0)) return {};
-    const double root = std::sqrt(disc);
-    const double pad = 1e-9 * (std::fabs(b) + root) / dd + g.slack / std::sqrt(dd);
-    const double t_in = (-b - root) / dd - pad, t_out = (-b + root) / dd + pad;
-    const double ta = std::max<double>(ray_.tmin, t_in), tb = std::min<double>(ray_.tmax, t_out);
-    if (!(ta <= tb)) return {};
-
-    s0_ = f.u[0] * ox + f.u[1] * oy + f.u[2] * oz + g.radius;
-    t0_ = f.v[0] * ox + f.v[1] * oy + f.v[2] * oz + g.radius;
-    w0_ = f.w[0] * ox + f.w[1] * oy + f.w[2] * oz;
-    ds_ = f.u[0] * dx + f.u[1] * dy + f.u[2] * dz;
-    dt_ = f.v[0] * dx + f.v[1] * dy + f.v[2] * dz;
-    dw_ = f.w[0] * dx + f.w[1] * dy + f.w[2] * dz;
-    forward_ = dw_ >= 0.0;
-    inv_dir_length_ = 1.0 / std::sqrt(dd);
-    const double lateral = kLateralError * (std::sqrt(oo) + g.radius);
-    if (lateral > g.slack) return run_wide(ta, tb, lateral);
+    if (!f_.set(layout_, ray_, line)) return {};
+    const double ta = f_.ta, tb = f_.tb;
+    if (f_.lateral > g.slack) return run_wide(ta, tb, f_.lateral);
     margin_ = g.slack;
     const double inv = g.inv_tile_size;
-    const double xa = (s0_ + ta * ds_) * inv, xb = (s0_ + tb * ds_) * inv;
-    const double ya = (t0_ + ta * dt_) * inv, yb = (t0_ + tb * dt_) * inv;
     const int n = g.n;
-    int ix = clamp_cell(xa, n), iy = clamp_cell(ya, n);
-    if (ix == clamp_cell(xb, n) && iy == clamp_cell(yb, n)) {
+    int ix = 0, iy = 0;
+    if (f_.single_tile(g, ix, iy)) {
       counter_.single_tile();
       visit_tile(ix, iy, ta, tb, 0.0, true);
       return best_;
     }
 
     // 2D DDA over the tiles the projected segment crosses, with the τ interval spent in each.
-    const double x_rate = ds_ * inv, y_rate = dt_ * inv;
+    const double x_rate = f_.ds * inv, y_rate = f_.dt * inv;
     const int step_x = x_rate > 0.0 ? 1 : -1, step_y = y_rate > 0.0 ? 1 : -1;
     const auto next_crossing = [&](int cell, int step, double origin, double rate) {
       if (rate == 0.0) return std::numeric_limits<double>::infinity();
@@ -130,7 +183,7 @@ class Walk {
       return (boundary - origin) / (rate * g.tile_size);
     };
     double enter = ta;
-    double cross_x = next_crossing(ix, step_x, s0_, x_rate), cross_y = next_crossing(iy, step_y, t0_, y_rate);
+    double cross_x = next_crossing(ix, step_x, f_.s0, x_rate), cross_y = next_crossing(iy, step_y, f_.t0, y_rate);
     for (;;) {
       const double exit = std::max(enter, std::min({cross_x, cross_y, tb}));
       if (visit_tile(ix, iy, enter, exit, 0.0, true))
@@ -140,11 +193,11 @@ class Walk {
       if (cross_x <= cross_y) {
         ix += step_x;
         enter = cross_x;
-        cross_x = next_crossing(ix, step_x, s0_, x_rate);
+        cross_x = next_crossing(ix, step_x, f_.s0, x_rate);
       } else {
         iy += step_y;
         enter = cross_y;
-        cross_y = next_crossing(iy, step_y, t0_, y_rate);
+        cross_y = next_crossing(iy, step_y, f_.t0, y_rate);
       }
       if (ix < 0 || ix >= n || iy < 0 || iy >= n) return best_;
     }
@@ -160,7 +213,7 @@ class Walk {
     margin_ = lateral;
     const double inv = g.inv_tile_size;
     const double e = lateral * inv;  // in tiles
-    const double x0 = s0_ * inv, y0 = t0_ * inv, xr = ds_ * inv, yr = dt_ * inv;
+    const double x0 = f_.s0 * inv, y0 = f_.t0 * inv, xr = f_.ds * inv, yr = f_.dt * inv;
     std::vector<std::uint32_t> tiles;
     const Point2 a{x0 + ta * xr, y0 + ta * yr}, b{x0 + tb * xr, y0 + tb * yr};
     rasterize_triangle(TileGrid{0.0, 0.0, 1.0, g.n}, a, b, b, e, tiles);
@@ -196,16 +249,10 @@ class Walk {
     return best_;
   }
 
-  static int clamp_cell(double x, int n) {
-    if (!(x > 0.0)) return 0;
-    if (x >= n - 1) return n - 1;
-    return static_cast<int>(x);
-  }
-
   // A τ beyond which no hit can beat the best one, for the float rounding of best_.t.
   double stop_t() const {
     const double t = best_.t;
-    return t + kTRelativeMargin * std::fabs(t) + margin_ * inv_dir_length_;
+    return t + kTRelativeMargin * std::fabs(t) + margin_ * f_.inv_dir_length;
   }
 
   // Tests the leaves of tile (ix, iy) that the ray's τ interval [enter, exit] covers, widened by
@@ -218,11 +265,10 @@ class Walk {
     const RecordView record(dir_->arena.data() + offset);
     const double lo = record.lo(), scale = record.scale();
     const int last = record.last_leaf();
-    const std::uint32_t key = segment_key(ix, iy, enter, exit);
-    const double sign = forward_ ? 1.0 : -1.0;
-    const double w_enter = w0_ + enter * dw_ - sign * depth_margin, w_exit = w0_ + exit * dw_ + sign * depth_margin;
+    const std::uint32_t key = f_.segment_key(layout_.geometry, ix, iy, enter, exit, margin_);
     // Leaves in walk order, from the one holding the entry depth to the one holding the exit depth.
-    const int from = leaf_of(w_enter, lo, scale, last), to = leaf_of(w_exit, lo, scale, last);
+    int from = 0, to = 0;
+    f_.leaves(record, enter, exit, depth_margin, from, to);
     const int step = from <= to ? 1 : -1;
     for (int leaf = from;; leaf += step) {
       counter_.leaf();
@@ -231,22 +277,11 @@ class Walk {
         // Every τ of this tile up to the end of this leaf is searched (and every τ before the tile):
         // done when the best hit lies before both.
         const double t_stop = stop_t();
-        const int stop_leaf = leaf_of(w0_ + t_stop * dw_, lo, scale, last);
-        if (t_stop <= exit && (forward_ ? stop_leaf <= leaf : stop_leaf >= leaf)) return true;
+        const int stop_leaf = leaf_of(f_.w0 + t_stop * f_.dw, lo, scale, last);
+        if (t_stop <= exit && (f_.forward ? stop_leaf <= leaf : stop_leaf >= leaf)) return true;
       }
       if (leaf == to) return false;
     }
-  }
-
-  // The footprint key of the ray's points over τ in [enter, exit] in tile `tile`, widened by the
-  // walk's lateral margin (a hit point lies within it of the triangle) and a rounding allowance.
-  std::uint32_t segment_key(int ix, int iy, double enter, double exit) const {
-    const TileGeometry& g = layout_.geometry;
-    const double x = ix, y = iy;
-    const double inv = g.inv_tile_size, e = margin_ * inv + 1e-9;
-    const double sa = (s0_ + enter * ds_) * inv - x, sb = (s0_ + exit * ds_) * inv - x;
-    const double ta = (t0_ + enter * dt_) * inv - y, tb = (t0_ + exit * dt_) * inv - y;
-    return footprint_key(std::min(sa, sb) - e, std::max(sa, sb) + e, std::min(ta, tb) - e, std::max(ta, tb) + e);
   }
 
   // Tests the references of `leaf` whose footprint overlaps `key`: their triangles are fetched
@@ -346,10 +381,8 @@ class Walk {
   std::uint32_t block_used_ = kBlock;
   Counter counter_;
   const DirectionTiles* dir_ = nullptr;
-  double s0_ = 0, t0_ = 0, w0_ = 0, ds_ = 0, dt_ = 0, dw_ = 0;
-  double inv_dir_length_ = 0;  // 1 / |dir|
-  double margin_ = 0;          // lateral margin of this walk (the build's slack, or the ray's own)
-  bool forward_ = true;
+  LineFrameRay f_;
+  double margin_ = 0;  // lateral margin of this walk (the build's slack, or the ray's own)
   Hit best_;
 };
 
@@ -388,12 +421,56 @@ void prefetch_origin_leaf(const BeamLayout& layout, const Ray& ray, std::uint32_
   for (int k = 0; k < 4; ++k) __builtin_prefetch(at + (forward ? 64 : -64) * k);
 }
 
+/// Sorts idx[0 .. count) by key[idx[k]] (< key_count), the order among equal keys unspecified: a
+/// counting sort when the keys are few against the group (O(count + key_count)), else a comparison
+/// sort of the small group. `scratch` is reused between calls.
+void sort_by_key(std::uint32_t* idx, std::size_t count, const std::uint32_t* key, std::size_t key_count, std::vector<std::uint32_t>& scratch) {
+  if (count < 2) return;
+  if (key_count > 4 * count) {
+    std::sort(idx, idx + count, [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+    return;
+  }
+  scratch.assign(key_count + 1 + count, 0);
+  std::uint32_t* start = scratch.data();
+  std::uint32_t* sorted = scratch.data() + key_count + 1;
+  for (std::size_t k = 0; k < count; ++k) ++start[key[idx[k]] + 1];
+  for (std::size_t k = 0; k < key_count; ++k) start[k + 1] += start[k];
+  for (std::size_t k = 0; k < count; ++k) sorted[start[key[idx[k]]]++] = idx[k];
+  std::copy(sorted, sorted + count, idx);
+}
+
+/// Runs query(i, rays[i], line_of(i)) for i = idx[0 .. count), in that order (sorted by line and origin
+/// tile, tile_of(i)): a block's rays, lines and tiles are first gathered into local arrays
+/// (independent loads, which the memory system overlaps), then traced in order with each ray's tile
+/// record prefetched kRecordAhead rays ahead and its origin leaf kLeafAhead rays ahead (by when the
+/// record has arrived), so that the misses of consecutive rays overlap too.
+template <class LineOf, class TileOf, class Query>
+void trace_in_order(const BeamLayout& layout, std::span<const Ray> rays, const std::uint32_t* idx, std::size_t count, LineOf&& line_of,
+                    TileOf&& tile_of, Query&& query) {
+  constexpr std::size_t kBlock = 256, kRecordAhead = 16, kLeafAhead = 8;
+  Ray block_rays[kBlock];
+  std::uint32_t block_lines[kBlock], block_tiles[kBlock];
+  for (std::size_t first = 0; first < count; first += kBlock) {
+    const std::size_t size = std::min(kBlock, count - first);
+    for (std::size_t k = 0; k < size; ++k) {
+      const std::uint32_t i = idx[first + k];
+      block_rays[k] = rays[i];
+      block_lines[k] = line_of(i);
+      block_tiles[k] = tile_of(i);
+    }
+    for (std::size_t k = 0; k < size; ++k) {
+      if (k + kRecordAhead < size) prefetch_record(layout, block_lines[k + kRecordAhead], block_tiles[k + kRecordAhead]);
+      if (k + kLeafAhead < size) prefetch_origin_leaf(layout, block_rays[k + kLeafAhead], block_lines[k + kLeafAhead], block_tiles[k + kLeafAhead]);
+      query(idx[first + k], block_rays[k], block_lines[k]);
+    }
+  }
+}
+
 /// Runs query(i, rays[i], line) for every ray, grouped by nearest line and, within a line, by the
 /// tile of the origin: lines and tiles are found in parallel, the ray indices counting-sorted by line,
-/// each line's indices stable-sorted by tile (in parallel; a merge sort, fast on the long sorted runs
-/// that neighbouring points give), and the sorted order traced in parallel chunks. The field is far
-/// larger than the caches: this order reads each direction's tile records once, front to back,
-/// instead of once per ray (AO rays from one point use every direction).
+/// each line's indices sorted by tile (in parallel), and the sorted order traced in parallel chunks.
+/// The field is far larger than the caches: this order reads each direction's tile records once,
+/// front to back, instead of once per ray (AO rays from one point use every direction).
 template <class Query>
 void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query&& query) {
   std::vector<std::uint32_t> line_of(rays.size()), tile_of(rays.size());
@@ -411,34 +488,270 @@ void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < rays.size(); ++i) order[fill[line_of[i]]++] = static_cast<std::uint32_t>(i);
   }
+  const std::size_t tiles = static_cast<std::size_t>(layout.geometry.n) * static_cast<std::size_t>(layout.geometry.n);
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 8), [&](const auto& range) {
+    std::vector<std::uint32_t> scratch;
     for (std::size_t line = range.begin(); line != range.end(); ++line)
-      std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(start[line]), order.begin() + static_cast<std::ptrdiff_t>(start[line + 1]),
-                       [&](std::uint32_t a, std::uint32_t b) { return tile_of[a] < tile_of[b]; });
+      sort_by_key(order.data() + start[line], start[line + 1] - start[line], tile_of.data(), tiles, scratch);
   });
-  // The sorted rays are traced in blocks: a block's rays, lines and tiles are first gathered into
-  // local arrays (independent loads, which the memory system overlaps), then traced in order with
-  // each ray's tile record prefetched kRecordAhead rays ahead and its origin leaf kLeafAhead rays
-  // ahead (by when the record has arrived), so that the misses of consecutive rays overlap too.
-  constexpr std::size_t kBlock = 256, kRecordAhead = 16, kLeafAhead = 8;
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 1024), [&](const auto& range) {
     check_interrupt();
-    Ray block_rays[kBlock];
-    std::uint32_t block_lines[kBlock], block_tiles[kBlock];
-    for (std::size_t first = range.begin(); first < range.end(); first += kBlock) {
-      const std::size_t count = std::min(kBlock, range.end() - first);
-      for (std::size_t k = 0; k < count; ++k) {
-        const std::uint32_t i = order[first + k];
-        block_rays[k] = rays[i];
-        block_lines[k] = line_of[i];
-        block_tiles[k] = tile_of[i];
+    trace_in_order(
+        layout, rays, order.data() + range.begin(), range.size(), [&](std::uint32_t i) { return line_of[i]; },
+        [&](std::uint32_t i) { return tile_of[i]; }, query);
+  });
+}
+
+// ---- Streams: rays along a stored line, traced tile by tile in packets --------------------------
+
+constexpr int kPacket = simd::kNativeWidth;
+
+/// Up to kPacket rays of one tile, along one line in one orientation, traced together.
+struct alignas(64) Packet {
+  simd::RayBlock<kPacket> origins;              // org permuted to the shared kx, ky, kz; NaN in unused lanes
+  alignas(64) std::uint32_t keys[kPacket];      // footprint keys
+  alignas(64) float tmin[kPacket];
+  alignas(64) float tmax[kPacket];
+  int from[kPacket], to[kPacket];               // first and last leaf, counted in walk order
+  std::uint32_t ray[kPacket];                   // index in the batch
+  int count = 0;
+};
+
+/// A stream ray in its tile: its first and last leaf in walk order and its footprint key, exactly as
+/// Walk::visit_tile computes them on the single-tile path.
+struct TileRay {
+  std::uint32_t ray;
+  std::uint32_t key;
+  int from, to;
+};
+
+/// What one thread reuses between tiles.
+struct StreamScratch {
+  std::vector<TileRay> rays, sorted;
+  std::vector<std::uint32_t> counts;
+};
+
+/// Occlusion of the rays idx[0 .. count) of `rays`, which all run along `line` the same way (the
+/// same direction bit for bit, whose watertight constants `shear` holds) and stay in tile `tile`:
+/// the record is read once, the rays sorted by first leaf, and each packet of kPacket of them walks
+/// the leaves near to far once; in each leaf every reference whose footprint meets some live ray's key
+/// is tested against those rays at once. A ray's candidates are those Walk would test (the leaves
+/// from its origin's to its end's, the references its key lets through), so its answer is Walk's.
+void trace_tile_stream(const BeamLayout& layout, std::uint32_t line, std::uint32_t tile, const simd::BlockRay<kPacket>& shear,
+                       std::span<const Ray> rays, const std::uint32_t* idx, std::size_t count, std::span<std::uint8_t> occluded,
+                       StreamScratch& scratch) {
+  const DirectionTiles& dir = layout.directions[line];
+  const std::uint32_t offset = dir.tiles[tile];
+  if (offset == kEmptyTile) {
+    for (std::size_t k = 0; k < count; ++k) occluded[idx[k]] = 0;
+    return;
+  }
+  const RecordView record(dir.arena.data() + offset);
+  const TileGeometry& g = layout.geometry;
+  const int ix = static_cast<int>(tile % static_cast<std::uint32_t>(g.n)), iy = static_cast<int>(tile / static_cast<std::uint32_t>(g.n));
+  const int last = record.last_leaf();
+  bool forward = true;
+  scratch.rays.clear();
+  for (std::size_t k = 0; k < count; ++k) {
+    LineFrameRay f;
+    f.set(layout, rays[idx[k]], line);  // true: the ray was binned here because it meets the sphere
+    int from = 0, to = 0;
+    f.leaves(record, f.ta, f.tb, 0.0, from, to);
+    forward = f.forward;  // the same for every ray of a stream (one direction)
+    if (!forward) from = last - from, to = last - to;
+    scratch.rays.push_back({idx[k], f.segment_key(g, ix, iy, f.ta, f.tb, g.slack), from, to});
+  }
+  // By first leaf (a counting sort over the leaves), so that a packet's rays start close together.
+  std::vector<TileRay>& sorted = scratch.sorted;
+  sorted.resize(count);
+  scratch.counts.assign(static_cast<std::size_t>(last) + 2, 0);
+  for (const TileRay& r : scratch.rays) ++scratch.counts[static_cast<std::size_t>(r.from) + 1];
+  for (int l = 0; l <= last; ++l) scratch.counts[static_cast<std::size_t>(l) + 1] += scratch.counts[static_cast<std::size_t>(l)];
+  for (const TileRay& r : scratch.rays) sorted[scratch.counts[static_cast<std::size_t>(r.from)]++] = r;
+
+  using V = simd::Lanes<kPacket>;
+  Packet p;
+  for (std::size_t first = 0; first < count; first += kPacket) {
+    p.count = static_cast<int>(std::min<std::size_t>(kPacket, count - first));
+    int walk_end = 0;
+    for (int l = 0; l < kPacket; ++l) {
+      if (l < p.count) {
+        const TileRay& r = sorted[first + static_cast<std::size_t>(l)];
+        const Ray& ray = rays[r.ray];
+        p.origins.org[l] = ray.org[shear.kx];
+        p.origins.org[kPacket + l] = ray.org[shear.ky];
+        p.origins.org[2 * kPacket + l] = ray.org[shear.kz];
+        p.keys[l] = r.key;
+        p.tmin[l] = ray.tmin;
+        p.tmax[l] = ray.tmax;
+        p.from[l] = r.from;
+        p.to[l] = r.to;
+        p.ray[l] = r.ray;
+        walk_end = std::max(walk_end, r.to);
+      } else {
+        for (int axis = 0; axis < 3; ++axis) p.origins.org[axis * kPacket + l] = std::numeric_limits<float>::quiet_NaN();
+        p.keys[l] = 0;
+        p.tmin[l] = p.tmax[l] = 0.0f;
       }
-      for (std::size_t k = 0; k < count; ++k) {
-        if (k + kRecordAhead < count) prefetch_record(layout, block_lines[k + kRecordAhead], block_tiles[k + kRecordAhead]);
-        if (k + kLeafAhead < count)
-          prefetch_origin_leaf(layout, block_rays[k + kLeafAhead], block_lines[k + kLeafAhead], block_tiles[k + kLeafAhead]);
-        query(order[first + k], block_rays[k], block_lines[k]);
+    }
+    const V tmin = V::load(p.tmin), tmax = V::load(p.tmax);
+    simd::LaneBits hit = 0, active = 0;
+    int entered = 0;
+    for (int step = p.from[0]; step <= walk_end; ++step) {
+      while (entered < p.count && p.from[entered] <= step) active |= simd::LaneBits{1} << entered++;
+      if (active == 0) {
+        if (entered == p.count) break;
+        step = p.from[entered] - 1;  // the next ray's first leaf: nothing to test before it
+        continue;
       }
+      const int leaf = forward ? step : last - step;
+      const std::uint32_t size = record.leaf_size(leaf);
+      const std::uint32_t* footprints = record.leaf_footprints(leaf);
+      const std::uint32_t* slots = record.leaf_slots(leaf);
+      // kBatch references at a time: first which rays each one's footprint meets (its triangle
+      // prefetched when any), then the tests, so that the triangles' loads overlap.
+      constexpr std::uint32_t kBatch = 16;
+      std::uint32_t batch[kBatch];
+      simd::LaneBits meets[kBatch];
+      for (std::uint32_t begin = 0; begin < size && active != 0; begin += kBatch) {
+        std::uint32_t candidates = 0;
+        for (std::uint32_t r = begin; r < std::min(size, begin + kBatch); ++r) {
+          const simd::LaneBits m = overlapping_keys<kPacket>(footprints[r], p.keys) & active;
+          if (m == 0) continue;
+          batch[candidates] = slots[r];
+          meets[candidates++] = m;
+          __builtin_prefetch(&layout.triangles[slots[r]]);
+        }
+        for (std::uint32_t c = 0; c < candidates; ++c) {
+          const simd::LaneBits m = meets[c] & active;
+          if (m == 0) continue;
+          const std::array<Vec3f, 3>& t = layout.triangles[batch[c]];
+          const simd::LaneBits now = simd::intersect_rays<kPacket>(p.origins, shear, t[0], t[1], t[2], tmin, tmax) & m;
+          if (now == 0) continue;
+          hit |= now;
+          active &= ~now;
+          if (active == 0) break;
+        }
+      }
+      // Rays whose last leaf this was leave the packet.
+      for (simd::LaneBits left = active; left != 0; left &= left - 1) {
+        const int l = simd::first_lane(left);
+        if (p.to[l] == step) active &= ~(simd::LaneBits{1} << l);
+      }
+    }
+    for (int l = 0; l < p.count; ++l) occluded[p.ray[l]] = (hit >> l) & 1u;
+  }
+}
+
+/// occluded_block, on the calling thread (and occluded_batch's runs of one line): rays along a stored
+/// line that stay in one tile go to trace_tile_stream, grouped by (line, orientation) and binned by
+/// tile; the rest are traced one by one in line and tile order.
+void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  const std::size_t lines = layout.lines.size();
+  const TileGeometry& g = layout.geometry;
+  const auto n = static_cast<std::uint32_t>(g.n);
+  const std::size_t tiles = static_cast<std::size_t>(n) * n;
+  // Buckets: 2 line + (0 along, 1 against) for streams, 2 lines + line for rays one by one; rays
+  // answered here (invalid, an empty field, missing the sphere) go to no bucket.
+  const std::size_t buckets = 3 * lines;
+  constexpr std::uint32_t kAnswered = 0xffffffffu;
+  std::vector<std::uint32_t> bucket_of(rays.size()), tile_of(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Ray& ray = rays[i];
+    if (!ray.is_valid() || layout.live_slots == 0) {
+      bucket_of[i] = kAnswered;
+      occluded[i] = 0;
+      continue;
+    }
+    const NearestLine nearest = layout.lines.nearest(ray.dir);
+    const Vec3f w = nearest.sign > 0 ? layout.lines.direction(nearest.line) : -layout.lines.direction(nearest.line);
+    if (std::bit_cast<std::array<std::uint32_t, 3>>(ray.dir) == std::bit_cast<std::array<std::uint32_t, 3>>(w)) {
+      LineFrameRay f;
+      if (!f.set(layout, ray, nearest.line)) {
+        bucket_of[i] = kAnswered;
+        occluded[i] = 0;
+        continue;
+      }
+      int ix = 0, iy = 0;
+      if (f.lateral <= g.slack && f.single_tile(g, ix, iy)) {
+        bucket_of[i] = 2 * nearest.line + (nearest.sign > 0 ? 0u : 1u);
+        tile_of[i] = static_cast<std::uint32_t>(iy) * n + static_cast<std::uint32_t>(ix);
+        continue;
+      }
+    }
+    bucket_of[i] = static_cast<std::uint32_t>(2 * lines) + nearest.line;
+    tile_of[i] = origin_tile(layout, ray.org, nearest.line);
+  }
+  std::vector<std::size_t> start(buckets + 1, 0);
+  for (const std::uint32_t b : bucket_of)
+    if (b != kAnswered) ++start[b + 1];
+  for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<std::uint32_t> order(start[buckets]);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      if (bucket_of[i] != kAnswered) order[fill[bucket_of[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  {
+    std::vector<std::uint32_t> scratch;
+    for (std::size_t b = 0; b < buckets; ++b) sort_by_key(order.data() + start[b], start[b + 1] - start[b], tile_of.data(), tiles, scratch);
+  }
+  StreamScratch scratch;
+  for (std::size_t b = 0; b < buckets; ++b) {
+    const std::uint32_t* idx = order.data() + start[b];
+    const std::size_t count = start[b + 1] - start[b];
+    if (count == 0) continue;
+    if (b >= 2 * lines) {
+      const auto line = static_cast<std::uint32_t>(b - 2 * lines);
+      trace_in_order(
+          layout, rays, idx, count, [&](std::uint32_t) { return line; }, [&](std::uint32_t i) { return tile_of[i]; },
+          [&](std::size_t i, const Ray& ray, std::uint32_t l) { occluded[i] = Walk<true, NoCount>(layout, ray, {}).run(l).found ? 1 : 0; });
+      continue;
+    }
+    const auto line = static_cast<std::uint32_t>(b / 2);
+    const simd::BlockRay<kPacket> shear{WatertightRay(rays[idx[0]])};
+    for (std::size_t k = 0; k < count;) {
+      std::size_t end = k + 1;
+      while (end < count && tile_of[idx[end]] == tile_of[idx[k]]) ++end;
+      trace_tile_stream(layout, line, tile_of[idx[k]], shear, rays, idx + k, end - k, occluded, scratch);
+      k = end;
+    }
+  }
+}
+
+/// occluded_batch's stream path for many rays: the rays are counting-sorted by nearest line, and each
+/// line's rays (in runs of at most kLineRun) are gathered into a contiguous copy and traced by
+/// occluded_streams on one thread, the runs in parallel. A run's rays, their tiles and records then
+/// stay in the caches, where one pass over the whole batch would fetch each ray from memory twice.
+void occluded_streams_by_line(const BeamLayout& layout, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  constexpr std::size_t kLineRun = 32768;
+  std::vector<std::uint32_t> line_of(rays.size());
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      line_of[i] = rays[i].is_valid() ? layout.lines.nearest(rays[i].dir).line : 0;
+  });
+  std::vector<std::size_t> start(layout.lines.size() + 1, 0);
+  for (const std::uint32_t line : line_of) ++start[line + 1];
+  for (std::size_t k = 0; k < layout.lines.size(); ++k) start[k + 1] += start[k];
+  std::vector<std::uint32_t> order(rays.size());
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < rays.size(); ++i) order[fill[line_of[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
+  for (std::size_t line = 0; line < layout.lines.size(); ++line)
+    for (std::size_t k = start[line]; k < start[line + 1]; k += kLineRun) runs.emplace_back(k, std::min(start[line + 1], k + kLineRun));
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, runs.size(), 1), [&](const auto& range) {
+    std::vector<Ray> run_rays;
+    std::vector<std::uint8_t> run_answers;
+    for (std::size_t r = range.begin(); r != range.end(); ++r) {
+      check_interrupt();
+      const auto [first, last] = runs[r];
+      run_rays.resize(last - first);
+      run_answers.resize(last - first);
+      for (std::size_t k = first; k < last; ++k) run_rays[k - first] = rays[order[k]];
+      occluded_streams(layout, run_rays, run_answers);
+      for (std::size_t k = first; k < last; ++k) occluded[order[k]] = run_answers[k - first];
     }
   });
 }
@@ -475,9 +788,21 @@ void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::spa
 }
 
 void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  if (field.config().stream) {
+    beam::occluded_streams_by_line(field.layout(), rays, occluded);
+    return;
+  }
   beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, const Ray& ray, std::uint32_t line) {
     occluded[i] = field.occluded_on_line(ray, line) ? 1 : 0;
   });
+}
+
+void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  if (field.config().stream) {
+    beam::occluded_streams(field.layout(), rays, occluded);
+    return;
+  }
+  for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = field.occluded(rays[i]) ? 1 : 0;
 }
 
 }  // namespace vf

@@ -1,6 +1,7 @@
 #pragma once
 /// \file The watertight ray–triangle test of core/triangle_intersect.hpp evaluated on W triangles
-/// at once. Shared by BruteForce and the Bvh leaves. Each lane performs exactly the operations of
+/// against one ray (BruteForce, the Bvh leaves, BeamField's leaves) or on W parallel rays against one
+/// triangle (BeamField's per-tile packets). Each lane performs exactly the operations of
 /// intersect_triangle(), in the same order and precision (the double-precision edge fallback runs
 /// per lane in scalar code), so every lane's hit/miss, t, u and v are bit-identical to it.
 
@@ -95,30 +96,25 @@ inline void recompute_edges_in_double(LaneBits lanes, const Lanes<W> (&xy)[6], L
 
 }  // namespace detail
 
-/// Tests the W triangles of `block` against the ray for t in (tmin, tmax] (broadcast); returns the
-/// lanes that hit. With kWantHits the t, u, v of those lanes are written to `hits`.
+/// The watertight test's decision from the corners relative to the ray origins (a = p0 - org, ...,
+/// each permuted to kx, ky, kz) and the shear: intersect_triangle()'s operations after its
+/// subtraction, lane by lane. Lanes whose a_x is NaN are unused. With kWantHits the t, u, v of the hit
+/// lanes are written to `hits`.
 template <int W, bool kWantHits>
-inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>& r, const Lanes<W>& tmin,
-                                const Lanes<W>& tmax, BlockHits<W>* hits) {
+inline LaneBits hit_lanes(const Lanes<W>& a_x, const Lanes<W>& a_y, const Lanes<W>& a_z, const Lanes<W>& b_x, const Lanes<W>& b_y,
+                          const Lanes<W>& b_z, const Lanes<W>& c_x, const Lanes<W>& c_y, const Lanes<W>& c_z, const Lanes<W>& sx,
+                          const Lanes<W>& sy, const Lanes<W>& sz, const Lanes<W>& tmin, const Lanes<W>& tmax, BlockHits<W>* hits) {
   using V = Lanes<W>;
-  // a = p0 - org, b = p1 - org, c = p2 - org (only the permuted components are needed). Corner k
-  // of a row lies 3 * W floats after corner k - 1: three base pointers and constant offsets.
-  const float* px = block.row(0, r.kx);
-  const float* py = block.row(0, r.ky);
-  const float* pz = block.row(0, r.kz);
-  const V a_x = V::load(px) - r.org_x, a_y = V::load(py) - r.org_y, a_z = V::load(pz) - r.org_z;
-  const V b_x = V::load(px + 3 * W) - r.org_x, b_y = V::load(py + 3 * W) - r.org_y, b_z = V::load(pz + 3 * W) - r.org_z;
-  const V c_x = V::load(px + 6 * W) - r.org_x, c_y = V::load(py + 6 * W) - r.org_y, c_z = V::load(pz + 6 * W) - r.org_z;
-  const V ax = a_x - r.sx * a_z, ay = a_y - r.sy * a_z;
-  const V bx = b_x - r.sx * b_z, by = b_y - r.sy * b_z;
-  const V cx = c_x - r.sx * c_z, cy = c_y - r.sy * c_z;
+  const V ax = a_x - sx * a_z, ay = a_y - sy * a_z;
+  const V bx = b_x - sx * b_z, by = b_y - sy * b_z;
+  const V cx = c_x - sx * c_z, cy = c_y - sy * c_z;
   V e0 = cx * by - cy * bx;
   V e1 = ax * cy - ay * cx;
   V e2 = bx * ay - by * ax;
   const V zero = V::broadcast(0.0f);
   // intersect_triangle rejects when some edge value is < 0 and some is > 0. Unused lanes (NaN
-  // corners) are dropped here as well; real triangles have finite corners, so a NaN edge value of
-  // theirs (an overflow) stays a candidate, exactly as in the scalar test.
+  // corners or origins) are dropped here as well; real triangles have finite corners, so a NaN edge
+  // value of theirs (an overflow) stays a candidate, exactly as in the scalar test.
   const auto mixed_signs = [&] {
     return (cmp_lt(e0, zero) | cmp_lt(e1, zero) | cmp_lt(e2, zero)) &
            (cmp_gt(e0, zero) | cmp_gt(e1, zero) | cmp_gt(e2, zero));
@@ -138,7 +134,7 @@ inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>
   const V det = e0 + e1 + e2;
   candidates &= ~cmp_eq(det, zero);
   if (candidates == 0) return 0;
-  const V az = r.sz * a_z, bz = r.sz * b_z, cz = r.sz * c_z;
+  const V az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
   const V t_scaled = e0 * az + e1 * bz + e2 * cz;
   const V inv_det = V::broadcast(1.0f) / det;
   const V t = t_scaled * inv_det;
@@ -151,6 +147,46 @@ inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>
     }
   }
   return hit;
+}
+
+/// Tests the W triangles of `block` against the ray for t in (tmin, tmax] (broadcast); returns the
+/// lanes that hit. With kWantHits the t, u, v of those lanes are written to `hits`.
+template <int W, bool kWantHits>
+inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>& r, const Lanes<W>& tmin,
+                                const Lanes<W>& tmax, BlockHits<W>* hits) {
+  using V = Lanes<W>;
+  // a = p0 - org, b = p1 - org, c = p2 - org (only the permuted components are needed). Corner k
+  // of a row lies 3 * W floats after corner k - 1: three base pointers and constant offsets.
+  const float* px = block.row(0, r.kx);
+  const float* py = block.row(0, r.ky);
+  const float* pz = block.row(0, r.kz);
+  const V a_x = V::load(px) - r.org_x, a_y = V::load(py) - r.org_y, a_z = V::load(pz) - r.org_z;
+  const V b_x = V::load(px + 3 * W) - r.org_x, b_y = V::load(py + 3 * W) - r.org_y, b_z = V::load(pz + 3 * W) - r.org_z;
+  const V c_x = V::load(px + 6 * W) - r.org_x, c_y = V::load(py + 6 * W) - r.org_y, c_z = V::load(pz + 6 * W) - r.org_z;
+  return hit_lanes<W, kWantHits>(a_x, a_y, a_z, b_x, b_y, b_z, c_x, c_y, c_z, r.sx, r.sy, r.sz, tmin, tmax, hits);
+}
+
+/// W rays of one direction (their shared WatertightRay constants kx, ky, kz, sx, sy, sz) with their
+/// own origins, structure of arrays: org[axis * W + lane] in the permuted axes kx, ky, kz. Unused
+/// lanes hold NaN origins, which never hit.
+template <int W>
+struct alignas(W * 4 > 64 ? 64 : W * 4) RayBlock {
+  float org[3 * W];
+};
+
+/// Tests triangle (p0, p1, p2) against the W rays of `rays` (sharing `shear`'s direction constants;
+/// its origin is ignored) for t in (tmin, tmax] per lane; returns the lanes that hit. Each lane's
+/// answer is bit for bit intersect_triangle()'s for that ray.
+template <int W>
+inline LaneBits intersect_rays(const RayBlock<W>& rays, const BlockRay<W>& shear, const Vec3f& p0, const Vec3f& p1, const Vec3f& p2,
+                               const Lanes<W>& tmin, const Lanes<W>& tmax) {
+  using V = Lanes<W>;
+  const V ox = V::load(rays.org), oy = V::load(rays.org + W), oz = V::load(rays.org + 2 * W);
+  const int kx = shear.kx, ky = shear.ky, kz = shear.kz;
+  const V a_x = V::broadcast(p0[kx]) - ox, a_y = V::broadcast(p0[ky]) - oy, a_z = V::broadcast(p0[kz]) - oz;
+  const V b_x = V::broadcast(p1[kx]) - ox, b_y = V::broadcast(p1[ky]) - oy, b_z = V::broadcast(p1[kz]) - oz;
+  const V c_x = V::broadcast(p2[kx]) - ox, c_y = V::broadcast(p2[ky]) - oy, c_z = V::broadcast(p2[kz]) - oz;
+  return hit_lanes<W, false>(a_x, a_y, a_z, b_x, b_y, b_z, c_x, c_y, c_z, shear.sx, shear.sy, shear.sz, tmin, tmax, nullptr);
 }
 
 }  // namespace vf::simd

@@ -138,7 +138,7 @@ TEST(Registry, BadSpecsAreRefusedWithOneLineNamingTheProblem) {
       {"beam:n=0", "n=0: expected a non-negative integer in 16..1024"},
       {"beam:dirs=500", "dirs=500: expected one of 33, 129, 513, 2049, 8193"},
       {"beam:depth=13", "depth=13: expected a non-negative integer in 0..12"},
-      {"beam:levels=2", "unknown key 'levels' (valid keys: dirs, n, depth, leaf)"},
+      {"beam:levels=2", "unknown key 'levels' (valid keys: dirs, n, depth, leaf, stream)"},
   };
   for (const auto& [spec, expected] : cases) {
     std::string message;

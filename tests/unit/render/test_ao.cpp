@@ -5,6 +5,9 @@
 #include <numbers>
 
 #include "test_scenes.hpp"
+#include "visfield/accel/beam_field.hpp"
+#include "visfield/accel/bvh.hpp"
+#include "visfield/core/direction_lines.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/render/ao.hpp"
@@ -116,6 +119,91 @@ TEST(RenderAo, ImageDoesNotDependOnThreadsOrTiles) {
   EXPECT_GT(grey, one_thread.pixels.size() / 2);  // the room is mostly partly occluded: the test has teeth
   opt.seed = 12;
   EXPECT_NE(render_ao(accel, accel, scene, camera, opt).pixels, one_thread.pixels);
+}
+
+// AO along the lines is traced line by line over the whole image; each pixel must be what the
+// per-point loop of the contract gives (render_ao's doc): one ray along each line not perpendicular
+// to the normal, weighted by |cos|, summed in line order.
+float lines_pixel(const BruteForce& accel, const Scene& scene, const Camera& camera, const AoOptions& opt, int x, int y,
+                  std::uint64_t& rays) {
+  const PinholeCamera pinhole(camera);
+  const SurfaceSpawner spawner(scene);
+  const DirectionLines lines(opt.psf_level);
+  float value = 0.0f;
+  for (int s = 0; s < opt.spp; ++s) {
+    Rng rng(opt.seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(camera.width) + x, static_cast<std::uint64_t>(s));
+    const Ray primary = pixel_ray(pinhole, x, y, opt.spp > 1, rng);
+    const Hit hit = accel.intersect(primary);
+    if (!hit) {
+      value += kAoBackground;
+      continue;
+    }
+    const SurfacePoint point = spawner.surface_point(primary, hit);
+    float total = 0.0f;
+    Vec3f sum{0.0f};
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      const Vec3f& w = lines.direction(k);
+      const float c = dot(point.normal, w);
+      if (c == 0.0f) continue;
+      total += std::fabs(c);
+      ++rays;
+      if (!accel.occluded(Ray{point.position, c > 0.0f ? w : -w, 0.0f, opt.max_distance})) sum += Vec3f{std::fabs(c)};
+    }
+    value += total > 0.0f ? sum.x / total : 1.0f;
+  }
+  return value / static_cast<float>(opt.spp);
+}
+
+TEST(RenderAo, AlongTheLinesEveryPixelIsThePerPointSum) {
+  const Scene scene = make_builtin_scene("cornell", {.size = 300});
+  const BruteForce accel = test::scene_oracle(scene);
+  const Camera camera = scene.camera_or_default(24, 18);
+  AoOptions opt = quiet_options(1);
+  opt.psf_level = 3;
+  opt.spp = 2;
+  opt.max_distance = 0.4f * length(scene.bounds().extent());
+  RenderStats stats;
+  const Image image = render_ao(accel, accel, scene, camera, opt, &stats);
+  std::size_t grey = 0;
+  std::uint64_t rays = 0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const float expected = lines_pixel(accel, scene, camera, opt, x, y, rays);
+      ASSERT_EQ(image.at(x, y), Vec3f{expected}) << "pixel " << x << ", " << y;
+      grey += expected > 0.0f && expected < 1.0f;
+    }
+  EXPECT_GT(grey, image.pixels.size() / 2);
+  EXPECT_EQ(stats.by_kind.camera, 24u * 18u * 2u);
+  EXPECT_EQ(stats.by_kind.ao, rays);
+  EXPECT_GT(rays, 24u * 18u * 2u * 50u);
+  // A region is the whole image's pixels at the same places.
+  opt.region = ImageTile{5, 3, 19, 11};
+  const Image region = render_ao(accel, accel, scene, camera, opt);
+  for (int y = 3; y < 11; ++y)
+    for (int x = 5; x < 19; ++x) ASSERT_EQ(region.at(x - 5, y - 3), image.at(x, y));
+}
+
+TEST(RenderAo, AlongTheLinesTheImageDoesNotDependOnTheStructureOrThreads) {
+  const Scene scene = make_builtin_scene("boxes", {.size = 400});
+  const TriangleSet set = flatten(scene);
+  const BruteForce brute = BruteForce::build(set);
+  const Bvh bvh = Bvh::build(set);
+  const Camera camera = scene.camera_or_default(40, 30);
+  AoOptions opt = quiet_options(1);
+  opt.psf_level = 3;
+  Image reference;
+  {
+    const ThreadLimit limit(1);
+    reference = render_ao(bvh, brute, scene, camera, opt);
+  }
+  for (const int stream : {0, 1}) {
+    const BeamField beam = BeamField::build(scene, set, {.level = 3, .resolution = 32, .max_depth = 3, .stream = stream});
+    for (const int threads : {1, 2}) {
+      const ThreadLimit limit(threads);
+      EXPECT_EQ(render_ao(bvh, beam, scene, camera, opt).pixels, reference.pixels) << "stream " << stream << ", " << threads << " threads";
+    }
+  }
+  EXPECT_EQ(render_ao(bvh, bvh, scene, camera, opt).pixels, reference.pixels);
 }
 
 TEST(RenderAo, JitterChangesNothingInUniformScenes) {
