@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -24,7 +25,8 @@ namespace {
 /// Bytes of unoccluded flags a block of AO along the lines may hold: samples x lines.
 constexpr std::size_t kLineBlockBytes = std::size_t{1} << 26;
 
-/// AO along the lines of `lines` (VLF-RT §7), traced line by line: the region's rows are taken in
+/// AO along the lines of `lines` (VLF-RT §7) for an occluder that prefers line streams, traced line
+/// by line: the region's rows are taken in
 /// blocks of at most kLineBlockBytes / lines pixel samples; in a block, the camera pass finds every
 /// sample's surface point, then each line (in parallel) hands the rays along it from all the block's
 /// points, in sample order, to queries.occluded_block in one call — a stream of parallel rays, which a
@@ -148,7 +150,9 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
   const PinholeCamera pinhole(camera);
   const SurfaceSpawner spawner(scene);
   const ImageTile region = render_region(opt.region, pinhole.width(), pinhole.height());
-  if (opt.psf_level > 0) return render_ao_lines(queries, scene, pinhole, opt, region, DirectionLines(opt.psf_level), stats);
+  const std::optional<DirectionLines> lines =
+      opt.psf_level > 0 ? std::optional<DirectionLines>(std::in_place, opt.psf_level) : std::nullopt;
+  if (lines && queries.occluder_prefers_line_streams()) return render_ao_lines(queries, scene, pinhole, opt, region, *lines, stats);
   Image image(region.x1 - region.x0, region.y1 - region.y0);
   auto shade_tile = [&](const ImageTile& tile) -> RayCounts {
     RayCounts rays;
@@ -170,9 +174,20 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
             continue;
           }
           const SurfacePoint point = spawner.surface_point(primary, hit);
-          for (int k = 0; k < opt.ao_rays; ++k) batch.add(ao_ray(point, rng, opt.max_distance), slot, Vec3f{1.0f});
-          total[slot] = static_cast<float>(opt.ao_rays);
-          rays.ao += static_cast<std::uint64_t>(opt.ao_rays);
+          if (lines) {
+            for (std::size_t k = 0; k < lines->size(); ++k) {
+              const Vec3f& w = lines->direction(k);
+              const float c = dot(point.normal, w);
+              if (c == 0.0f) continue;
+              ++rays.ao;
+              total[slot] += std::fabs(c);
+              batch.add(Ray{point.position, c > 0.0f ? w : -w, 0.0f, opt.max_distance}, slot, Vec3f{std::fabs(c)});
+            }
+          } else {
+            for (int k = 0; k < opt.ao_rays; ++k) batch.add(ao_ray(point, rng, opt.max_distance), slot, Vec3f{1.0f});
+            total[slot] = static_cast<float>(opt.ao_rays);
+            rays.ao += static_cast<std::uint64_t>(opt.ao_rays);
+          }
         }
       }
     }

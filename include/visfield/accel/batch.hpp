@@ -43,4 +43,11 @@ void occluded_block(const S& structure, std::span<const Ray> rays, std::span<std
   for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = structure.occluded(rays[i]) ? 1 : 0;
 }
 
+/// Whether `structure` traces rays along one direction line fastest as one stream per line (see
+/// SceneQueries::occluder_prefers_line_streams): false, unless a structure overloads it (BeamField).
+template <OcclusionQuery S>
+constexpr bool prefers_line_streams(const S&) {
+  return false;
+}
+
 }  // namespace vf

@@ -162,5 +162,7 @@ void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span
 /// its lines in parallel, each line's rays from a whole block of the image in one call). With
 /// config.stream = 0, ray by ray in the given order.
 void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+/// True with config.stream = 1: a renderer should hand it rays along one line together (batch.hpp).
+inline bool prefers_line_streams(const BeamField& field) { return field.config().stream != 0; }
 
 }  // namespace vf

@@ -29,6 +29,11 @@ class SceneQueries {
   /// occluded[i] = occluded(rays[i]) ? 1 : 0 on the calling thread, through the structure's batch path
   /// when it has one (the ObjectFields' SIMD kernel). Spans of equal size.
   virtual void occluded_block(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const = 0;
+  /// True when the occlusion structure traces rays along one direction line fastest all together, as
+  /// one stream per line (a BeamField): render_ao along the lines then hands it each line's rays from a
+  /// whole block of the image, where it traces every other structure point by point (their caches
+  /// favour the rays of one point). The images are the same either way.
+  virtual bool occluder_prefers_line_streams() const = 0;
 };
 
 /// SceneQueries over two built structures, held by reference (they must outlive this): `closest` for
@@ -47,6 +52,10 @@ class QueriesOver final : public SceneQueries {
   void occluded_block(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const override {
     using vf::occluded_block;  // the generic loop, unless the structure's own overload is found by ADL
     occluded_block(occluder_, rays, occluded);
+  }
+  bool occluder_prefers_line_streams() const override {
+    using vf::prefers_line_streams;  // false, unless the structure's own overload is found by ADL
+    return prefers_line_streams(occluder_);
   }
 
  private:

@@ -45,7 +45,10 @@ void validate_ao_options(const AoOptions& options);
 /// Rng(seed, pixel, s) draws the jitter and the AO directions; the pixel is the mean over samples of
 /// the unoccluded fraction (of `ao_rays` cosine-weighted rays, or, with `psf_level`, of one ray along
 /// each line not perpendicular to the normal, weighted by |cos|), or kAoBackground on a miss. A tile's
-/// AO rays are traced together, so occluders with a batch path use it. Parallel over tiles;
+/// AO rays are traced together, so occluders with a batch path use it; along the lines, an occluder
+/// that prefers line streams (SceneQueries::occluder_prefers_line_streams: a BeamField) gets each
+/// line's rays from a whole block of the image (up to 64 MiB of answers: samples × lines bytes) in
+/// one call instead, summed in the same order to the same image. Parallel over tiles;
 /// identical images for any thread count. `stats` (optional) gets every ray traced by kind and the
 /// wall time. Throws vf::Error on bad options or camera. Cost: width*height*spp*(1 + ao_rays * hit fraction) queries.
 Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& camera, const AoOptions& opt,

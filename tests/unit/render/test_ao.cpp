@@ -162,8 +162,14 @@ TEST(RenderAo, AlongTheLinesEveryPixelIsThePerPointSum) {
   opt.psf_level = 3;
   opt.spp = 2;
   opt.max_distance = 0.4f * length(scene.bounds().extent());
+  // A BeamField occluder takes the line-by-line path (it prefers line streams), any other the
+  // point-by-point one; both must give the per-point sum.
+  const BeamField beam = BeamField::build(scene, {.level = 3, .resolution = 16, .max_depth = 2});
+  ASSERT_TRUE(QueriesOver(accel, beam).occluder_prefers_line_streams());
+  ASSERT_FALSE(QueriesOver(accel, accel).occluder_prefers_line_streams());
   RenderStats stats;
-  const Image image = render_ao(accel, accel, scene, camera, opt, &stats);
+  const Image image = render_ao(accel, beam, scene, camera, opt, &stats);
+  EXPECT_EQ(render_ao(accel, accel, scene, camera, opt).pixels, image.pixels);
   std::size_t grey = 0;
   std::uint64_t rays = 0;
   for (int y = 0; y < camera.height; ++y)
@@ -178,7 +184,7 @@ TEST(RenderAo, AlongTheLinesEveryPixelIsThePerPointSum) {
   EXPECT_GT(rays, 24u * 18u * 2u * 50u);
   // A region is the whole image's pixels at the same places.
   opt.region = ImageTile{5, 3, 19, 11};
-  const Image region = render_ao(accel, accel, scene, camera, opt);
+  const Image region = render_ao(accel, beam, scene, camera, opt);
   for (int y = 3; y < 11; ++y)
     for (int x = 5; x < 19; ++x) ASSERT_EQ(region.at(x - 5, y - 3), image.at(x, y));
 }
