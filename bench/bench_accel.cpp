@@ -11,6 +11,8 @@ namespace {
 // or one flattened triangle geometry (levels=1, the default, as most users build).
 constexpr ParamSpec kEmbreeParams[] = {
     {"levels", ParamType::choice, "1", "1 = one flattened triangle geometry, 2 = Embree instancing", 0, 0, "1|2"},
+    {"packets", ParamType::choice, "1", "occlusion batches: 1 = rtcOccluded1 ray by ray, 16 = rtcOccluded16 packets (coherent)", 0, 0,
+     "1|16"},
 };
 
 ParamValues embree_params(const std::string& spec) {
@@ -45,10 +47,13 @@ BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geomet
                                   [[maybe_unused]] int threads) {
 #if VISFIELD_HAVE_EMBREE
   if (names_embree(spec)) {
-    const bool instanced = embree_params(spec).text("levels") == "2";
-    return {instanced ? EmbreeScene::build_instanced(geometry.scene(), threads)
-                      : EmbreeScene::build(geometry.flattened(), threads),
-            std::string(kEmbreeName) + ":levels=" + (instanced ? "2" : "1")};
+    const ParamValues params = embree_params(spec);
+    const bool instanced = params.text("levels") == "2";
+    EmbreeScene embree = instanced ? EmbreeScene::build_instanced(geometry.scene(), threads) : EmbreeScene::build(geometry.flattened(), threads);
+    embree.set_packet_size(std::stoi(params.text("packets")));
+    std::string resolved = std::string(kEmbreeName) + ":levels=" + (instanced ? "2" : "1");
+    if (embree.packet_size() != 1) resolved += ",packets=" + std::to_string(embree.packet_size());
+    return {std::move(embree), resolved};
   }
 #endif
   BuiltStructure built = build_structure(spec, geometry, context);

@@ -83,6 +83,12 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
                  "AO ray directions: random (--ao-rays per hit), or 33|129|513|2049|8193: one ray along each line of that "
                  "octahedral set (VLF-RT's AO; beam:dirs= of the same count traces them on its fast path)")
       ->check(CLI::IsMember({"random", "33", "129", "513", "2049", "8193"}));
+  std::string ray_order = "pixel";
+  app.add_option("--ray-order", ray_order,
+                 "pixel: each pixel's rays together (as visfield render traces them for most structures); line: AO rays "
+                 "along the lines (--ao-directions N) grouped by line, pixel order within each (the VLF-RT workload as "
+                 "a stream per line), handed to every structure in that order")
+      ->check(CLI::IsMember({"pixel", "line"}));
   app.add_option("--max-distance", options.max_distance,
                  "AO ray length in scene units (default unlimited, as visfield render)");
   app.add_option("--seed", options.seed, "Seed of the AO, shadow and random rays");
@@ -139,6 +145,9 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
     if (ao_directions == std::to_string(DirectionLines::count(level))) options.psf_level = level;
   options.accels = split_spec_list(accel_list);
+  options.line_major = ray_order == "line";
+  if (options.line_major && (options.kind != RayKind::ao || options.psf_level == 0))
+    throw UsageError("--ray-order line: only for AO rays along the lines (--rays ao --ao-directions N)");
   if (app.count("--count") > 0) options.count = static_cast<std::size_t>(count);
   if (app.count("--move-object") > 0) {
     if (options.dynamic_frames == 0) throw UsageError("--move-object: only with --dynamic");

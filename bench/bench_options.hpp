@@ -31,6 +31,7 @@ struct BenchOptions {
   int height = 0;                    ///< --height: image height in pixels; 0 = the scene camera's.
   int ao_rays = 4;                   ///< --ao-rays: AO rays per primary hit.
   int psf_level = 0;                 ///< --ao-directions: 0 = random; L = one AO ray per line of the level-L set.
+  bool line_major = false;           ///< --ray-order line: AO rays along the lines grouped by line (pixel order within one).
   float max_distance = std::numeric_limits<float>::infinity();  ///< --max-distance: AO ray length (as visfield render).
   std::uint64_t seed = 1;                                       ///< --seed: seeds the AO, shadow and random rays.
   int reps = 5;                                                 ///< --reps: timed repetitions; the median is reported.

@@ -9,6 +9,7 @@
 #include "bench_accel.hpp"
 #include "bench_rays.hpp"
 #include "query_runner.hpp"
+#include "visfield/core/direction_lines.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/scene_file.hpp"
 
@@ -58,8 +59,18 @@ std::vector<Ray> bench_ray_set(const BenchOptions& options, const Scene& scene, 
   request.max_distance = options.max_distance;
   request.count = options.count;
   request.seed = options.seed;
-  return visit_accel(ray_source(built).accel,
-                     [&](const auto& structure) { return make_bench_rays(structure, scene, request); });
+  std::vector<Ray> rays =
+      visit_accel(ray_source(built).accel, [&](const auto& structure) { return make_bench_rays(structure, scene, request); });
+  if (!options.line_major) return rays;
+  // Grouped by line (a counting sort on the stored direction's line), pixel order within each.
+  const DirectionLines lines(options.psf_level);
+  std::vector<std::uint32_t> line_of(rays.size());
+  std::vector<std::size_t> start(lines.size() + 1, 0);
+  for (std::size_t i = 0; i < rays.size(); ++i) ++start[(line_of[i] = lines.nearest(rays[i].dir).line) + 1];
+  for (std::size_t k = 0; k < lines.size(); ++k) start[k + 1] += start[k];
+  std::vector<Ray> by_line(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) by_line[start[line_of[i]]++] = rays[i];
+  return by_line;
 }
 
 BenchReport run_bench(const BenchOptions& options) {

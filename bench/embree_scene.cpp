@@ -1,5 +1,6 @@
 #include "embree_scene.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +13,7 @@
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
+#include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
 
 namespace vf::bench {
@@ -65,6 +67,7 @@ struct EmbreeLayout {
   std::vector<std::vector<std::uint32_t>> mesh_prim;
   std::vector<std::uint32_t> instance_mesh;  // Instancing: mesh of each instance geometry.
   bool instanced = false;
+  int packet = 1;  // occluded_batch's rays per Embree call
   std::atomic<std::int64_t> device_bytes{0};
   ErrorLog errors;
   AccelStats stats;
@@ -255,6 +258,56 @@ bool EmbreeScene::occluded(const Ray& ray) const {
 }
 
 const AccelStats& EmbreeScene::stats() const { return layout_->stats; }
+
+void EmbreeScene::set_packet_size(int packet) {
+  if (packet != 1 && packet != 16) throw Error("embree: packets=" + std::to_string(packet) + ": expected 1 or 16");
+  if (packet == 16 && rtcGetDeviceProperty(layout_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) == 0 &&
+      rtcGetDeviceProperty(layout_->device, RTC_DEVICE_PROPERTY_RAY_STREAM_SUPPORTED) == 0)
+    throw Error("embree: packets=16: this Embree was built without 16-wide ray packets");
+  layout_->packet = packet;
+}
+
+int EmbreeScene::packet_size() const { return layout_->packet; }
+
+void occluded_batch(const EmbreeScene& embree, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  if (embree.packet_size() == 1) {
+    vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
+      check_interrupt();
+      for (std::size_t i = range.begin(); i != range.end(); ++i) occluded[i] = embree.occluded(rays[i]) ? 1 : 0;
+    });
+    return;
+  }
+  const RTCScene scene = embree.layout_->scene;
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, (rays.size() + 15) / 16, 16), [&](const auto& range) {
+    check_interrupt();
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) RTCRay16 packet;
+    alignas(64) int valid[16];
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      const std::size_t first = 16 * p, count = std::min<std::size_t>(16, rays.size() - first);
+      for (std::size_t l = 0; l < 16; ++l) {
+        valid[l] = l < count ? -1 : 0;
+        const Ray& ray = rays[first + std::min(l, count - 1)];
+        packet.org_x[l] = ray.org.x;
+        packet.org_y[l] = ray.org.y;
+        packet.org_z[l] = ray.org.z;
+        packet.tnear[l] = ray.tmin;
+        packet.dir_x[l] = ray.dir.x;
+        packet.dir_y[l] = ray.dir.y;
+        packet.dir_z[l] = ray.dir.z;
+        packet.time[l] = 0.0f;
+        packet.tfar[l] = ray.tmax;
+        packet.mask[l] = 0xffffffffu;
+        packet.id[l] = static_cast<unsigned>(l);
+        packet.flags[l] = 0;
+      }
+      rtcOccluded16(valid, scene, &context, &packet);
+      for (std::size_t l = 0; l < count; ++l) occluded[first + l] = packet.tfar[l] == -std::numeric_limits<float>::infinity() ? 1 : 0;
+    }
+  });
+}
 
 namespace {
 

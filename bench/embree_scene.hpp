@@ -2,7 +2,9 @@
 /// \file Embree 3 behind the query concepts, so visfield-bench runs it exactly like our own
 /// structures. Compiled only when VISFIELD_HAVE_EMBREE is 1.
 
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "visfield/accel/query.hpp"
@@ -37,16 +39,29 @@ class EmbreeScene {
   Hit intersect(const Ray& ray) const;
   /// True when anything is hit in [tmin, tmax] (rtcOccluded1).
   bool occluded(const Ray& ray) const;
+  /// Makes occluded_batch() trace the rays 16 at a time with rtcOccluded16 under a coherent
+  /// context (Embree's ray packets, which suit parallel rays: AO along one line), or one at a time
+  /// with rtcOccluded1 (packet = 1, the default). Throws vf::Error for other sizes, or 16 when this
+  /// Embree was built without 16-wide packets.
+  void set_packet_size(int packet);
+  /// 1 or 16 (set_packet_size).
+  int packet_size() const;
   /// Build statistics: build_ms and memory_bytes only (Embree does not expose its tree shape).
   const AccelStats& stats() const;
   /// The --accel name, "embree".
   static std::string name() { return "embree"; }
   static constexpr Exactness exactness = Exactness::exact;
 
+  friend void occluded_batch(const EmbreeScene& embree, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+
  private:
   explicit EmbreeScene(std::unique_ptr<EmbreeLayout> layout);
   std::unique_ptr<EmbreeLayout> layout_;
 };
+
+/// occluded[i] = 1 when rays[i] is blocked, in parallel: one ray at a time (rtcOccluded1), or with
+/// packet_size() 16 in consecutive packets of 16 (rtcOccluded16, coherent context). Same answers.
+void occluded_batch(const EmbreeScene& embree, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
 
 /// "Embree 3.13.5, ISA avx512, TBB tasking, build quality medium (default)": the library version
 /// (from the device), the instruction set its CPU dispatch picks on this machine (best of the ISAs

@@ -124,6 +124,19 @@ TEST_F(BenchCli, CountGivesExactlyThatManyRaysFewerOrMoreThanTheImageHas) {
   }
 }
 
+// --ray-order line: the AO rays along the lines, grouped by line, through every structure (Embree
+// in packets too), all agreeing; the same number of rays as in pixel order.
+TEST_F(BenchCli, LineOrderGivesEveryStructureTheSameStreams) {
+  const std::string accels = std::string("beam:dirs=33,n=16,median-bsp,bvh") + (kHaveEmbree ? ",embree,embree:packets=16" : "");
+  const std::string run = kScene + kSmallRun + "--rays ao --ao-directions 33 --accel " + accels;
+  const json by_line = bench_json(run + " --ray-order line");
+  const json by_pixel = bench_json(run);
+  EXPECT_EQ(by_line.at("rays"), by_pixel.at("rays"));
+  EXPECT_GT(by_line.at("rays").get<int>(), 1000);
+  ASSERT_EQ(by_line.at("results").size(), kHaveEmbree ? 5u : 3u);
+  for (const json& row : by_line.at("results")) EXPECT_EQ(row.at("mismatches"), 0) << row.at("accel");
+}
+
 TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
   const auto r = bench(kScene + kSmallRun + accel_option() + "--rays ao");
   ASSERT_EQ(r.exit_code, 0) << r.err;

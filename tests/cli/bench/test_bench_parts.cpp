@@ -91,6 +91,12 @@ TEST(BenchOptions, BadValuesAreUsageErrors) {
   EXPECT_THROW(parse(with({"--accel", "bvh", "--warmup", "-1"})), UsageError);
   EXPECT_THROW(parse(with({"--accel", "bvh", "--max-distance", "0"})), UsageError);
   EXPECT_THROW(parse(with({})), UsageError);
+  // Line order needs AO rays along lines.
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--ray-order", "line"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh", "--ray-order", "diagonal"})), UsageError);
+  if (kHaveEmbree) {
+    EXPECT_THROW(parse(with({"--accel", "embree:packets=8"})), UsageError);
+  }
   if (kHaveEmbree) {
     EXPECT_TRUE(parse(with({"--accel", "embree,bvh"})));
   } else {
@@ -320,6 +326,31 @@ TEST(BenchEmbreeScene, AgreesWithBruteForceOnRandomRays) {
   EXPECT_EQ(t_mismatches, 0);
   EXPECT_EQ(id_mismatches, 0);
   EXPECT_EQ(occlusion_mismatches, 0);
+}
+
+// Embree's 16-wide packets (rtcOccluded16) answer occlusion as its single rays, on random rays and
+// on rays along one direction (what packets suit), batches of any length.
+TEST(BenchEmbreeScene, PacketsAnswerAsSingleRays) {
+  const TriangleSet set = flatten(make_builtin_scene("soup", {.seed = 3, .size = 2000}));
+  EmbreeScene embree = EmbreeScene::build(set, 2);
+  Rng rng(5);
+  std::vector<Ray> rays;
+  const Vec3f lo = set.bounds.lo, extent = set.bounds.extent(), along = normalize(Vec3f{0.3f, -1.0f, 0.2f});
+  for (int i = 0; i < 5003; ++i)
+    rays.push_back(Ray{lo + Vec3f{rng.uniform(), rng.uniform(), rng.uniform()} * extent,
+                       i % 2 ? along : uniform_sphere(rng.uniform(), rng.uniform()), 0.0f,
+                       i % 3 ? std::numeric_limits<float>::infinity() : 0.1f * length(extent)});
+  std::vector<std::uint8_t> single(rays.size()), packets(rays.size());
+  occluded_batch(embree, std::span<const Ray>(rays), std::span<std::uint8_t>(single));
+  embree.set_packet_size(16);
+  EXPECT_EQ(embree.packet_size(), 16);
+  occluded_batch(embree, std::span<const Ray>(rays), std::span<std::uint8_t>(packets));
+  EXPECT_EQ(packets, single);
+  std::size_t blocked = 0;
+  for (const std::uint8_t b : single) blocked += b;
+  EXPECT_GT(blocked, rays.size() / 10);
+  EXPECT_LT(blocked, rays.size() - rays.size() / 10);
+  EXPECT_THROW(embree.set_packet_size(8), Error);
 }
 
 // Embree's instancing and our instance layer agree on rotated, scaled copies of a mesh: the same
