@@ -531,6 +531,13 @@ struct StreamScratch {
   std::vector<std::uint32_t> counts;
 };
 
+/// What one thread reuses between calls of occluded_streams.
+struct StreamBuffers {
+  std::vector<std::uint32_t> bucket_of, tile_of, order, sort;
+  std::vector<std::size_t> start, fill, groups;
+  StreamScratch scratch;
+};
+
 /// Occlusion of the rays idx[0 .. count) of `rays`, which all run along `line` the same way (the
 /// same direction bit for bit, whose watertight constants `shear` holds) and stay in tile `tile`:
 /// the record is read once, the rays sorted by first leaf, and each packet of kPacket of them walks
@@ -655,7 +662,13 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
   // answered here (invalid, an empty field, missing the sphere) go to no bucket.
   const std::size_t buckets = 3 * lines;
   constexpr std::uint32_t kAnswered = 0xffffffffu;
-  std::vector<std::uint32_t> bucket_of(rays.size()), tile_of(rays.size());
+  // The buffers live on with the thread: a renderer calls this once per line, and fresh allocations
+  // cost page faults each time.
+  thread_local StreamBuffers buffers;
+  std::vector<std::uint32_t>& bucket_of = buffers.bucket_of;
+  std::vector<std::uint32_t>& tile_of = buffers.tile_of;
+  bucket_of.resize(rays.size());
+  tile_of.resize(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Ray& ray = rays[i];
     if (!ray.is_valid() || layout.live_slots == 0) {
@@ -682,21 +695,18 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
     bucket_of[i] = static_cast<std::uint32_t>(2 * lines) + nearest.line;
     tile_of[i] = origin_tile(layout, ray.org, nearest.line);
   }
-  std::vector<std::size_t> start(buckets + 1, 0);
+  std::vector<std::size_t>& start = buffers.start;
+  start.assign(buckets + 1, 0);
   for (const std::uint32_t b : bucket_of)
     if (b != kAnswered) ++start[b + 1];
   for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
-  std::vector<std::uint32_t> order(start[buckets]);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < rays.size(); ++i)
-      if (bucket_of[i] != kAnswered) order[fill[bucket_of[i]]++] = static_cast<std::uint32_t>(i);
-  }
-  {
-    std::vector<std::uint32_t> scratch;
-    for (std::size_t b = 0; b < buckets; ++b) sort_by_key(order.data() + start[b], start[b + 1] - start[b], tile_of.data(), tiles, scratch);
-  }
-  StreamScratch scratch;
+  std::vector<std::uint32_t>& order = buffers.order;
+  order.resize(start[buckets]);
+  buffers.fill.assign(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    if (bucket_of[i] != kAnswered) order[buffers.fill[bucket_of[i]]++] = static_cast<std::uint32_t>(i);
+  for (std::size_t b = 0; b < buckets; ++b) sort_by_key(order.data() + start[b], start[b + 1] - start[b], tile_of.data(), tiles, buffers.sort);
+  StreamScratch& scratch = buffers.scratch;
   for (std::size_t b = 0; b < buckets; ++b) {
     const std::uint32_t* idx = order.data() + start[b];
     const std::size_t count = start[b + 1] - start[b];
@@ -710,11 +720,17 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
     }
     const auto line = static_cast<std::uint32_t>(b / 2);
     const simd::BlockRay<kPacket> shear{WatertightRay(rays[idx[0]])};
-    for (std::size_t k = 0; k < count;) {
-      std::size_t end = k + 1;
-      while (end < count && tile_of[idx[end]] == tile_of[idx[k]]) ++end;
-      trace_tile_stream(layout, line, tile_of[idx[k]], shear, rays, idx + k, end - k, occluded, scratch);
-      k = end;
+    // The tiles' groups of rays; each group's record is prefetched kRecordAhead groups ahead (the
+    // first read of a record is a miss in a field no cache holds).
+    constexpr std::size_t kRecordAhead = 4;
+    std::vector<std::size_t>& groups = buffers.groups;
+    groups.clear();
+    for (std::size_t k = 0; k < count; ++k)
+      if (k == 0 || tile_of[idx[k]] != tile_of[idx[k - 1]]) groups.push_back(k);
+    groups.push_back(count);
+    for (std::size_t j = 0; j + 1 < groups.size(); ++j) {
+      if (j + kRecordAhead + 1 < groups.size()) prefetch_record(layout, line, tile_of[idx[groups[j + kRecordAhead]]]);
+      trace_tile_stream(layout, line, tile_of[idx[groups[j]]], shear, rays, idx + groups[j], groups[j + 1] - groups[j], occluded, scratch);
     }
   }
 }
