@@ -15,11 +15,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -439,6 +441,18 @@ void sort_by_key(std::uint32_t* idx, std::size_t count, const std::uint32_t* key
   std::copy(sorted, sorted + count, idx);
 }
 
+/// The indices i of line_of counting-sorted by line_of[i] (< lines): order, with line k's indices in
+/// order[start[k] .. start[k + 1]), each line's in increasing i.
+std::pair<std::vector<std::size_t>, std::vector<std::uint32_t>> order_by_line(std::size_t lines, const std::vector<std::uint32_t>& line_of) {
+  std::vector<std::size_t> start(lines + 1, 0);
+  for (const std::uint32_t line : line_of) ++start[line + 1];
+  for (std::size_t k = 0; k < lines; ++k) start[k + 1] += start[k];
+  std::vector<std::uint32_t> order(line_of.size());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < line_of.size(); ++i) order[fill[line_of[i]]++] = static_cast<std::uint32_t>(i);
+  return {std::move(start), std::move(order)};
+}
+
 /// Runs query(i, rays[i], line_of(i)) for i = idx[0 .. count), in that order (sorted by line and origin
 /// tile, tile_of(i)): a block's rays, lines and tiles are first gathered into local arrays
 /// (independent loads, which the memory system overlaps), then traced in order with each ray's tile
@@ -471,23 +485,21 @@ void trace_in_order(const BeamLayout& layout, std::span<const Ray> rays, const s
 /// each line's indices sorted by tile (in parallel), and the sorted order traced in parallel chunks.
 /// The field is far larger than the caches: this order reads each direction's tile records once,
 /// front to back, instead of once per ray (AO rays from one point use every direction).
+/// `line_of`, when given, holds every ray's nearest line already.
 template <class Query>
-void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query&& query) {
-  std::vector<std::uint32_t> line_of(rays.size()), tile_of(rays.size());
+void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query&& query, std::vector<std::uint32_t> line_of = {}) {
+  const bool lines_known = line_of.size() == rays.size();
+  line_of.resize(rays.size());
+  std::vector<std::uint32_t> tile_of(rays.size());
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      line_of[i] = rays[i].is_valid() ? layout.lines.nearest(rays[i].dir).line : 0;
+      if (!lines_known) line_of[i] = rays[i].is_valid() ? layout.lines.nearest(rays[i].dir).line : 0;
       tile_of[i] = rays[i].is_valid() ? origin_tile(layout, rays[i].org, line_of[i]) : 0;
     }
   });
-  std::vector<std::size_t> start(layout.lines.size() + 1, 0);
-  for (const std::uint32_t line : line_of) ++start[line + 1];
-  for (std::size_t k = 0; k < layout.lines.size(); ++k) start[k + 1] += start[k];
-  std::vector<std::uint32_t> order(rays.size());
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < rays.size(); ++i) order[fill[line_of[i]]++] = static_cast<std::uint32_t>(i);
-  }
+  auto by_line = order_by_line(layout.lines.size(), line_of);
+  const std::vector<std::size_t>& start = by_line.first;
+  std::vector<std::uint32_t>& order = by_line.second;
   const std::size_t tiles = static_cast<std::size_t>(layout.geometry.n) * static_cast<std::size_t>(layout.geometry.n);
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 8), [&](const auto& range) {
     std::vector<std::uint32_t> scratch;
@@ -505,6 +517,12 @@ void for_each_by_line(const BeamLayout& layout, std::span<const Ray> rays, Query
 // ---- Streams: rays along a stored line, traced tile by tile in packets --------------------------
 
 constexpr int kPacket = simd::kNativeWidth;
+
+// A measurement build's cut (CMake VISFIELD_MEASURE_BEAM_CUT; 0 in every other build).
+#ifndef VISFIELD_MEASURE_BEAM_CUT
+#define VISFIELD_MEASURE_BEAM_CUT 0
+#endif
+constexpr int kMeasureCut = VISFIELD_MEASURE_BEAM_CUT;
 
 /// Up to kPacket rays of one tile, along one line in one orientation, traced together.
 struct alignas(64) Packet {
@@ -621,6 +639,7 @@ void trace_tile_stream(const BeamLayout& layout, std::uint32_t line, std::uint32
       std::uint32_t batch[kBatch];
       simd::LaneBits meets[kBatch];
       for (std::uint32_t begin = 0; begin < size && active != 0; begin += kBatch) {
+        if constexpr (kMeasureCut >= 2) break;
         std::uint32_t candidates = 0;
         for (std::uint32_t r = begin; r < std::min(size, begin + kBatch); ++r) {
           const simd::LaneBits m = overlapping_keys<kPacket>(footprints[r], p.keys) & active;
@@ -629,6 +648,7 @@ void trace_tile_stream(const BeamLayout& layout, std::uint32_t line, std::uint32
           meets[candidates++] = m;
           __builtin_prefetch(&layout.triangles[slots[r]]);
         }
+        if constexpr (kMeasureCut >= 1) continue;
         for (std::uint32_t c = 0; c < candidates; ++c) {
           const simd::LaneBits m = meets[c] & active;
           if (m == 0) continue;
@@ -735,25 +755,40 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
   }
 }
 
-/// occluded_batch's stream path for many rays: the rays are counting-sorted by nearest line, and each
+/// occluded_batch's stream path for many rays (with at least half of them along their lines, else
+/// for_each_by_line): the rays are counting-sorted by nearest line, and each
 /// line's rays (in runs of at most kLineRun) are gathered into a contiguous copy and traced by
 /// occluded_streams on one thread, the runs in parallel. A run's rays, their tiles and records then
 /// stay in the caches, where one pass over the whole batch would fetch each ray from memory twice.
 void occluded_streams_by_line(const BeamLayout& layout, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
   constexpr std::size_t kLineRun = 32768;
   std::vector<std::uint32_t> line_of(rays.size());
+  std::atomic<std::size_t> along{0};
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i)
-      line_of[i] = rays[i].is_valid() ? layout.lines.nearest(rays[i].dir).line : 0;
+    std::size_t on_lines = 0;
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      if (!rays[i].is_valid()) {
+        line_of[i] = 0;
+        continue;
+      }
+      const NearestLine nearest = layout.lines.nearest(rays[i].dir);
+      line_of[i] = nearest.line;
+      const Vec3f w = nearest.sign > 0 ? layout.lines.direction(nearest.line) : -layout.lines.direction(nearest.line);
+      on_lines += std::bit_cast<std::array<std::uint32_t, 3>>(rays[i].dir) == std::bit_cast<std::array<std::uint32_t, 3>>(w);
+    }
+    along.fetch_add(on_lines, std::memory_order_relaxed);
   });
-  std::vector<std::size_t> start(layout.lines.size() + 1, 0);
-  for (const std::uint32_t line : line_of) ++start[line + 1];
-  for (std::size_t k = 0; k < layout.lines.size(); ++k) start[k + 1] += start[k];
-  std::vector<std::uint32_t> order(rays.size());
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < rays.size(); ++i) order[fill[line_of[i]]++] = static_cast<std::uint32_t>(i);
+  // Mostly rays off the lines (random AO directions, shadow rays): the streams would only add their
+  // binning, so the rays go one by one, sorted by line and tile.
+  if (2 * along.load() < rays.size()) {
+    for_each_by_line(
+        layout, rays, [&](std::size_t i, const Ray& ray, std::uint32_t line) { occluded[i] = Walk<true, NoCount>(layout, ray, {}).run(line).found ? 1 : 0; },
+        std::move(line_of));
+    return;
   }
+  auto by_line = order_by_line(layout.lines.size(), line_of);
+  const std::vector<std::size_t>& start = by_line.first;
+  std::vector<std::uint32_t>& order = by_line.second;
   std::vector<std::pair<std::size_t, std::size_t>> runs;
   for (std::size_t line = 0; line < layout.lines.size(); ++line)
     for (std::size_t k = start[line]; k < start[line + 1]; k += kLineRun) runs.emplace_back(k, std::min(start[line + 1], k + kLineRun));
@@ -814,6 +849,10 @@ void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span
 }
 
 void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  if constexpr (beam::kMeasureCut >= 3) {
+    std::fill(occluded.begin(), occluded.end(), std::uint8_t{0});
+    return;
+  }
   if (field.config().stream) {
     beam::occluded_streams(field.layout(), rays, occluded);
     return;
