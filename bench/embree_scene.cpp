@@ -11,6 +11,7 @@
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 
+#include "visfield/accel/batch.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -271,10 +272,7 @@ int EmbreeScene::packet_size() const { return layout_->packet; }
 
 void occluded_batch(const EmbreeScene& embree, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
   if (embree.packet_size() == 1) {
-    vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
-      check_interrupt();
-      for (std::size_t i = range.begin(); i != range.end(); ++i) occluded[i] = embree.occluded(rays[i]) ? 1 : 0;
-    });
+    vf::occluded_batch(embree, rays, occluded);  // the generic batch: rtcOccluded1 ray by ray
     return;
   }
   const RTCScene scene = embree.layout_->scene;

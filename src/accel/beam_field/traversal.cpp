@@ -552,6 +552,7 @@ struct StreamScratch {
 /// What one thread reuses between calls of occluded_streams.
 struct StreamBuffers {
   std::vector<std::uint32_t> bucket_of, tile_of, order, sort;
+  std::vector<LineFrameRay> frame_of;
   std::vector<std::size_t> start, fill, groups;
   StreamScratch scratch;
 };
@@ -563,8 +564,8 @@ struct StreamBuffers {
 /// is tested against those rays at once. A ray's candidates are those Walk would test (the leaves
 /// from its origin's to its end's, the references its key lets through), so its answer is Walk's.
 void trace_tile_stream(const BeamLayout& layout, std::uint32_t line, std::uint32_t tile, const simd::BlockRay<kPacket>& shear,
-                       std::span<const Ray> rays, const std::uint32_t* idx, std::size_t count, std::span<std::uint8_t> occluded,
-                       StreamScratch& scratch) {
+                       std::span<const Ray> rays, std::span<const LineFrameRay> frames, const std::uint32_t* idx, std::size_t count,
+                       std::span<std::uint8_t> occluded, StreamScratch& scratch) {
   const DirectionTiles& dir = layout.directions[line];
   const std::uint32_t offset = dir.tiles[tile];
   if (offset == kEmptyTile) {
@@ -578,8 +579,7 @@ void trace_tile_stream(const BeamLayout& layout, std::uint32_t line, std::uint32
   bool forward = true;
   scratch.rays.clear();
   for (std::size_t k = 0; k < count; ++k) {
-    LineFrameRay f;
-    f.set(layout, rays[idx[k]], line);  // true: the ray was binned here because it meets the sphere
+    const LineFrameRay& f = frames[idx[k]];  // set up when the ray was binned
     int from = 0, to = 0;
     f.leaves(record, f.ta, f.tb, 0.0, from, to);
     forward = f.forward;  // the same for every ray of a stream (one direction)
@@ -687,8 +687,10 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
   thread_local StreamBuffers buffers;
   std::vector<std::uint32_t>& bucket_of = buffers.bucket_of;
   std::vector<std::uint32_t>& tile_of = buffers.tile_of;
+  std::vector<LineFrameRay>& frame_of = buffers.frame_of;  // the stream rays' setups, for their packets
   bucket_of.resize(rays.size());
   tile_of.resize(rays.size());
+  frame_of.resize(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Ray& ray = rays[i];
     if (!ray.is_valid() || layout.live_slots == 0) {
@@ -699,7 +701,7 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
     const NearestLine nearest = layout.lines.nearest(ray.dir);
     const Vec3f w = nearest.sign > 0 ? layout.lines.direction(nearest.line) : -layout.lines.direction(nearest.line);
     if (std::bit_cast<std::array<std::uint32_t, 3>>(ray.dir) == std::bit_cast<std::array<std::uint32_t, 3>>(w)) {
-      LineFrameRay f;
+      LineFrameRay& f = frame_of[i];
       if (!f.set(layout, ray, nearest.line)) {
         bucket_of[i] = kAnswered;
         occluded[i] = 0;
@@ -750,7 +752,8 @@ void occluded_streams(const BeamLayout& layout, std::span<const Ray> rays, std::
     groups.push_back(count);
     for (std::size_t j = 0; j + 1 < groups.size(); ++j) {
       if (j + kRecordAhead + 1 < groups.size()) prefetch_record(layout, line, tile_of[idx[groups[j + kRecordAhead]]]);
-      trace_tile_stream(layout, line, tile_of[idx[groups[j]]], shear, rays, idx + groups[j], groups[j + 1] - groups[j], occluded, scratch);
+      trace_tile_stream(layout, line, tile_of[idx[groups[j]]], shear, rays, frame_of, idx + groups[j], groups[j + 1] - groups[j], occluded,
+                        scratch);
     }
   }
 }
