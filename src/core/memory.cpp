@@ -1,18 +1,15 @@
 #include "visfield/core/memory.hpp"
 
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <mutex>
 #include <sstream>
-#include <utility>
 
 #include "visfield/core/error.hpp"
 
@@ -23,47 +20,6 @@ std::mutex limit_mutex;
 std::optional<MemoryLimit> set_limit;
 
 }  // namespace
-
-namespace {
-constexpr std::size_t kHugePage = std::size_t{2} << 20;
-}  // namespace
-
-LargePages::LargePages(std::size_t bytes, bool huge) {
-  if (bytes == 0) return;
-  const std::size_t size = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-  // Map one huge page more than asked and trim both ends to a 2 MiB boundary: mmap itself promises
-  // only 4 KiB alignment.
-  void* raw = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-  if (raw == MAP_FAILED) throw Error("could not map " + format_bytes(static_cast<double>(size)) + " of memory");
-  const auto start = reinterpret_cast<std::uintptr_t>(raw);
-  const std::uintptr_t aligned = (start + kHugePage - 1) / kHugePage * kHugePage;
-  if (aligned > start) munmap(raw, aligned - start);
-  if (const std::size_t tail = start + size + kHugePage - (aligned + size); tail > 0)
-    munmap(reinterpret_cast<void*>(aligned + size), tail);
-  data_ = reinterpret_cast<std::byte*>(aligned);
-  size_ = size;
-#ifdef MADV_HUGEPAGE
-  advised_huge_ = huge && madvise(data_, size_, MADV_HUGEPAGE) == 0;
-#endif
-}
-
-LargePages::LargePages(LargePages&& other) noexcept
-    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)),
-      advised_huge_(std::exchange(other.advised_huge_, false)) {}
-
-LargePages& LargePages::operator=(LargePages&& other) noexcept {
-  if (this != &other) {
-    if (data_) munmap(data_, size_);
-    data_ = std::exchange(other.data_, nullptr);
-    size_ = std::exchange(other.size_, 0);
-    advised_huge_ = std::exchange(other.advised_huge_, false);
-  }
-  return *this;
-}
-
-LargePages::~LargePages() {
-  if (data_) munmap(data_, size_);
-}
 
 std::size_t physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);

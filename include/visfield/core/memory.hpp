@@ -44,35 +44,6 @@ class MemoryRefused : public Error {
 /// about <bytes>, more than <source>". Thread-safe.
 void require_memory(double bytes, const std::string& what);
 
-/// Zero-filled memory for large tables that queries read at random (BeamField's records): anonymous
-/// pages mapped 2 MiB-aligned and advised to the kernel as huge pages (madvise MADV_HUGEPAGE), so that
-/// a read costs one TLB entry per 2 MiB where the kernel allows it (transparent huge pages "always" or
-/// "madvise"), 4 KiB pages elsewhere. Pages are committed when first written. Move-only.
-class LargePages {
- public:
-  LargePages() = default;
-  /// Maps `bytes` (rounded up to 2 MiB); `huge` false skips the advice (for measuring it). Throws
-  /// vf::Error when the system refuses the mapping.
-  explicit LargePages(std::size_t bytes, bool huge = true);
-  LargePages(LargePages&& other) noexcept;
-  LargePages& operator=(LargePages&& other) noexcept;
-  LargePages(const LargePages&) = delete;
-  LargePages& operator=(const LargePages&) = delete;
-  ~LargePages();
-
-  /// The first byte, 2 MiB-aligned; nullptr when empty.
-  std::byte* data() const { return data_; }
-  /// Bytes mapped (a multiple of 2 MiB).
-  std::size_t size() const { return size_; }
-  /// True when the kernel took the huge-page advice.
-  bool advised_huge() const { return advised_huge_; }
-
- private:
-  std::byte* data_ = nullptr;
-  std::size_t size_ = 0;
-  bool advised_huge_ = false;
-};
-
 /// A size for people: "950 B", "12.3 KiB", "4.40 MiB", "2.50 GiB".
 std::string format_bytes(double bytes);
 

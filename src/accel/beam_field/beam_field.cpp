@@ -114,14 +114,14 @@ void BeamLayout::recount() {
   std::size_t bytes = 0, non_empty = 0, leaves = 0, refs = 0;
   int deepest = 0;
   for (const DirectionTiles& d : directions) {
-    bytes += d.grown.capacity() * sizeof(std::uint32_t);
-    non_empty += d.records_live;
+    bytes += (d.tiles.capacity() + d.arena.capacity()) * sizeof(std::uint32_t);
+    non_empty += d.records;
     leaves += d.leaves;
     refs += d.references;
     for (int depth = kMaxTileDepth; depth > deepest; --depth)
       if (d.depths[static_cast<std::size_t>(depth)] != 0) deepest = depth;
   }
-  bytes += arena_words * sizeof(std::uint32_t) + triangles.capacity() * sizeof(triangles[0]) + (prim.capacity() + instance.capacity()) * sizeof(std::uint32_t) +
+  bytes += triangles.capacity() * sizeof(triangles[0]) + (prim.capacity() + instance.capacity()) * sizeof(std::uint32_t) +
            alive.capacity() + frames.capacity() * sizeof(FrameD) + lines.size() * 80 + objects.capacity() * sizeof(ObjectSlots);
   stats.memory_bytes = bytes;
   stats.node_count = non_empty;

@@ -1,7 +1,7 @@
 #pragma once
 // Private to accel: the storage of a BeamField and the geometry every part of it agrees on.
 //
-// Per direction, `tiles` holds for each of the n² tiles the offset of its record in `records`, or
+// Per direction, `tiles` holds for each of the n² tiles the offset of its record in `arena`, or
 // kEmptyTile. A record is self-contained and contiguous, so that a query reads a few cache lines:
 //
 //   word 0       lo: the depth (along the line) where leaf 0 starts, float bits
@@ -23,13 +23,11 @@
 #include <bit>
 #include <cstdint>
 #include <memory>
-#include <new>
 #include <span>
 #include <vector>
 
 #include "visfield/accel/beam_field.hpp"
 #include "visfield/core/direction_lines.hpp"
-#include "visfield/core/memory.hpp"
 
 namespace vf::beam {
 
@@ -68,48 +66,25 @@ struct FrameD {
   double u[3], v[3], w[3];
 };
 
-/// Records start on a cache line (offsets are multiples of this many words), so that a ray's first
-/// read of a record brings its header and first leaf starts in one line.
-inline constexpr std::uint32_t kRecordAlignWords = 16;
-
-/// A std::allocator that aligns to a cache line: a direction's grown records keep their alignment.
-template <class T>
-struct CacheLineAllocator {
-  using value_type = T;
-  CacheLineAllocator() = default;
-  template <class U>
-  CacheLineAllocator(const CacheLineAllocator<U>&) {}
-  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64})); }
-  void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t{64}); }
-  template <class U>
-  bool operator==(const CacheLineAllocator<U>&) const { return true; }
-};
-
-/// One direction's tiles and records. As built, both lie in the field's arena (BeamLayout::arena), the
-/// records one after the other; an update that must append moves the records into the direction's
-/// own `grown` words.
+/// One direction's tiles and records.
 struct DirectionTiles {
-  std::uint32_t* tiles = nullptr;    ///< n² record offsets into `records`, or kEmptyTile.
-  std::uint32_t* records = nullptr;  ///< Records, each on a cache line (holes after updates).
-  std::size_t words = 0;             ///< Words of `records` in use.
-  std::vector<std::uint32_t, CacheLineAllocator<std::uint32_t>> grown;  ///< The records' own storage once appended to.
-  std::size_t live_words = 0;        ///< Words of the records tiles point at, each rounded up to cache lines.
+  std::vector<std::uint32_t> tiles;  ///< n² record offsets into arena, or kEmptyTile.
+  std::vector<std::uint32_t> arena;  ///< Records, back to back (holes after updates).
+  std::size_t live_words = 0;        ///< Words of the records tiles point at (arena.size() minus holes).
   // Counts over the live records, kept by build and update so that statistics need no scan.
-  std::size_t records_live = 0;                               ///< Non-empty tiles.
+  std::size_t records = 0;                                    ///< Non-empty tiles.
   std::size_t leaves = 0;                                     ///< Leaves of all records.
   std::size_t references = 0;                                 ///< References of all records.
   std::array<std::uint32_t, kMaxTileDepth + 1> depths{};     ///< Records of each tile-BSP depth.
 
-  /// The record at `offset`.
-  const std::uint32_t* record(std::uint32_t offset) const { return records + offset; }
   /// Adds (sign = +1) or removes (-1) the record at `offset` to or from the counts.
   void count(std::uint32_t offset, int sign);
 };
 
 inline void DirectionTiles::count(std::uint32_t offset, int sign) {
-  const RecordView r(record(offset));
+  const RecordView r(arena.data() + offset);
   const auto n = static_cast<std::size_t>(sign > 0 ? 1 : -1);  // wraps for -1: unsigned sums stay exact
-  records_live += n;
+  records += n;
   leaves += n * (static_cast<std::size_t>(r.last_leaf()) + 1);
   references += n * r.references();
   depths[static_cast<std::size_t>(r.depth())] += static_cast<std::uint32_t>(n);
@@ -152,8 +127,6 @@ struct BeamLayout {
   std::size_t live_slots = 0;
 
   std::vector<DirectionTiles> directions;  ///< By line.
-  std::vector<LargePages> arena;           ///< Every direction's tiles and records as built, in chunks of huge pages.
-  std::size_t arena_words = 0;             ///< Words of the arena handed out (the rest is never touched).
   std::vector<ObjectSlots> objects;        ///< Committed objects, by increasing id.
 
   // Edits: the objects as staged (by increasing id), and the object-space meshes they use (by the

@@ -8,7 +8,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -50,49 +49,7 @@ struct Scratch {
   std::vector<std::uint32_t> affected;
   std::vector<std::uint32_t> record;
   std::vector<std::uint32_t> arena;
-  std::vector<std::uint32_t> offsets;
   std::vector<Entry> tile_entries;
-};
-
-// A measurement build's layout switch (CMake VISFIELD_MEASURE_BEAM_LAYOUT; 0 in every other build):
-// bit 1 leaves out the huge-page advice, bit 2 the records' cache-line alignment.
-#ifndef VISFIELD_MEASURE_BEAM_LAYOUT
-#define VISFIELD_MEASURE_BEAM_LAYOUT 0
-#endif
-constexpr int kMeasureLayout = VISFIELD_MEASURE_BEAM_LAYOUT;
-constexpr bool kHugePages = (kMeasureLayout & 1) == 0;
-constexpr std::uint32_t kAlignWords = (kMeasureLayout & 2) == 0 ? kRecordAlignWords : 1;
-
-/// Words of `words` rounded up to the records' alignment.
-std::size_t aligned_words(std::size_t words) { return (words + kAlignWords - 1) / kAlignWords * kAlignWords; }
-
-/// Hands out the field's arena to directions as their builds finish: cache-line-aligned runs of
-/// words from chunks of huge pages (LargePages) of kChunkBytes or more. A direction is copied there
-/// once, from its thread's scratch. Thread-safe.
-class ArenaCursor {
- public:
-  explicit ArenaCursor(BeamLayout& layout) : layout_(layout) {}
-
-  /// `words` words on a cache line. Locks for the bookkeeping only.
-  std::uint32_t* take(std::size_t words) {
-    const std::size_t size = aligned_words(words);
-    const std::lock_guard lock(mutex_);
-    if (layout_.arena.empty() || used_ + size > layout_.arena.back().size() / sizeof(std::uint32_t)) {
-      layout_.arena.emplace_back(std::max(kChunkBytes, size * sizeof(std::uint32_t)), kHugePages);
-      used_ = 0;
-    }
-    std::uint32_t* at = reinterpret_cast<std::uint32_t*>(layout_.arena.back().data()) + used_;
-    used_ += size;
-    layout_.arena_words += size;
-    return at;
-  }
-
- private:
-  // Pages past the last direction are never touched, so a large chunk costs address space only.
-  static constexpr std::size_t kChunkBytes = std::size_t{256} << 20;
-  BeamLayout& layout_;
-  std::mutex mutex_;
-  std::size_t used_ = 0;  // words of the last chunk handed out
 };
 
 /// The direction-independent parts of rasterising into one direction's tiles.
@@ -216,7 +173,7 @@ std::uint32_t make_record(std::span<const Entry> entries, const BeamFieldConfig&
   const int leaves = 1 << depth;
   const float scale_f = depth == 0 ? 0.0f : scale_for(depth);
   const std::size_t first_ref = kRecordHeaderWords + static_cast<std::size_t>(leaves) + 1;
-  const std::size_t base = aligned_words(out.size());
+  const std::size_t base = out.size();
   out.resize(base + first_ref, 0);
   std::uint32_t* words = out.data() + base;
   words[0] = std::bit_cast<std::uint32_t>(lo_f);
@@ -250,22 +207,13 @@ std::uint32_t make_record(std::span<const Entry> entries, const BeamFieldConfig&
   return static_cast<std::uint32_t>(base);
 }
 
-/// Appends `record` to the direction's records on a cache line, moving them into the direction's own
-/// words first if they are still in the field's arena; returns its offset. Throws past 32-bit offsets.
+/// Appends `record` to the direction's arena and returns its offset; throws past 32-bit offsets.
 std::uint32_t append_record(DirectionTiles& dir, const std::vector<std::uint32_t>& record) {
-  const std::size_t offset = aligned_words(dir.words);
-  if (offset + record.size() >= kEmptyTile)
+  if (dir.arena.size() + record.size() >= kEmptyTile)
     throw Error("beam: a direction's tile records exceed 2^32 words (lower n, dirs or depth)");
-  if (dir.grown.empty()) {
-    // Room for a few more such appends, so that the next frames' edits do not move it again.
-    dir.grown.reserve(dir.words + dir.words / 8 + record.size() + kAlignWords);
-    dir.grown.assign(dir.records, dir.records + dir.words);
-  }
-  dir.grown.resize(offset, 0);
-  dir.grown.insert(dir.grown.end(), record.begin(), record.end());
-  dir.records = dir.grown.data();
-  dir.words = dir.grown.size();
-  return static_cast<std::uint32_t>(offset);
+  const auto offset = static_cast<std::uint32_t>(dir.arena.size());
+  dir.arena.insert(dir.arena.end(), record.begin(), record.end());
+  return offset;
 }
 
 /// Groups `entries` by tile (stable: slot order kept within a tile) into `sorted`, with counts.
@@ -279,7 +227,7 @@ void sort_by_tile(const std::vector<Entry>& entries, std::size_t tile_count, Scr
   for (const Entry& e : entries) s.sorted[fill[e.tile]++] = e;
 }
 
-void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles& dir, ArenaCursor& arena, Scratch& s) {
+void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles& dir, Scratch& s) {
   const Rasterizer raster(layout, line);
   const std::size_t tile_count = static_cast<std::size_t>(layout.geometry.n) * static_cast<std::size_t>(layout.geometry.n);
   s.entries.clear();
@@ -289,26 +237,21 @@ void build_direction(const BeamLayout& layout, std::size_t line, DirectionTiles&
     raster.rasterize(layout.triangles[slot], tiles, [&](std::uint32_t tile, Placement p) { s.entries.push_back({tile, slot, p.lo, p.hi, p.footprint}); });
   }
   sort_by_tile(s.entries, tile_count, s);
-  // Records go to the thread's scratch (whose memory is reused from direction to direction), then
-  // with the tile table into the direction's run of the arena, taken at its exact size.
-  s.offsets.assign(tile_count, kEmptyTile);
+  dir.tiles.assign(tile_count, kEmptyTile);
+  // Records go to the thread's scratch arena (whose memory is reused from direction to direction),
+  // then into the direction's own, allocated once at its exact size.
   s.arena.clear();
   for (std::size_t tile = 0; tile < tile_count; ++tile) {
     const std::uint32_t begin = s.counts[tile], end = s.counts[tile + 1];
     if (begin == end) continue;
-    s.offsets[tile] = make_record(std::span<const Entry>(s.sorted.data() + begin, end - begin), layout.config, s.arena);
+    dir.tiles[tile] = make_record(std::span<const Entry>(s.sorted.data() + begin, end - begin), layout.config, s.arena);
   }
-  dir = {};
-  dir.tiles = arena.take(aligned_words(tile_count) + s.arena.size());
-  dir.records = dir.tiles + aligned_words(tile_count);
-  dir.words = s.arena.size();
-  std::copy(s.offsets.begin(), s.offsets.end(), dir.tiles);
-  std::copy(s.arena.begin(), s.arena.end(), dir.records);
-  for (std::size_t tile = 0; tile < tile_count; ++tile)
-    if (dir.tiles[tile] != kEmptyTile) {
-      dir.count(dir.tiles[tile], +1);
-      dir.live_words += aligned_words(RecordView(dir.record(dir.tiles[tile])).words());
-    }
+  dir.arena.assign(s.arena.begin(), s.arena.end());
+  dir.live_words = dir.arena.size();
+  dir.records = dir.leaves = dir.references = 0;
+  dir.depths.fill(0);
+  for (const std::uint32_t offset : dir.tiles)
+    if (offset != kEmptyTile) dir.count(offset, +1);
 }
 
 /// The distinct slots of a record (its references without the straddlers' repeats), ascending.
@@ -415,10 +358,10 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
     s.record.clear();
     // Usually the tile's leaves stay and only the edited references change; otherwise the record is
     // redrawn with every surviving reference placed anew.
-    if (offset == kEmptyTile || !edit_record(RecordView(dir.record(offset)), edits.dropped, added, s.record)) {
+    if (offset == kEmptyTile || !edit_record(RecordView(dir.arena.data() + offset), edits.dropped, added, s.record)) {
       s.tile_entries.assign(added.begin(), added.end());
       if (offset != kEmptyTile) {
-        record_slots(dir.record(offset), survivors);
+        record_slots(dir.arena.data() + offset, survivors);
         for (const std::uint32_t slot : survivors) {
           if (edits.dropped[slot]) continue;
           const Placement p = raster.place_in(layout.triangles[slot], tile);
@@ -429,21 +372,21 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
       if (!s.tile_entries.empty()) make_record(s.tile_entries, layout.config, s.record);
     }
 
-    const std::size_t old_words = offset == kEmptyTile ? 0 : aligned_words(RecordView(dir.record(offset)).words());
+    const std::size_t old_words = offset == kEmptyTile ? 0 : RecordView(dir.arena.data() + offset).words();
     dir.live_words -= old_words;
     if (offset != kEmptyTile) dir.count(offset, -1);
     if (s.record.empty() || RecordView(s.record.data()).references() == 0) {
       dir.tiles[tile] = kEmptyTile;
       continue;
     }
-    dir.live_words += aligned_words(s.record.size());
-    if (offset != kEmptyTile && s.record.size() <= dir.records[offset + 3]) {
-      const std::uint32_t capacity = dir.records[offset + 3];
-      std::copy(s.record.begin(), s.record.end(), dir.records + offset);
-      dir.records[offset + 3] = capacity;
+    dir.live_words += s.record.size();
+    if (offset != kEmptyTile && s.record.size() <= dir.arena[offset + 3]) {
+      const std::uint32_t capacity = dir.arena[offset + 3];
+      std::copy(s.record.begin(), s.record.end(), dir.arena.begin() + offset);
+      dir.arena[offset + 3] = capacity;
     } else {
       // A tile an object moves through is likely to change again next frame: its record gets a
-      // quarter of room to grow in place, so that the records do not grow (and move) every frame.
+      // quarter of room to grow in place, so that the arena does not grow (and move) every frame.
       const std::size_t capacity = s.record.size() + s.record.size() / 4 + 4;
       s.record[3] = static_cast<std::uint32_t>(capacity);
       s.record.resize(capacity, 0);
@@ -452,27 +395,21 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
     dir.count(dir.tiles[tile], +1);
   }
   // Records that moved to the end left holes; when holes outweigh the records, copy the live ones
-  // into fresh words in tile order.
-  if (dir.words > 2 * dir.live_words + 1024) {
-    decltype(dir.grown) compact;
-    compact.reserve(dir.live_words + dir.live_words / 8);
-    for (std::size_t tile = 0; tile < tile_count; ++tile) {
-      std::uint32_t& offset = dir.tiles[tile];
+  // into a fresh arena in tile order.
+  if (dir.arena.size() > 2 * dir.live_words + 1024) {
+    std::vector<std::uint32_t> compact;
+    compact.reserve(dir.live_words);
+    for (std::uint32_t& offset : dir.tiles) {
       if (offset == kEmptyTile) continue;
-      const std::uint32_t* record = dir.record(offset);
+      const std::uint32_t* record = dir.arena.data() + offset;
       const std::size_t words = RecordView(record).words();
-      const auto moved = static_cast<std::uint32_t>(aligned_words(compact.size()));
-      compact.resize(moved, 0);
+      const auto moved = static_cast<std::uint32_t>(compact.size());
       compact.insert(compact.end(), record, record + words);
       compact[moved + 3] = static_cast<std::uint32_t>(words);
       offset = moved;
     }
-    dir.grown = std::move(compact);
-    dir.records = dir.grown.data();
-    dir.words = dir.grown.size();
-    dir.live_words = 0;
-    for (std::size_t tile = 0; tile < tile_count; ++tile)
-      if (dir.tiles[tile] != kEmptyTile) dir.live_words += aligned_words(RecordView(dir.record(dir.tiles[tile])).words());
+    dir.arena = std::move(compact);
+    dir.live_words = dir.arena.size();
   }
 }
 
@@ -480,14 +417,11 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
 
 void build_all_directions(BeamLayout& layout) {
   layout.directions.assign(layout.lines.size(), {});
-  layout.arena.clear();
-  layout.arena_words = 0;
-  ArenaCursor arena(layout);
   tbb::enumerable_thread_specific<Scratch> scratch;
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 1), [&](const auto& range) {
     for (std::size_t line = range.begin(); line != range.end(); ++line) {
       check_interrupt();
-      build_direction(layout, line, layout.directions[line], arena, scratch.local());
+      build_direction(layout, line, layout.directions[line], scratch.local());
     }
   });
 }

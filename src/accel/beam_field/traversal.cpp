@@ -264,7 +264,7 @@ class Walk {
     counter_.tile();
     const std::uint32_t offset = dir_->tiles[static_cast<std::size_t>(iy) * static_cast<std::size_t>(layout_.geometry.n) + static_cast<std::size_t>(ix)];
     if (offset == kEmptyTile) return false;
-    const RecordView record(dir_->record(offset));
+    const RecordView record(dir_->arena.data() + offset);
     const double lo = record.lo(), scale = record.scale();
     const int last = record.last_leaf();
     const std::uint32_t key = f_.segment_key(layout_.geometry, ix, iy, enter, exit, margin_);
@@ -401,7 +401,7 @@ void prefetch_record(const BeamLayout& layout, std::uint32_t line, std::uint32_t
   const DirectionTiles& dir = layout.directions[line];
   const std::uint32_t offset = dir.tiles[tile];
   if (offset == kEmptyTile) return;
-  const std::uint32_t* record = dir.record(offset);
+  const std::uint32_t* record = dir.arena.data() + offset;
   __builtin_prefetch(record);
   __builtin_prefetch(record + 16);  // the leaf starts of a deeper tile-BSP
 }
@@ -412,7 +412,7 @@ void prefetch_origin_leaf(const BeamLayout& layout, const Ray& ray, std::uint32_
   const DirectionTiles& dir = layout.directions[line];
   const std::uint32_t offset = dir.tiles[tile];
   if (offset == kEmptyTile) return;
-  const RecordView record(dir.record(offset));
+  const RecordView record(dir.arena.data() + offset);
   const FrameD& f = layout.frames[line];
   const PsfPoint p = project(f, layout.geometry.center, ray.org);
   const int leaf = leaf_of(p.w, record.lo(), record.scale(), record.last_leaf());
@@ -572,7 +572,7 @@ void trace_tile_stream(const BeamLayout& layout, std::uint32_t line, std::uint32
     for (std::size_t k = 0; k < count; ++k) occluded[idx[k]] = 0;
     return;
   }
-  const RecordView record(dir.record(offset));
+  const RecordView record(dir.arena.data() + offset);
   const TileGeometry& g = layout.geometry;
   const int ix = static_cast<int>(tile % static_cast<std::uint32_t>(g.n)), iy = static_cast<int>(tile / static_cast<std::uint32_t>(g.n));
   const int last = record.last_leaf();

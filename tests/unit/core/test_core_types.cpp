@@ -1,7 +1,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdint>
 #include <thread>
 
 #include "visfield/core/error.hpp"
@@ -173,28 +172,6 @@ TEST(Memory, SizesAreWrittenForPeople) {
   EXPECT_EQ(format_bytes(12.5 * 1024), "12.5 KiB");
   EXPECT_EQ(format_bytes(4.4 * 1024 * 1024), "4.40 MiB");
   EXPECT_EQ(format_bytes(2.5 * 1024 * 1024 * 1024), "2.50 GiB");
-}
-
-TEST(Memory, LargePagesAreHugePageAlignedZeroedAndMoveOnce) {
-  constexpr std::size_t kHuge = std::size_t{2} << 20;
-  LargePages pages(3 * kHuge + 5);
-  ASSERT_NE(pages.data(), nullptr);
-  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(pages.data()) % kHuge, 0u);
-  EXPECT_EQ(pages.size(), 4 * kHuge);
-  for (std::size_t i = 0; i < pages.size(); i += 4096) EXPECT_EQ(pages.data()[i], std::byte{0}) << i;
-  pages.data()[pages.size() - 1] = std::byte{7};  // the whole size is writable
-  std::byte* const first = pages.data();
-  LargePages moved(std::move(pages));
-  EXPECT_EQ(pages.data(), nullptr);
-  EXPECT_EQ(pages.size(), 0u);
-  EXPECT_EQ(moved.data(), first);
-  EXPECT_EQ(moved.data()[moved.size() - 1], std::byte{7});
-  LargePages small(1, /*huge=*/false);
-  EXPECT_FALSE(small.advised_huge());
-  EXPECT_EQ(small.size(), kHuge);
-  moved = std::move(small);
-  EXPECT_EQ(moved.size(), kHuge);
-  EXPECT_EQ(LargePages().data(), nullptr);
 }
 
 TEST(Statistics, MedianOfOddAndEvenCounts) {
