@@ -31,6 +31,22 @@ threads=$(nproc)
     echo '```'
     echo
   done
+  echo "## Many field objects: copies of the bunny on an exact ground"
+  echo
+  echo "AO rays (4 per pixel, unlimited length) from what the camera sees of 3 × 3 and 32 × 32 bunnies"
+  echo "(\`scripts/copies-scene.py bun_zipper.ply N 0.25 OUT.json --ground 0.025\`), all field objects; the"
+  echo "fields found through the tree over the objects' spheres (\`field\`, the default) and by testing every"
+  echo "sphere (\`field:cull=each\`, as before the tree), beside Embree's instancing;"
+  echo "\`visfield-bench --scene OUT.json --rays ao --accel field,field:cull=each,embree:levels=2 --count 1000000 --threads $threads --reps 5\`."
+  echo
+  for count in 9 1024; do
+    /usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" "$count" 0.25 "$work/bunnies$count.json" --ground 0.025
+    echo '```'
+    "$bin/visfield-bench" --scene "$work/bunnies$count.json" --rays ao --accel field:cache="$work/cache",field:cull=each,cache="$work/cache",embree:levels=2 \
+      --count 1000000 --threads "$threads" --reps 5 | sed "s|$work/cache|CACHE|g; s|$work/||g"
+    echo '```'
+    echo
+  done
   "$bin/visfield-experiments" --figure fig6 --scene "$models/bun_zipper.ply"
   echo
   "$bin/visfield-experiments" --figure lookups --scene "$models/bun_zipper.ply"

@@ -39,11 +39,11 @@ std::vector<field::FieldAnswer> trace(const field::ObjectField& f, const RayArra
 }
 
 // The parameters Field.build takes: the field structure's (registry), but for the scene-level
-// cache and meshes, which a single mesh's field has no use for.
+// cache, meshes and cull, which a single mesh's field has no use for.
 std::vector<ParamSpec> field_build_params() {
   std::vector<ParamSpec> params;
   for (const ParamSpec& p : find_structure("field").params)
-    if (p.key != "cache" && p.key != "meshes") params.push_back(p);
+    if (p.key != "cache" && p.key != "meshes" && p.key != "cull") params.push_back(p);
   return params;
 }
 

@@ -225,7 +225,7 @@ double estimate_beam(const ParamValues& p, const SceneGeometry& geometry) {
 
 // The field's table parameters (field_params.hpp), then how it is looked up and cached, and which meshes it takes.
 constexpr auto kFieldParams = [] {
-  std::array<ParamSpec, field::kTableParams.size() + 5> params{};
+  std::array<ParamSpec, field::kTableParams.size() + 6> params{};
   for (std::size_t i = 0; i < field::kTableParams.size(); ++i) params[i] = field::kTableParams[i];
   std::size_t i = field::kTableParams.size();
   params[i++] = {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0};
@@ -237,6 +237,9 @@ constexpr auto kFieldParams = [] {
   params[i++] = {"meshes", ParamType::choice, "all",
                  "which meshes get fields: all (but those a scene marks exact) or marked (only those it marks \"occluder\": \"field\")", 0, 0,
                  "all|marked"};
+  params[i++] = {"cull", ParamType::choice, "tree",
+                 "how rays find the field objects they may meet: tree (a BVH over their spheres) or each (every sphere tested; same answers)", 0, 0,
+                 "tree|each"};
   return params;
 }();
 
@@ -256,7 +259,8 @@ BuiltStructure build_field(const ParamValues& p, SceneGeometry& geometry, const 
   const field::ObjectFieldConfig config = field_config(p);
   ProgressBar bar("field", field::FieldScene::progress_total(geometry.scene(), config, field_meshes(p)), context.progress);
   field::FieldScene fields = field::FieldScene::build(geometry.scene(), config, [&](std::size_t n) { bar.tick(n); },
-                                                     p.has("cache") ? p.text("cache") : std::string(), field_meshes(p));
+                                                     p.has("cache") ? p.text("cache") : std::string(), field_meshes(p),
+                                                     p.text("cull") == "each" ? field::ObjectCull::each : field::ObjectCull::tree);
   bar.finish();
   return {std::move(fields), with_params("field", p.canonical()), object_degenerate_count(geometry.scene())};
 }

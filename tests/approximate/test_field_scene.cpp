@@ -144,6 +144,64 @@ TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
   EXPECT_GT(static_cast<double>(close) / static_cast<double>(compared), 0.9) << close << " of " << compared;
 }
 
+// The tree over the objects' spheres gives each ray the objects that testing every sphere gives it,
+// so the answers are the same bit for bit, single rays and batches, closest hits and occlusion: on
+// 400 boxes, some rotated and scaled, with rays from surfaces, random rays through the scene and rays
+// from far outside it.
+TEST(FieldScene, TheTreeOverObjectsAnswersAsTestingEverySphere) {
+  Scene scene = make_builtin_scene("boxes", {.size = 400});
+  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
+    if (object.id % 4 != 0 || scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
+    Transform t = object.transform;
+    t.rotation = Mat3::rotation(normalize(Vec3f{0.2f, 1.0f, 0.5f}), 40.0f) * t.rotation;
+    t.scale *= 0.7f;
+    scene.set_transform(object.id, t);
+  }
+  const TriangleSet set = flatten(scene);
+  const field::ObjectFieldConfig config{.positions = 290, .directions = 16};
+  const FieldScene tree = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::tree);
+  const FieldScene each = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::each);
+  ASSERT_GT(tree.stats().leaf_count, 300u);
+  EXPECT_GT(tree.stats().memory_bytes, each.stats().memory_bytes);  // the tree's nodes
+  std::vector<Ray> rays = surface_origin_rays(set, 11, 20000);
+  for (Ray& ray : rays) ray.tmin = 1e-4f * length(set.bounds.extent());
+  const std::vector<Ray> random = random_rays(set, 12, 20000);
+  rays.insert(rays.end(), random.begin(), random.end());
+  // From 100 scene sizes away, towards the scene: long rays across many spheres.
+  Rng rng(13);
+  const Vec3f centre = set.bounds.center();
+  const float size = length(set.bounds.extent());
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3f from = centre + uniform_sphere(rng.uniform(), rng.uniform()) * (100.0f * size);
+    const Vec3f to = centre + Vec3f{rng.uniform() - 0.5f, rng.uniform() * 0.1f, rng.uniform() - 0.5f} * size;
+    rays.push_back(Ray{from, to - from, 0.0f, 2.0f});
+  }
+  std::vector<std::uint8_t> occluded_tree(rays.size()), occluded_each(rays.size());
+  std::vector<Hit> hits_tree(rays.size()), hits_each(rays.size());
+  field::occluded_batch(tree, rays, occluded_tree);
+  field::occluded_batch(each, rays, occluded_each);
+  field::intersect_batch(tree, rays, hits_tree);
+  field::intersect_batch(each, rays, hits_each);
+  const auto same = [](const Hit& a, const Hit& b) {
+    return a.found == b.found && (!a.found || (a.t == b.t && a.instance == b.instance && a.prim == b.prim));
+  };
+  // Tree against every sphere, single rays against batches.
+  std::size_t differ = 0, batch_differs = 0, occluded = 0, field_hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const bool one = each.occluded(rays[i]);
+    occluded += one ? 1 : 0;
+    differ += tree.occluded(rays[i]) != one || occluded_tree[i] != occluded_each[i] ? 1 : 0;
+    const Hit h = each.intersect(rays[i]);
+    field_hits += h.found && !h.has_triangle() ? 1 : 0;
+    differ += !same(tree.intersect(rays[i]), h) || !same(hits_tree[i], hits_each[i]) ? 1 : 0;
+    batch_differs += (occluded_each[i] != 0) != one || !same(hits_each[i], h) ? 1 : 0;
+  }
+  EXPECT_EQ(batch_differs, 0u);
+  EXPECT_GT(occluded, rays.size() / 10);
+  EXPECT_GT(field_hits, rays.size() / 20);
+  EXPECT_EQ(differ, 0u);
+}
+
 // The batch queries run in parallel over blocks (the ThreadSanitizer step runs this test): the
 // answers do not depend on the thread count.
 TEST(FieldScene, BatchAnswersDoNotDependOnTheThreadCount) {

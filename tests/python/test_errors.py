@@ -136,7 +136,7 @@ def test_render_and_field_keywords_are_the_librarys_tables():
         assert s["key"] + "=" + s["default"] in vf.Renderer.render.__doc__, s["key"]
     with pytest.raises(TypeError, match="valid: .*ao_rays"):
         vf.render(scene, width=8, height=8, colour="red")
-    field_params = [p for p in vf.structure_params("field") if p["key"] not in ("cache", "meshes")]
+    field_params = [p for p in vf.structure_params("field") if p["key"] not in ("cache", "meshes", "cull")]
     assert {p["key"] for p in field_params} >= {"positions", "directions", "mapping", "storage", "normals", "through"}
     for p in field_params:
         assert p["key"] + "=" + p["default"] in vf.Field.build.__doc__, p["key"]

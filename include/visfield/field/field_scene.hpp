@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "visfield/accel/box_tree.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/accel/query.hpp"
 #include "visfield/core/scene.hpp"
@@ -27,8 +28,14 @@ enum class FieldMeshes : unsigned char {
   marked,  ///< Only the meshes marked MeshOccluder::field (a scene JSON's "occluder": "field").
 };
 
-/// Fields of a scene's meshes under a flat list of the objects' world-space spheres. Immutable;
-/// queries are const and thread-safe. Movable.
+/// How a scene of several field objects finds the objects a ray may meet.
+enum class ObjectCull : unsigned char {
+  tree,  ///< A BVH over the objects' spheres (BoxTree): O(log objects) per ray.
+  each,  ///< Every object's sphere tested in turn: O(objects) per ray (the same answers; to measure the tree).
+};
+
+/// Fields of a scene's meshes, shared by their objects, under a BVH over the objects' world-space
+/// spheres. Immutable; queries are const and thread-safe. Movable.
 class FieldScene {
  public:
   /// Builds the field of every mesh some object uses (each once, with `config` overridden by the
@@ -40,9 +47,10 @@ class FieldScene {
   /// `cache_folder/<mesh name>-<mesh hash>-<parameters>.vfield` likewise. Objects must have uniform scale (Transform guarantees it). Throws vf::Error on bad
   /// parameters or memory (checked up front for all fields together), vf::Interrupted on a
   /// signal. `progress(n)`: n more positional samples done, over progress_total(scene, config).
+  /// `cull` chooses how rays find their objects; answers are the same bit for bit either way.
   static FieldScene build(const Scene& scene, const ObjectFieldConfig& config,
                           const std::function<void(std::size_t)>& progress = {}, const std::string& cache_folder = "",
-                          FieldMeshes meshes = FieldMeshes::all);
+                          FieldMeshes meshes = FieldMeshes::all, ObjectCull cull = ObjectCull::tree);
   /// Peak bytes build() takes: every field's tables, the largest field mesh's BVH build, and the
   /// exact objects' triangles and BVH.
   static double estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config, FieldMeshes meshes = FieldMeshes::all);
@@ -76,7 +84,9 @@ class FieldScene {
   friend void occluded_batch(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
   friend void occluded_block(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
   friend void intersect_batch(const FieldScene&, std::span<const Ray>, std::span<Hit>);
-  /// Answers for the rays of one block (at most kBlock), into best (closest hits, when `closest`) or
+  /// Rays per block of the batch queries: 16384 among several objects, 4096 for one.
+  std::size_t block_size() const;
+  /// Answers for the rays of one block (at most block_size()), into best (closest hits, when `closest`) or
   /// occluded; the batch queries run it per block in parallel.
   void trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const;
 
@@ -91,11 +101,16 @@ class FieldScene {
   };
   /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
   static bool may_meet(const Object& o, const Ray& ray);
+  /// Indices of the objects whose spheres `ray` may meet (may_meet), ascending, into `out`; every
+  /// object when there is only one.
+  void objects_met(const Ray& ray, std::vector<std::uint32_t>& out) const;
   /// The world-space hit of field answer `a` of object `o` (its normal rotated to world space).
   static Hit field_hit(const Object& o, const FieldAnswer& a);
 
   std::vector<std::shared_ptr<const ObjectField>> fields_;  // by mesh index; null when unused
   std::vector<Object> objects_;
+  ObjectCull cull_ = ObjectCull::tree;
+  BoxTree tree_;  // over the objects' widened spheres, when cull_ is tree and there are several
   std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
   AccelStats stats_;
 };
