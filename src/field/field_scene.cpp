@@ -1,5 +1,4 @@
 #include "visfield/field/field_scene.hpp"
-#include "visfield/field/sphere_cull.hpp"
 
 #include <algorithm>
 #include <array>
@@ -174,7 +173,6 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   return result;
 }
 
-bool FieldScene::may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
 
 void FieldScene::objects_met(const Ray& ray, std::vector<std::uint32_t>& out) const {
   out.clear();

@@ -19,6 +19,7 @@
 #include "visfield/accel/query.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/field/object_field.hpp"
+#include "visfield/field/sphere_cull.hpp"
 
 namespace vf::field {
 
@@ -100,7 +101,7 @@ class FieldScene {
     float radius;
   };
   /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
-  static bool may_meet(const Object& o, const Ray& ray);
+  static bool may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
   /// Indices of the objects whose spheres `ray` may meet (may_meet), ascending, into `out`; every
   /// object when there is only one.
   void objects_met(const Ray& ray, std::vector<std::uint32_t>& out) const;
