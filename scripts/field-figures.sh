@@ -6,6 +6,7 @@
 # Takes about 15 minutes on 2 cores (the 16642 x 256^2 fields of Figure 6 most of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root=$(pwd)
 models=${1:?usage: scripts/field-figures.sh MODELS_DIR [OUT.md]}
 out=${2:-docs/objectfield-measurements.md}
 bin=build/bin
@@ -42,8 +43,9 @@ threads=$(nproc)
   for count in 9 1024; do
     /usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" "$count" 0.25 "$work/bunnies$count.json" --ground 0.025
     echo '```'
-    "$bin/visfield-bench" --scene "$work/bunnies$count.json" --rays ao --accel field:cache="$work/cache",field:cull=each,cache="$work/cache",embree:levels=2 \
-      --count 1000000 --threads "$threads" --reps 5 | sed "s|$work/cache|CACHE|g; s|$work/||g"
+    # From the scene's folder, so that the fields' cache has a short name in the table.
+    (cd "$work" && "$root/$bin/visfield-bench" --scene "bunnies$count.json" --rays ao --accel field:cache=cache,field:cull=each,cache=cache,embree:levels=2 \
+      --count 1000000 --threads "$threads" --reps 5)
     echo '```'
     echo
   done

@@ -270,22 +270,19 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   // block's rays in order.
   const bool cull = objects_.size() > 1;
   // Through the tree, each ray's objects are found for the whole block first, then grouped by object
-  // with a counting sort (rays stay ascending).
+  // with a counting sort (each object's rays in the order the tree met them).
   const bool by_tree = cull && cull_ == ObjectCull::tree;
   std::vector<std::uint32_t> first_of_object, rays_of_object;
   if (by_tree) {
-    std::vector<std::uint32_t> met, pair_object, pair_ray;
+    std::vector<std::uint32_t> met_object, met_ray, pair_object, pair_ray;
+    tree_.pairs_met(rays, closest ? nullptr : occluded, met_object, met_ray);
     first_of_object.assign(objects_.size() + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!closest && occluded[i]) continue;
-      met.clear();
-      tree_.items_met(rays[i], met);
-      for (const std::uint32_t k : met) {
-        if (!may_meet(objects_[k], rays[i])) continue;
-        pair_object.push_back(k);
-        pair_ray.push_back(static_cast<std::uint32_t>(i));
-        ++first_of_object[k + 1];
-      }
+    for (std::size_t p = 0; p < met_object.size(); ++p) {
+      const std::uint32_t k = met_object[p], i = met_ray[p];
+      if (!may_meet(objects_[k], rays[i])) continue;
+      pair_object.push_back(k);
+      pair_ray.push_back(i);
+      ++first_of_object[k + 1];
     }
     for (std::size_t k = 0; k < objects_.size(); ++k) first_of_object[k + 1] += first_of_object[k];
     rays_of_object.resize(pair_ray.size());

@@ -28,6 +28,12 @@ class BoxTree {
   /// range are widened as the Bvh's are, so a ray that touches a box is never left out.
   /// O(log N + items met).
   void items_met(const Ray& ray, std::vector<std::uint32_t>& items) const;
+  /// items_met() for many rays: for each i with no skip[i] (every ray when `skip` is null), appends
+  /// (item, i) to (`items`, `ray_index`) for every item rays[i] meets. Several rays walk the tree at
+  /// once, a step each in turn, so that one's node loads overlap another's; pairs come out grouped by
+  /// neither item nor ray. The same pairs as items_met() ray by ray.
+  void pairs_met(std::span<const Ray> rays, const std::uint8_t* skip, std::vector<std::uint32_t>& items,
+                 std::vector<std::uint32_t>& ray_index) const;
   /// Items it was built over.
   std::size_t item_count() const { return item_count_; }
   /// Bytes of its nodes and item list.
