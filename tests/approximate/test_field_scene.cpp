@@ -11,6 +11,7 @@
 
 #include "approximate/harness.hpp"
 #include "differential/ray_sets.hpp"
+#include "support/turned_boxes.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
@@ -71,14 +72,7 @@ TEST(FieldScene, InstancesOfOneMeshShareOneField) {
 // The batch queries answer as the single-ray ones bit for bit, with instances (boxes, rotated and
 // scaled below), an exact part (the ground) and a normal field in the scene.
 TEST(FieldScene, BatchQueriesAnswerAsSingleRaysBitForBit) {
-  Scene scene = make_builtin_scene("boxes", {.size = 64});
-  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
-    if (object.id % 3 != 0 || scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
-    Transform t = object.transform;
-    t.rotation = Mat3::rotation(normalize(Vec3f{1.0f, 1.0f, 0.3f}), 25.0f) * t.rotation;
-    t.scale *= 0.8f;
-    scene.set_transform(object.id, t);
-  }
+  const Scene scene = turned_boxes(64);
   const TriangleSet set = flatten(scene);
   const FieldScene fields = FieldScene::build(scene, {.positions = 1090, .directions = 16, .normals = field::NormalStorage::oct16});
   std::vector<Ray> rays = surface_origin_rays(set, 8, 20000);
@@ -149,14 +143,7 @@ TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
 // 400 boxes, some rotated and scaled, with rays from surfaces, random rays through the scene and rays
 // from far outside it.
 TEST(FieldScene, TheTreeOverObjectsAnswersAsTestingEverySphere) {
-  Scene scene = make_builtin_scene("boxes", {.size = 400});
-  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
-    if (object.id % 4 != 0 || scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
-    Transform t = object.transform;
-    t.rotation = Mat3::rotation(normalize(Vec3f{0.2f, 1.0f, 0.5f}), 40.0f) * t.rotation;
-    t.scale *= 0.7f;
-    scene.set_transform(object.id, t);
-  }
+  const Scene scene = turned_boxes(400);
   const TriangleSet set = flatten(scene);
   const field::ObjectFieldConfig config{.positions = 290, .directions = 16};
   const FieldScene tree = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::tree);

@@ -10,6 +10,7 @@
 
 #include "differential/ray_sets.hpp"
 #include "support/same_hit.hpp"
+#include "support/turned_boxes.hpp"
 #include "visfield/field/field_scene.hpp"
 #include "visfield/gpu/packed_scene.hpp"
 #include "visfield/scenes/builtin.hpp"
@@ -32,17 +33,7 @@ std::vector<Ray> probe_rays(const Scene& scene, std::uint64_t seed) {
 }
 
 /// Boxes on a ground, every third box rotated and scaled: instances of one mesh, an exact part.
-Scene boxes_scene() {
-  Scene scene = make_builtin_scene("boxes", {.size = 27});
-  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
-    if (object.id % 3 != 0 || scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
-    Transform t = object.transform;
-    t.rotation = Mat3::rotation(normalize(Vec3f{1.0f, 1.0f, 0.3f}), 25.0f) * t.rotation;
-    t.scale *= 0.8f;
-    scene.set_transform(object.id, t);
-  }
-  return scene;
-}
+Scene boxes_scene() { return turned_boxes(27); }
 
 void expect_same_answers(const Scene& scene, const field::ObjectFieldConfig& config, const std::string& label) {
   const field::FieldScene fields = field::FieldScene::build(scene, config);
