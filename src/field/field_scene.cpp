@@ -173,7 +173,6 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   return result;
 }
 
-
 void FieldScene::objects_met(const Ray& ray, std::vector<std::uint32_t>& out) const {
   out.clear();
   const auto count = static_cast<std::uint32_t>(objects_.size());
@@ -274,16 +273,20 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   const bool by_tree = cull && cull_ == ObjectCull::tree;
   std::vector<std::uint32_t> first_of_object, rays_of_object;
   if (by_tree) {
-    std::vector<std::uint32_t> met_object, met_ray, pair_object, pair_ray;
-    tree_.pairs_met(rays, closest ? nullptr : occluded, met_object, met_ray);
+    // The tree's pairs, kept where the sphere test lets the ray in (in place).
+    std::vector<std::uint32_t> pair_object, pair_ray;
+    tree_.pairs_met(rays, closest ? nullptr : occluded, pair_object, pair_ray);
     first_of_object.assign(objects_.size() + 1, 0);
-    for (std::size_t p = 0; p < met_object.size(); ++p) {
-      const std::uint32_t k = met_object[p], i = met_ray[p];
+    std::size_t kept = 0;
+    for (std::size_t p = 0; p < pair_object.size(); ++p) {
+      const std::uint32_t k = pair_object[p], i = pair_ray[p];
       if (!may_meet(objects_[k], rays[i])) continue;
-      pair_object.push_back(k);
-      pair_ray.push_back(i);
+      pair_object[kept] = k;
+      pair_ray[kept++] = i;
       ++first_of_object[k + 1];
     }
+    pair_object.resize(kept);
+    pair_ray.resize(kept);
     for (std::size_t k = 0; k < objects_.size(); ++k) first_of_object[k + 1] += first_of_object[k];
     rays_of_object.resize(pair_ray.size());
     std::vector<std::uint32_t> fill(first_of_object.begin(), first_of_object.end() - 1);

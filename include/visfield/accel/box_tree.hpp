@@ -34,15 +34,12 @@ class BoxTree {
   /// neither item nor ray. The same pairs as items_met() ray by ray.
   void pairs_met(std::span<const Ray> rays, const std::uint8_t* skip, std::vector<std::uint32_t>& items,
                  std::vector<std::uint32_t>& ray_index) const;
-  /// Items it was built over.
-  std::size_t item_count() const { return item_count_; }
   /// Bytes of its nodes and item list.
   std::size_t memory_bytes() const;
 
  private:
   struct Layout;
   std::unique_ptr<Layout> layout_;
-  std::size_t item_count_ = 0;
 };
 
 }  // namespace vf

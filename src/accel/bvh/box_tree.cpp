@@ -22,7 +22,6 @@ BoxTree::~BoxTree() = default;
 
 BoxTree BoxTree::build(std::span<const Bounds3f> boxes) {
   BoxTree tree;
-  tree.item_count_ = boxes.size();
   tree.layout_ = std::make_unique<Layout>();
   std::vector<std::uint32_t> kept;
   std::vector<Bounds3f> kept_boxes;
