@@ -26,7 +26,7 @@ namespace {
 int resolved_width(int width) {
 #if defined(__AVX512F__)
   constexpr int widest = 16;
-#elif defined(__AVX2__)
+#elif defined(__AVX2__) && defined(__FMA__)
   constexpr int widest = 8;
 #else
   constexpr int widest = 1;
@@ -42,7 +42,7 @@ void at_width(int width, const Run& run) {
 #if defined(__AVX512F__)
   if (width == 16) run(lanes::Avx512{});
 #endif
-#if defined(__AVX2__)
+#if defined(__AVX2__) && defined(__FMA__)
   if (width == 8) run(lanes::Avx2{});
 #endif
   (void)width, (void)run;

@@ -243,17 +243,18 @@ class FieldKernel {
   };
   static F gather_at(const float* base, I slot, int k, M m) { return lanes::gather(base + k, slot, m); }
   static F row_dot(const Vec3f& row, F x, F y, F z) { return L::splat(row.x) * x + L::splat(row.y) * y + L::splat(row.z) * z; }
-  static F dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+  // hd::fused_dot on lanes.
+  static F dot(const Vec& a, const Vec& b) { return fma(a.x, b.x, fma(a.y, b.y, a.z * b.z)); }
 
   // hd::atan_unit on lanes.
   [[gnu::always_inline]] static F atan_unit(F x) {
     const F x2 = x * x;
     F p = L::splat(-0.01172120f);
-    p = p * x2 + L::splat(0.05265332f);
-    p = p * x2 - L::splat(0.11643287f);
-    p = p * x2 + L::splat(0.19354346f);
-    p = p * x2 - L::splat(0.33262347f);
-    p = p * x2 + L::splat(0.99997726f);
+    p = fma(p, x2, L::splat(0.05265332f));
+    p = fma(p, x2, L::splat(-0.11643287f));
+    p = fma(p, x2, L::splat(0.19354346f));
+    p = fma(p, x2, L::splat(-0.33262347f));
+    p = fma(p, x2, L::splat(0.99997726f));
     return x * p;
   }
 
@@ -268,18 +269,17 @@ class FieldKernel {
   }
 
   // disk_to_concentric on lanes.
-  // (Halving is exact, so a product by 0.5 gives the quotient's bits.)
   [[gnu::always_inline]] static void disk_to_square(F x, F y, F& s, F& t) {
-    const F zero = L::splat(0.0f), one = L::splat(1.0f), half = L::splat(0.5f);
-    const F r = sqrt(x * x + y * y);
+    const F zero = L::splat(0.0f), half = L::splat(0.5f);
+    const F r = sqrt(fma(x, x, y * y));
     const M positive = r > zero, x_major = abs(x) >= abs(y);
     // The major axis's coordinate is ±r, the minor's r·(4/π)·atan(minor/major).
     const F major = copysign(r, select(x_major, x, y));
     const F minor = major * L::splat(4 / hd::kPi<float>) * atan_unit(select(x_major, y, x) / select(x_major, x, y));
     const F a = select(positive, select(x_major, major, minor), zero);
     const F b = select(positive, select(x_major, minor, major), zero);
-    s = (a + one) * half;
-    t = (b + one) * half;
+    s = fma(a, half, half);
+    t = fma(b, half, half);
   }
 
   // direction_to_square on lanes.
@@ -371,7 +371,7 @@ class FieldKernel {
       total = select(m, total + w, total);
       const M h = m & a.hit;
       hit_weight = select(h, hit_weight + w, hit_weight);
-      distance = select(h, distance + w * a.t, distance);
+      distance = select(h, fma(w, a.t, distance), distance);
       const M heavier = h & (w > heaviest);
       heaviest = select(heavier, w, heaviest);
       code = select(heavier, a.normal_code, code);
@@ -395,7 +395,7 @@ class FieldKernel {
     Vec local{dot(u, d), dot(v, d), dot(w, d)};
     const M grazing = m & (local.z < zero);
     if (any(grazing)) {
-      const F planar = sqrt(local.x * local.x + local.y * local.y);
+      const F planar = sqrt(fma(local.x, local.x, local.y * local.y));
       const M flat = planar > zero;
       local.x = select(grazing, select(flat, local.x / planar, zero), local.x);
       local.y = select(grazing, select(flat, local.y / planar, zero), local.y);
@@ -412,7 +412,7 @@ class FieldKernel {
     const int n = f.directions;
     if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n), m);
     const F n_f = L::splat(static_cast<float>(n)), half = L::splat(0.5f);
-    const F fx = s * n_f - half, fy = t * n_f - half;
+    const F fx = fma(s, n_f, -half), fy = fma(t, n_f, -half);
     const I i0 = to_int(floor(fx)), j0 = to_int(floor(fy));
     const F wa = fx - to_float(i0), wb = fy - to_float(j0);
     Vote vote;
@@ -550,7 +550,7 @@ class FieldKernel {
       return;
     }
     const F radius = L::splat(f.radius);
-    const Vec line{g.far.x + w.x * radius, g.far.y + w.y * radius, g.far.z + w.z * radius};
+    const Vec line{fma(w.x, radius, g.far.x), fma(w.y, radius, g.far.y), fma(w.z, radius, g.far.z)};
     const F len = sqrt(dot(line, line));
     const M long_enough = len > L::splat(kShortestLine * f.radius);
     const F inv = L::splat(1.0f) / len;
@@ -626,7 +626,7 @@ class FieldKernel {
     g.s_max = r.tmax * len;
     const Vec oc{r.ox - L::splat(f.centre.x), r.oy - L::splat(f.centre.y), r.oz - L::splat(f.centre.z)};
     const F b = dot(oc, d), c = dot(oc, oc) - L::splat(f.radius * f.radius);
-    const F disc = b * b - c;
+    const F disc = fma(b, b, -c);
     g.active = valid & (disc >= zero);
     const F root = sqrt(max(disc, zero));
     g.s_enter = -b - root;
@@ -634,23 +634,23 @@ class FieldKernel {
     g.inside = ~(c > zero);
     g.active = g.active & (g.inside | ~(g.s_enter < zero));
     const F s_at = select(g.inside, g.s_exit, g.s_enter);
-    Vec e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
+    Vec e{fma(d.x, s_at, oc.x), fma(d.y, s_at, oc.y), fma(d.z, s_at, oc.z)};
     F e_inv = L::splat(1.0f / f.radius);
     if (any(g.active & ~g.inside)) e_inv = select(g.inside, e_inv, one / sqrt(dot(e, e)));
     e_unit = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
     q = {select(g.inside, -d.x, d.x), select(g.inside, -d.y, d.y), select(g.inside, -d.z, d.z)};
     g.far = {zero, zero, zero};
     if (f.sample_line != SampleLine::parallel)
-      g.far = {select(g.inside, oc.x, oc.x + d.x * g.s_exit), select(g.inside, oc.y, oc.y + d.y * g.s_exit),
-               select(g.inside, oc.z, oc.z + d.z * g.s_exit)};
+      g.far = {select(g.inside, oc.x, fma(d.x, g.s_exit, oc.x)), select(g.inside, oc.y, fma(d.y, g.s_exit, oc.y)),
+               select(g.inside, oc.z, fma(d.z, g.s_exit, oc.z))};
     return g;
   }
 
   /// The end of trace_field on lanes: the table's answer `a` placed along the ray and held to its range.
   [[gnu::always_inline]] static Answer place(const FieldTables& f, const Geometry& g, Answer a) {
     const float diameter = 2.0f * f.radius;
-    const F span = a.t * L::splat(diameter);
-    const F s_hit = select(g.inside, g.s_exit - span, g.s_enter + span);
+    // place_answer's fma(∓t, diameter, s_exit or s_enter), the sign moved onto the diameter.
+    const F s_hit = fma(a.t, select(g.inside, L::splat(-diameter), L::splat(diameter)), select(g.inside, g.s_exit, g.s_enter));
     a.hit = a.hit & g.active & (~g.inside | (s_hit > L::splat(f.self_offset * diameter))) & (s_hit >= g.s_min) & (s_hit <= g.s_max);
     a.t = s_hit * g.inv;
     return a;

@@ -5,8 +5,9 @@
 // float-only with bit masks; this kernel computes table indices and reads tables, which needs
 // integer lanes, gathers and masks that select without a round trip through bits.
 //
-// Every float operation is the IEEE single operation (no fused multiply-add), so a lane computes
-// exactly what field_query.hpp computes for one ray.
+// Every float operation is the IEEE single operation, and fma() the IEEE fused multiply-add that
+// field_query.hpp writes as hd::fma, so a lane computes exactly what it computes for one ray. The
+// AVX2 backend therefore needs the FMA extension too (every AVX2 CPU but a few has it).
 
 #include <cstdint>
 
@@ -91,6 +92,8 @@ inline Avx512::M operator<=(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_ma
 inline Avx512::M operator>(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_GT_OQ)}; }
 inline Avx512::M operator>=(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_GE_OQ)}; }
 inline Avx512::F sqrt(Avx512::F a) { return {_mm512_sqrt_ps(a.v)}; }
+/// a·b + c rounded once (hd::fma).
+inline Avx512::F fma(Avx512::F a, Avx512::F b, Avx512::F c) { return {_mm512_fmadd_ps(a.v, b.v, c.v)}; }
 inline Avx512::F abs(Avx512::F a) { return {_mm512_abs_ps(a.v)}; }
 inline Avx512::F floor(Avx512::F a) { return {_mm512_roundscale_ps(a.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)}; }
 /// a > b ? a : b (b when either is NaN).
@@ -141,7 +144,7 @@ inline void gather_pairs(const unsigned long long* table, Avx512::I index, Avx51
 }
 #endif
 
-#if defined(__AVX2__)
+#if defined(__AVX2__) && defined(__FMA__)
 /// 8 lanes on AVX2 (masks are lanes of all ones or all zeros).
 struct Avx2 {
   static constexpr int kWidth = 8;
@@ -212,6 +215,8 @@ inline Avx2::M operator<=(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_p
 inline Avx2::M operator>(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)); }
 inline Avx2::M operator>=(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)); }
 inline Avx2::F sqrt(Avx2::F a) { return {_mm256_sqrt_ps(a.v)}; }
+/// a·b + c rounded once (hd::fma).
+inline Avx2::F fma(Avx2::F a, Avx2::F b, Avx2::F c) { return {_mm256_fmadd_ps(a.v, b.v, c.v)}; }
 inline Avx2::F abs(Avx2::F a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
 inline Avx2::F floor(Avx2::F a) { return {_mm256_floor_ps(a.v)}; }
 /// a > b ? a : b (b when either is NaN).

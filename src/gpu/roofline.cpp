@@ -10,19 +10,20 @@ namespace vf::gpu {
 namespace {
 
 // Float operations of trace_field() for one ray, counted in field/field_query.hpp and the headers
-// it calls (nearest lookups; the bilinear and blend lookups repeat the direction part 4 and 3 times):
-//   ray to unit direction, sphere roots, entry/exit point and its normalisation        46
+// it calls, an explicit fused multiply-add (hd::fma, hd::fused_dot: three a dot product) as one
+// (nearest lookups; the bilinear and blend lookups repeat the direction part 4 and 3 times):
+//   ray to unit direction, sphere roots, entry/exit point and its normalisation        34
 //   nearest_position: octa::coordinates (sqrt, lookup_atan2's division and degree-11
-//     polynomial, lattice scaling) 28, containing_triangle 8, three corner dot products 15   51
-//   read_direction: inward pole 3, orthonormal_basis 15, the local frame's 3 dot products 15,
-//     disk_to_concentric (sqrt, division, atan_unit) 26, two cell indices 3               62
-//   read_cell's decode and the hit distance, interval tests                                8
-constexpr double kTraceFlops = 46 + 51 + 62 + 8;
+//     polynomial, lattice scaling) 23, containing_triangle 8, three corner dot products 9    40
+//   read_direction: inward pole 3, orthonormal_basis 15, the local frame's 3 dot products 9,
+//     disk_to_concentric (sqrt, division, atan_unit) 18, two cell indices 3               48
+//   read_cell's decode and the hit distance, interval tests                                7
+constexpr double kTraceFlops = 34 + 40 + 48 + 7;
 constexpr double kTraceIntOps = 40;        // lattice indices, point_index, the cell address
-constexpr double kDirectionFlops = 62;     // one more read_direction (bilinear, blend)
-// sample_read() through the far end, per positional sample read: the exit point 6, the line 6, its
-// length (dot product, sqrt) 6, the unit direction (division, 3 products) 4, the shift 3.
-constexpr double kThroughFlops = 25;
+constexpr double kDirectionFlops = 48;     // one more read_direction (bilinear, blend)
+// sample_read() through the far end, per positional sample read: the exit point 3, the line 3, its
+// length (dot product, sqrt) 4, the unit direction (division, 3 products) 4, the shift 3.
+constexpr double kThroughFlops = 17;
 constexpr double kTransformFlops = 18;     // world-to-object ray (two 3x3 products, a subtraction)
 // ao_ray(): the generator's two numbers (integer), concentric_disk 14, sincos_eighth 19,
 // Malley's lift 5, the frame 15.
@@ -80,8 +81,8 @@ std::string describe(const LookupCost& c, const Roofline& r) {
   return line;
 }
 
-// 132 SMs x 128 FP32 lanes x 1.98 GHz boost: 33.5e12 operations a second without fusing (67 TFLOP/s
-// counts a fused multiply-add as two, which --fmad=false forgoes).
+// 132 SMs x 128 FP32 lanes x 1.98 GHz boost: 33.5e12 operations a second, a fused multiply-add
+// counted as one (67 TFLOP/s counts it as two; the kernels fuse only where the shared query says so).
 DevicePeaks h100_sxm_peaks() { return DevicePeaks{3.35e12, 50.0 * 1024 * 1024, 33.45e12}; }
 
 }  // namespace vf::gpu

@@ -49,18 +49,23 @@ VF_HOST_DEVICE inline double atan2(double y, double x) { return ::atan2(y, x); }
 VF_HOST_DEVICE inline float copysign(float x, float s) { return ::copysignf(x, s); }
 /// copysign for double; host and device.
 VF_HOST_DEVICE inline double copysign(double x, double s) { return ::copysign(x, s); }
+/// a·b + c rounded once (IEEE fused multiply-add), float: the same bits on every CPU and device
+/// (one instruction where the CPU has FMA, a library call otherwise); host and device.
+VF_HOST_DEVICE inline float fma(float a, float b, float c) { return ::fmaf(a, b, c); }
+/// a·b + c rounded once, double; host and device.
+VF_HOST_DEVICE inline double fma(double a, double b, double c) { return ::fma(a, b, c); }
 
 /// atan(x) for |x| <= 1 as the field lookups compute it in float: an odd minimax polynomial of
-/// degree 11 (|error| < 2e-6 rad) evaluated with separate multiplies and adds, so that a SIMD lane
-/// or a CUDA thread (built without contraction) computes the very same float. O(1).
+/// degree 11 (|error| < 2e-6 rad) evaluated by Horner's rule in explicit fused multiply-adds, which
+/// round once on every CPU, SIMD lane and CUDA thread alike, so all compute the very same float. O(1).
 VF_HOST_DEVICE inline float atan_unit(float x) {
   const float x2 = x * x;
   float p = -0.01172120f;
-  p = p * x2 + 0.05265332f;
-  p = p * x2 - 0.11643287f;
-  p = p * x2 + 0.19354346f;
-  p = p * x2 - 0.33262347f;
-  p = p * x2 + 0.99997726f;
+  p = fma(p, x2, 0.05265332f);
+  p = fma(p, x2, -0.11643287f);
+  p = fma(p, x2, 0.19354346f);
+  p = fma(p, x2, -0.33262347f);
+  p = fma(p, x2, 0.99997726f);
   return x * p;
 }
 /// atan(x) for |x| <= 1 in double: the library's (the exact reference for the float polynomial).
@@ -129,6 +134,10 @@ struct Vec3 {
 /// Dot product; host and device.
 template <class Real>
 VF_HOST_DEVICE inline Real dot(const Vec3<Real>& a, const Vec3<Real>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+/// a · b in two fused multiply-adds, z first: x·x' + (y·y' + z·z'), the product z·z' rounded, the
+/// rest rounded once a step (the field lookups' dot, the same bits on CPU, SIMD lanes and device).
+template <class Real>
+VF_HOST_DEVICE inline Real fused_dot(const Vec3<Real>& a, const Vec3<Real>& b) { return fma(a.x, b.x, fma(a.y, b.y, a.z * b.z)); }
 
 /// π in the precision of Real.
 template <class Real>

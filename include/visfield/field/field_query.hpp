@@ -1,7 +1,9 @@
 #pragma once
 /// \file One ObjectField query in object space, exactly as the CPU's single-ray path, its SIMD
 /// batch (src/field/field_kernel.hpp) and the CUDA kernels compute it: the same float operations
-/// in the same order, so that the three give the same bits (host and device, no STL). The field is
+/// in the same order, so that the three give the same bits (host and device, no STL). Products
+/// that feed a sum are explicit fused multiply-adds (hd::fma): IEEE rounds them once everywhere,
+/// so they keep the bits equal where a compiler's own contraction would not. The field is
 /// read through FieldTables, plain pointers to its tables, so that a device copy reads the same.
 ///
 /// A ray meets the bounding sphere. From outside, it reads the table of the positional sample
@@ -140,7 +142,7 @@ struct FieldVote {
     total += w;
     if (!a.hit) return;
     hit_weight += w;
-    distance += w * a.t;
+    distance = hd::fma(w, a.t, distance);
     if (w > heaviest) {
       heaviest = w;
       heaviest_hit = a;
@@ -170,9 +172,9 @@ VF_HOST_DEVICE inline bool bilinear_cell(const FieldTables& f, int& i, int& j) {
 VF_HOST_DEVICE inline void square_of(const FieldTables& f, int sample, const hd::Vec3<float>& d, float& s, float& t) {
   const hd::Vec3<float> w = sample_inward(f, sample);
   const OrthonormalBasis<float> basis = orthonormal_basis(w);
-  hd::Vec3<float> local{hd::dot(basis.u, d), hd::dot(basis.v, d), hd::dot(w, d)};
+  hd::Vec3<float> local{hd::fused_dot(basis.u, d), hd::fused_dot(basis.v, d), hd::fused_dot(w, d)};
   if (local.z < 0.0f) {  // grazing: the sample's pole differs a little from the entry point's normal
-    const float planar = hd::sqrt(local.x * local.x + local.y * local.y);
+    const float planar = hd::sqrt(hd::fma(local.x, local.x, local.y * local.y));
     local = planar > 0.0f ? hd::Vec3<float>{local.x / planar, local.y / planar, 0.0f} : hd::Vec3<float>{0.0f, 0.0f, 1.0f};
   }
   direction_to_square(f.mapping, local, s, t);
@@ -185,7 +187,7 @@ VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sampl
   square_of(f, sample, d, s, t);
   const int n = f.directions;
   if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n));
-  const float fx = s * static_cast<float>(n) - 0.5f, fy = t * static_cast<float>(n) - 0.5f;
+  const float fx = hd::fma(s, static_cast<float>(n), -0.5f), fy = hd::fma(t, static_cast<float>(n), -0.5f);
   const int i0 = static_cast<int>(hd::floor(fx)), j0 = static_cast<int>(hd::floor(fy));
   const float a = fx - static_cast<float>(i0), b = fy - static_cast<float>(j0);
   FieldVote vote;
@@ -227,8 +229,8 @@ struct SampleRead {
 VF_HOST_DEVICE inline SampleRead sample_read(const FieldTables& f, const SphereVisit& v, int sample) {
   if (f.sample_line == SampleLine::parallel) return {v.read, 0.0f};
   const hd::Vec3<float> w = sample_inward(f, sample);  // the sample's point is −R·w
-  const hd::Vec3<float> g{v.far.x + w.x * f.radius, v.far.y + w.y * f.radius, v.far.z + w.z * f.radius};
-  const float len = hd::sqrt(hd::dot(g, g));
+  const hd::Vec3<float> g{hd::fma(w.x, f.radius, v.far.x), hd::fma(w.y, f.radius, v.far.y), hd::fma(w.z, f.radius, v.far.z)};
+  const float len = hd::sqrt(hd::fused_dot(g, g));
   if (!(len > kShortestLine * f.radius)) return {v.read, 0.0f};
   const float inv = 1.0f / len;
   return {{g.x * inv, g.y * inv, g.z * inv}, v.inside ? (v.s_exit - len) / (2.0f * f.radius) : 0.0f};
@@ -255,26 +257,26 @@ VF_HOST_DEVICE inline FieldAnswer read_at(const FieldTables& f, const SphereVisi
 /// The first half of trace_field(): false when the ray cannot meet the sphere ahead of its origin.
 VF_HOST_DEVICE inline bool sphere_visit(const FieldTables& f, const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin, float tmax,
                                         SphereVisit& v) {
-  const float len = hd::sqrt(hd::dot(dir, dir));
+  const float len = hd::sqrt(hd::fused_dot(dir, dir));
   v.inv = 1.0f / len;
   const hd::Vec3<float> d{dir.x * v.inv, dir.y * v.inv, dir.z * v.inv};
   v.s_min = tmin * len, v.s_max = tmax * len;
   const hd::Vec3<float> oc{org.x - f.centre.x, org.y - f.centre.y, org.z - f.centre.z};
-  const float b = hd::dot(oc, d), c = hd::dot(oc, oc) - f.radius * f.radius;
-  const float disc = b * b - c;
+  const float b = hd::fused_dot(oc, d), c = hd::fused_dot(oc, oc) - f.radius * f.radius;
+  const float disc = hd::fma(b, b, -c);
   if (!(disc >= 0.0f)) return false;
   const float root = hd::sqrt(disc);
   v.s_enter = -b - root, v.s_exit = -b + root;
   v.inside = !(c > 0.0f);
   if (!v.inside && v.s_enter < 0.0f) return false;
   const float s_at = v.inside ? v.s_exit : v.s_enter;
-  hd::Vec3<float> e{oc.x + d.x * s_at, oc.y + d.y * s_at, oc.z + d.z * s_at};
+  hd::Vec3<float> e{hd::fma(d.x, s_at, oc.x), hd::fma(d.y, s_at, oc.y), hd::fma(d.z, s_at, oc.z)};
   // The point on the sphere as a unit vector: from inside, |e| is R to rounding, so a product by
   // 1/R will do; from outside, far origins cancel digits in e, and its own length is needed.
-  const float e_inv = v.inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::dot(e, e));
+  const float e_inv = v.inside ? 1.0f / f.radius : 1.0f / hd::sqrt(hd::fused_dot(e, e));
   v.point = {e.x * e_inv, e.y * e_inv, e.z * e_inv};
   v.read = v.inside ? hd::Vec3<float>{-d.x, -d.y, -d.z} : d;
-  v.far = v.inside ? oc : hd::Vec3<float>{oc.x + d.x * v.s_exit, oc.y + d.y * v.s_exit, oc.z + d.z * v.s_exit};
+  v.far = v.inside ? oc : hd::Vec3<float>{hd::fma(d.x, v.s_exit, oc.x), hd::fma(d.y, v.s_exit, oc.y), hd::fma(d.z, v.s_exit, oc.z)};
   return true;
 }
 
@@ -283,7 +285,7 @@ VF_HOST_DEVICE inline bool sphere_visit(const FieldTables& f, const hd::Vec3<flo
 VF_HOST_DEVICE inline FieldAnswer place_answer(const FieldTables& f, const SphereVisit& v, FieldAnswer a) {
   if (!a.hit) return {};
   const float diameter = 2.0f * f.radius;
-  const float s_hit = v.inside ? v.s_exit - a.t * diameter : v.s_enter + a.t * diameter;
+  const float s_hit = v.inside ? hd::fma(-a.t, diameter, v.s_exit) : hd::fma(a.t, diameter, v.s_enter);
   if (v.inside && !(s_hit > f.self_offset * diameter)) return {};
   if (!(s_hit >= v.s_min && s_hit <= v.s_max)) return {};
   a.t = s_hit * v.inv;

@@ -51,7 +51,7 @@ VF_HOST_DEVICE inline void concentric_to_disk(Real s, Real t, Real& x, Real& y) 
 /// Inverse of concentric_to_disk: a point of the closed unit disk to (s, t) in [0, 1]².
 template <class Real>
 VF_HOST_DEVICE inline void disk_to_concentric(Real x, Real y, Real& s, Real& t) {
-  const Real r = hd::sqrt(x * x + y * y);
+  const Real r = hd::sqrt(hd::fma(x, x, y * y));
   Real a = 0, b = 0;
   if (r > Real(0)) {
     if (hd::abs(x) >= hd::abs(y)) {
@@ -62,8 +62,9 @@ VF_HOST_DEVICE inline void disk_to_concentric(Real x, Real y, Real& s, Real& t) 
       a = b * (4 / hd::kPi<Real>) * hd::atan_unit(x / y);
     }
   }
-  s = (a + 1) / 2;
-  t = (b + 1) / 2;
+  // (a + 1)/2 rounded once: the same value as rounding a + 1 and halving exactly, in one operation.
+  s = hd::fma(a, Real(0.5), Real(0.5));
+  t = hd::fma(b, Real(0.5), Real(0.5));
 }
 
 /// The local direction of square point (s, t) under `mapping` (unit length). For

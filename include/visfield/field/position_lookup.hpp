@@ -46,7 +46,7 @@ VF_HOST_DEVICE inline int nearest_position(const hd::Vec3<Real>& d, int n, const
     const int ai = t.i[k] < 0 ? -t.i[k] : t.i[k], aj = t.j[k] < 0 ? -t.j[k] : t.j[k];
     if (ai + aj > n) continue;
     const int index = static_cast<int>(octa::point_index(t.i[k], t.j[k], n));
-    const Real c = hd::dot(e, upper[index]);
+    const Real c = hd::fused_dot(e, upper[index]);
     if (c > best_cos) {
       best_cos = c;
       best = index;
