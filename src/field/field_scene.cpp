@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "small_exact.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -145,6 +146,7 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
                                object.transform.apply_point(s.centre), s.radius * object.transform.scale});
   }
   if (exact.size() > 0) {
+    if (exact.size() <= kSmallExactTriangles) result.small_exact_ = exact.triangles;
     result.exact_.emplace(Bvh::build(exact));
     result.stats_.memory_bytes += result.exact_->stats().memory_bytes;
   }
@@ -255,11 +257,15 @@ const std::array<std::uint32_t, kObjectsBlock>& every_ray() {
 void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const {
   const std::size_t n = rays.size();
   // The exact part first: its hit bounds every field's search (closest) or settles the ray (occlusion).
-  for (std::size_t i = 0; i < n; ++i) {
-    if (closest)
-      best[i] = exact_ ? exact_->intersect(rays[i]) : Hit{};
-    else
-      occluded[i] = exact_ && exact_->occluded(rays[i]) ? 1 : 0;
+  if (!closest && !small_exact_.empty()) {
+    occluded_by_small_exact(small_exact_, rays, occluded);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (closest)
+        best[i] = exact_ ? exact_->intersect(rays[i]) : Hit{};
+      else
+        occluded[i] = exact_ && exact_->occluded(rays[i]) ? 1 : 0;
+    }
   }
   if (objects_.empty()) return;
   // Among several objects, each takes the rays whose segment may meet its sphere: the test the

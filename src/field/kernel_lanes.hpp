@@ -91,6 +91,7 @@ inline Avx512::M operator<(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mas
 inline Avx512::M operator<=(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_LE_OQ)}; }
 inline Avx512::M operator>(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_GT_OQ)}; }
 inline Avx512::M operator>=(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_GE_OQ)}; }
+inline Avx512::M operator==(Avx512::F a, Avx512::F b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_EQ_OQ)}; }
 inline Avx512::F sqrt(Avx512::F a) { return {_mm512_sqrt_ps(a.v)}; }
 /// a·b + c rounded once (hd::fma).
 inline Avx512::F fma(Avx512::F a, Avx512::F b, Avx512::F c) { return {_mm512_fmadd_ps(a.v, b.v, c.v)}; }
@@ -214,6 +215,7 @@ inline Avx2::M operator<(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps
 inline Avx2::M operator<=(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)); }
 inline Avx2::M operator>(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)); }
 inline Avx2::M operator>=(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)); }
+inline Avx2::M operator==(Avx2::F a, Avx2::F b) { return float_mask(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)); }
 inline Avx2::F sqrt(Avx2::F a) { return {_mm256_sqrt_ps(a.v)}; }
 /// a·b + c rounded once (hd::fma).
 inline Avx2::F fma(Avx2::F a, Avx2::F b, Avx2::F c) { return {_mm256_fmadd_ps(a.v, b.v, c.v)}; }

@@ -105,6 +105,54 @@ TEST(FieldScene, BatchQueriesAnswerAsSingleRaysBitForBit) {
   EXPECT_EQ(hit_differs, 0u);
 }
 
+// A small exact part (here the ground's two triangles) is tested a packet of rays at a time in the
+// batches and through its BVH by the single-ray query: the same answers on rays made to be hard for
+// the watertight test — through the ground's corners and along its shared diagonal (edge functions
+// of 0), with directions whose largest components tie, ending exactly on the ground or just short
+// of it, starting on it.
+TEST(FieldScene, ASmallExactPartAnswersInPacketsAsThroughItsBvh) {
+  const Scene scene = turned_boxes(4);
+  const TriangleSet set = flatten(scene);
+  const FieldScene fields = FieldScene::build(scene, {.positions = 290, .directions = 8});
+  TriangleSet ground;
+  for (std::size_t k = 0; k < set.size(); ++k)
+    if (scene.meshes[scene.instance(set.instance[k]).mesh].occluder == MeshOccluder::exact) ground.triangles.push_back(set.triangles[k]);
+  ASSERT_EQ(ground.triangles.size(), 2u);
+  std::vector<Vec3f> targets;
+  for (const std::array<Vec3f, 3>& t : ground.triangles)
+    for (int k = 0; k < 3; ++k) {
+      targets.push_back(t[k]);
+      for (const float w : {0.5f, 0.25f, 1.0f / 3.0f}) targets.push_back(t[k] + (t[(k + 1) % 3] - t[k]) * w);
+    }
+  Rng rng(71, 0, 0);
+  for (int k = 0; k < 64; ++k) targets.push_back(ground.triangles[0][0] * rng.uniform() + ground.triangles[0][1] * rng.uniform() * 0.5f);
+  const Vec3f directions[] = {{1, 1, 1},   {-1, -1, -1}, {1, -1, 1},  {0, -1, 0}, {0, 1, 0},  {1, -1, 0}, {-1, -1, 0},
+                              {0, -1, -1}, {2, -1, 2},   {1, -2, -1}, {0.5f, -1, 0.5f}, {1, 0, 0}, {0, 0, -1}, {-1, -1, 1}};
+  std::vector<Ray> rays;
+  const float size = length(set.bounds.extent());
+  for (const Vec3f& target : targets)
+    for (const Vec3f& d : directions) {
+      const float reach = 0.3f * size / length(d);  // from + reach · d is the target
+      const Vec3f from = target - d * reach;
+      rays.push_back(Ray{from, d, 0.0f, reach});                       // ends on the ground
+      rays.push_back(Ray{from, d, 0.0f, std::nextafter(reach, 0.0f)});  // just short of it
+      rays.push_back(Ray{from, d, 0.0f, 2.0f * reach});                 // through it
+      rays.push_back(Ray{target, d, 0.0f, size});                       // from it
+      rays.push_back(Ray{target, -d, 0.0f, size});
+    }
+  std::vector<std::uint8_t> occluded(rays.size());
+  field::occluded_batch(fields, rays, occluded);
+  std::size_t differ = 0, hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const bool one = fields.occluded(rays[i]);
+    hits += one ? 1 : 0;
+    differ += one != (occluded[i] != 0) ? 1 : 0;
+  }
+  EXPECT_GT(hits, rays.size() / 4);
+  EXPECT_LT(hits, rays.size() * 9 / 10);
+  EXPECT_EQ(differ, 0u) << "of " << rays.size() << " rays";
+}
+
 // A field hit's normal is the surface's: on the boxes, within the normal field's and the sampling's
 // error of the exact hit's normal (measured: most within a degree, a few at box edges far off).
 TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {

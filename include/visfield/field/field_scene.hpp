@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <array>
 #include <vector>
 
 #include "visfield/accel/box_tree.hpp"
@@ -113,6 +114,9 @@ class FieldScene {
   ObjectCull cull_ = ObjectCull::tree;
   BoxTree tree_;  // over the objects' widened spheres, when cull_ is tree and there are several
   std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
+  // The same triangles when they are few (kSmallExactTriangles): batches test them all, a packet of
+  // rays at a time, instead of walking the BVH ray by ray (the same answers).
+  std::vector<std::array<Vec3f, 3>> small_exact_;
   AccelStats stats_;
 };
 

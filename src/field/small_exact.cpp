@@ -1,0 +1,105 @@
+// The watertight test (core/triangle_intersect.hpp) with a ray in each lane: the same operations in
+// the same order, the per-ray permutation as selects, so a lane decides what intersect_triangle()
+// decides. Lanes whose edge functions come out 0 (where the scalar test falls back to double) are
+// decided by the scalar test itself.
+
+// GCC 12 reports its own avx512fintrin.h placeholders as uninitialised once inlined (as in field_batch.cpp).
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "small_exact.hpp"
+
+#include <bit>
+
+#include "kernel_lanes.hpp"
+#include "visfield/core/triangle_intersect.hpp"
+
+namespace vf::field {
+namespace {
+
+bool occluded_one(std::span<const std::array<Vec3f, 3>> triangles, const Ray& ray) {
+  const WatertightRay r(ray);
+  TriangleHit hit;
+  for (const std::array<Vec3f, 3>& t : triangles)
+    if (intersect_triangle(r, t[0], t[1], t[2], ray.tmin, ray.tmax, hit)) return true;
+  return false;
+}
+
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+#if defined(__AVX512F__)
+using L = lanes::Avx512;
+#else
+using L = lanes::Avx2;
+#endif
+using F = L::F;
+using M = L::M;
+
+/// One packet of L::kWidth consecutive rays at `rays`: the lanes that hit, and in `redo` the lanes
+/// left to the scalar test.
+M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* rays, M& redo) {
+  static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is 8 floats: org, dir, tmin, tmax");
+  F c[8];
+  L::transpose_rows(reinterpret_cast<const float*>(rays), c);
+  const F ox = c[0], oy = c[1], oz = c[2], dx = c[3], dy = c[4], dz = c[5], tmin = c[6], tmax = c[7];
+  const F zero = L::splat(0.0f), one = L::splat(1.0f);
+  // WatertightRay: kz = max_axis(|dir|), kx and ky the next axes, swapped when dir[kz] < 0.
+  const F ax = abs(dx), ay = abs(dy), az = abs(dz);
+  const M x_first = ax >= ay;
+  const M kz_x = x_first & (ax >= az), kz_y = ~x_first & (ay >= az);
+  const auto pick_z = [&](F x, F y, F z) { return select(kz_x, x, select(kz_y, y, z)); };
+  const auto pick_next = [&](F x, F y, F z) { return select(kz_x, y, select(kz_y, z, x)); };
+  const auto pick_after = [&](F x, F y, F z) { return select(kz_x, z, select(kz_y, x, y)); };
+  const F d_z = pick_z(dx, dy, dz);
+  const M swap = d_z < zero;
+  const auto pick_x = [&](F x, F y, F z) { return select(swap, pick_after(x, y, z), pick_next(x, y, z)); };
+  const auto pick_y = [&](F x, F y, F z) { return select(swap, pick_next(x, y, z), pick_after(x, y, z)); };
+  const F sx = pick_x(dx, dy, dz) / d_z, sy = pick_y(dx, dy, dz) / d_z, sz = one / d_z;
+  const M all = L::all();
+  M hit = L::none();
+  redo = L::none();
+  for (const std::array<Vec3f, 3>& t : triangles) {
+    // intersect_triangle(): the vertices relative to the origin, permuted and sheared.
+    F px[3], py[3], pz[3];
+    for (int k = 0; k < 3; ++k) {
+      const F x = L::splat(t[k].x) - ox, y = L::splat(t[k].y) - oy, z = L::splat(t[k].z) - oz;
+      pz[k] = pick_z(x, y, z);
+      px[k] = pick_x(x, y, z) - sx * pz[k];
+      py[k] = pick_y(x, y, z) - sy * pz[k];
+    }
+    const F e0 = px[2] * py[1] - py[2] * px[1];
+    const F e1 = px[0] * py[2] - py[0] * px[2];
+    const F e2 = px[1] * py[0] - py[1] * px[0];
+    const M edge = (e0 == zero) | (e1 == zero) | (e2 == zero);
+    const M negative = (e0 < zero) | (e1 < zero) | (e2 < zero);
+    const M positive = (e0 > zero) | (e1 > zero) | (e2 > zero);
+    const F det = e0 + e1 + e2;
+    const F t_scaled = e0 * (sz * pz[0]) + e1 * (sz * pz[1]) + e2 * (sz * pz[2]);
+    const F distance = t_scaled * (one / det);
+    hit = hit | (~edge & ~(negative & positive) & ~(det == zero) & (distance > tmin) & (distance <= tmax));
+    redo = redo | edge;
+    if (L::bits(hit | redo) == L::bits(all)) break;
+  }
+  redo = redo & ~hit;
+  return hit;
+}
+#endif
+
+}  // namespace
+
+void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded) {
+  std::size_t i = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    M redo;
+    const std::uint32_t hits = L::bits(occluded_packet(triangles, rays.data() + i, redo));
+    for (int lane = 0; lane < L::kWidth; ++lane) occluded[i + static_cast<std::size_t>(lane)] = (hits >> lane) & 1u;
+    for (std::uint32_t left = L::bits(redo); left != 0; left &= left - 1) {
+      const std::size_t k = i + static_cast<std::size_t>(std::countr_zero(left));
+      occluded[k] = occluded_one(triangles, rays[k]) ? 1 : 0;
+    }
+  }
+#endif
+  for (; i < rays.size(); ++i) occluded[i] = occluded_one(triangles, rays[i]) ? 1 : 0;
+}
+
+}  // namespace vf::field
