@@ -68,9 +68,10 @@ std::size_t run_lanes(const FieldTables& f, int width, std::size_t count, std::s
   return done;
 }
 
-/// Runs FieldKernel<L>::stream_culled for the width (16 or 8) over the world-space candidates, the
-/// rest (and everything at width 1, or when the kernel cannot read the tables) one at a time through
-/// `one(k)`.
+/// Runs FieldKernel<L>::stream_culled for the width (16 or 8) over the world-space candidates, then
+/// the candidates it leaves (the last partial packets) as packets whose spare lanes repeat their last
+/// ray (among many objects, most of an object's few rays are such); everything at width 1, or when
+/// the kernel cannot read the tables, one at a time through `one(k)`.
 template <class Emit, class One>
 void run_culled(const FieldTables& f, int width, const Ray* rays, const std::uint32_t* index, std::size_t count, const float* limit,
                 const InverseTransform& to_object, std::size_t cell_bytes, std::size_t normal_bytes, const Emit& emit, const One& one) {
@@ -84,7 +85,15 @@ void run_culled(const FieldTables& f, int width, const Ray* rays, const std::uin
                           [&](const std::uint32_t* packet_index, const std::uint32_t* packet_position, const typename Kernel::Answer& a) {
                             emit(Kernel{}, packet_index, packet_position, a);
                           });
-    for (std::size_t k = 0; k < rest; ++k) one(rest_position[k]);
+    for (std::size_t first = 0; first < rest; first += Kernel::kWidth) {
+      alignas(64) std::uint32_t packet_index[Kernel::kWidth], packet_position[Kernel::kWidth];
+      for (std::size_t lane = 0; lane < Kernel::kWidth; ++lane) {
+        const std::size_t k = std::min(first + lane, rest - 1);
+        packet_index[lane] = rest_index[k];
+        packet_position[lane] = rest_position[k];
+      }
+      emit(Kernel{}, packet_index, packet_position, Kernel::trace_indexed(f, rays, packet_index, limit, to_object));
+    }
     ran = true;
   };
   at_width(width, run);

@@ -174,6 +174,13 @@ class FieldKernel {
     }
   }
 
+  /// The world-space rays rays[index[lane]] (kWidth indices, repeats allowed) through the query,
+  /// uncalled: how a partial packet runs, its spare lanes repeating one of its rays.
+  static Answer trace_indexed(const FieldTables& f, const Ray* rays, const std::uint32_t* index, const float* limit,
+                              const InverseTransform& to_object) {
+    return trace_lanes(f, gather(rays, index, limit, to_object), L::all());
+  }
+
   /// Lanes whose ray may meet the bounding sphere ahead of its origin: a cheaper test than the
   /// query's (no square root, no division), with margins so that it never drops a ray the query
   /// would answer (a dropped ray's answer is a miss). For culling the rays that cannot meet it.

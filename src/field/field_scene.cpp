@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "small_exact.hpp"
+#include "block_lanes.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -151,7 +151,7 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
     result.stats_.memory_bytes += result.exact_->stats().memory_bytes;
   }
   result.cull_ = cull;
-  if (cull == ObjectCull::tree && result.objects_.size() > 1) {
+  if (result.uses_tree()) {
     // Each box holds its sphere grown by 1% of the radius and by 1e-5 of the scene's size: far more
     // than the rounding of may_meet (whose own widening is 0.1%) and of the tree's box test, so that
     // the tree never leaves out an object may_meet lets in, and the answers are those of testing
@@ -175,6 +175,8 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   return result;
 }
 
+bool FieldScene::uses_tree() const { return cull_ == ObjectCull::tree && objects_.size() > kFewObjects; }
+
 void FieldScene::objects_met(const Ray& ray, std::vector<std::uint32_t>& out) const {
   out.clear();
   const auto count = static_cast<std::uint32_t>(objects_.size());
@@ -182,7 +184,7 @@ void FieldScene::objects_met(const Ray& ray, std::vector<std::uint32_t>& out) co
     out.push_back(0);
     return;
   }
-  if (cull_ == ObjectCull::each) {
+  if (!uses_tree()) {
     for (std::uint32_t k = 0; k < count; ++k)
       if (may_meet(objects_[k], ray)) out.push_back(k);
     return;
@@ -276,7 +278,7 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   const bool cull = objects_.size() > 1;
   // Through the tree, each ray's objects are found for the whole block first, then grouped by object
   // with a counting sort (each object's rays in the order the tree met them).
-  const bool by_tree = cull && cull_ == ObjectCull::tree;
+  const bool by_tree = cull && uses_tree();
   std::vector<std::uint32_t> first_of_object, rays_of_object;
   if (by_tree) {
     // The tree's pairs, kept where the sphere test lets the ray in (in place).
@@ -316,14 +318,15 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
         candidates = index.data();
         m = open;
       }
-    } else if (cull || (!closest && exact_)) {
+    } else if (cull) {  // a few objects: every sphere against the block's open rays, on lanes
+      index.resize(n);
+      m = rays_meeting_sphere(o.centre, o.radius, rays, closest ? nullptr : occluded, index.data());
+      candidates = index.data();
+    } else if (!closest && exact_) {
       index.resize(n);
       m = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!closest && occluded[i]) continue;
-        if (cull && !may_meet(o, rays[i])) continue;
-        index[m++] = static_cast<std::uint32_t>(i);
-      }
+      for (std::size_t i = 0; i < n; ++i)
+        if (!occluded[i]) index[m++] = static_cast<std::uint32_t>(i);
       candidates = index.data();
     }
     if (m == 0) continue;

@@ -238,7 +238,7 @@ constexpr auto kFieldParams = [] {
                  "which meshes get fields: all (but those a scene marks exact) or marked (only those it marks \"occluder\": \"field\")", 0, 0,
                  "all|marked"};
   params[i++] = {"cull", ParamType::choice, "tree",
-                 "how rays find the field objects they may meet: tree (a BVH over their spheres) or each (every sphere tested; same answers)", 0, 0,
+                 "how rays find the field objects they may meet: tree (a BVH over their spheres, past 16 objects) or each (every sphere tested; same answers)", 0, 0,
                  "tree|each"};
   return params;
 }();

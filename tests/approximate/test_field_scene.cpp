@@ -70,9 +70,12 @@ TEST(FieldScene, InstancesOfOneMeshShareOneField) {
 }
 
 // The batch queries answer as the single-ray ones bit for bit, with instances (boxes, rotated and
-// scaled below), an exact part (the ground) and a normal field in the scene.
-TEST(FieldScene, BatchQueriesAnswerAsSingleRaysBitForBit) {
-  const Scene scene = turned_boxes(64);
+// scaled below), an exact part (the ground) and a normal field in the scene: 64 objects (found
+// through the tree) and 9 (each sphere tested on lanes).
+class FieldSceneBatch : public ::testing::TestWithParam<std::size_t> {};
+
+TEST_P(FieldSceneBatch, AnswersAsSingleRaysBitForBit) {
+  const Scene scene = turned_boxes(GetParam());
   const TriangleSet set = flatten(scene);
   const FieldScene fields = FieldScene::build(scene, {.positions = 1090, .directions = 16, .normals = field::NormalStorage::oct16});
   std::vector<Ray> rays = surface_origin_rays(set, 8, 20000);
@@ -104,6 +107,8 @@ TEST(FieldScene, BatchQueriesAnswerAsSingleRaysBitForBit) {
   EXPECT_EQ(occlusion_differs, 0u);
   EXPECT_EQ(hit_differs, 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Objects, FieldSceneBatch, ::testing::Values(std::size_t{64}, std::size_t{9}));
 
 // A small exact part (here the ground's two triangles) is tested a packet of rays at a time in the
 // batches and through its BVH by the single-ray query: the same answers on rays made to be hard for

@@ -101,6 +101,9 @@ class FieldScene {
     Vec3f centre;
     float radius;
   };
+  /// Whether the objects are found through the tree over their spheres (cull tree, and more than a
+  /// few objects) rather than by testing every sphere.
+  bool uses_tree() const;
   /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
   static bool may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
   /// Indices of the objects whose spheres `ray` may meet (may_meet), ascending, into `out`; every
@@ -112,7 +115,7 @@ class FieldScene {
   std::vector<std::shared_ptr<const ObjectField>> fields_;  // by mesh index; null when unused
   std::vector<Object> objects_;
   ObjectCull cull_ = ObjectCull::tree;
-  BoxTree tree_;  // over the objects' widened spheres, when cull_ is tree and there are several
+  BoxTree tree_;  // over the objects' widened spheres, when uses_tree()
   std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
   // The same triangles when they are few (kSmallExactTriangles): batches test them all, a packet of
   // rays at a time, instead of walking the BVH ray by ray (the same answers).

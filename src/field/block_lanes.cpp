@@ -1,18 +1,19 @@
-// The watertight test (core/triangle_intersect.hpp) with a ray in each lane: the same operations in
-// the same order, the per-ray permutation as selects, so a lane decides what intersect_triangle()
-// decides. Lanes whose edge functions come out 0 (where the scalar test falls back to double) are
-// decided by the scalar test itself.
+// The watertight test (core/triangle_intersect.hpp) and may_meet_sphere() (field/sphere_cull.hpp)
+// with a ray in each lane: the same operations in the same order, the watertight test's per-ray
+// permutation as selects, so a lane decides what the scalar code decides. Lanes whose edge
+// functions come out 0 (where the scalar test falls back to double) are decided by the scalar test itself.
 
 // GCC 12 reports its own avx512fintrin.h placeholders as uninitialised once inlined (as in field_batch.cpp).
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-#include "small_exact.hpp"
+#include "block_lanes.hpp"
 
 #include <bit>
 
 #include "kernel_lanes.hpp"
 #include "visfield/core/triangle_intersect.hpp"
+#include "visfield/field/sphere_cull.hpp"
 
 namespace vf::field {
 namespace {
@@ -82,6 +83,22 @@ M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* ra
   redo = redo & ~hit;
   return hit;
 }
+
+/// may_meet_sphere() on the L::kWidth consecutive rays at `rays`.
+M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
+  F c[8];
+  L::transpose_rows(reinterpret_cast<const float*>(rays), c);
+  const F dx = c[3], dy = c[4], dz = c[5];
+  const float wide = radius * 1.001f;
+  const F ocx = L::splat(centre.x) - c[0], ocy = L::splat(centre.y) - c[1], ocz = L::splat(centre.z) - c[2];
+  const F dd = dx * dx + dy * dy + dz * dz;
+  const F along = ocx * dx + ocy * dy + ocz * dz;
+  const F q = along / dd;
+  const F px = ocx - dx * q, py = ocy - dy * q, pz = ocz - dz * q;
+  const M near = ~(px * px + py * py + pz * pz > L::splat(wide * wide));
+  const F reach = L::splat(wide) * sqrt(dd);
+  return near & (along + reach >= c[6] * dd) & (along - reach <= c[7] * dd);
+}
 #endif
 
 }  // namespace
@@ -100,6 +117,23 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
   }
 #endif
   for (; i < rays.size(); ++i) occluded[i] = occluded_one(triangles, rays[i]) ? 1 : 0;
+}
+
+std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint8_t* skip,
+                                std::uint32_t* out) {
+  std::size_t i = 0, n = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    std::uint32_t lanes = L::bits(packet_meets_sphere(centre, radius, rays.data() + i));
+    for (; lanes != 0; lanes &= lanes - 1) {
+      const std::size_t k = i + static_cast<std::size_t>(std::countr_zero(lanes));
+      if (!skip || !skip[k]) out[n++] = static_cast<std::uint32_t>(k);
+    }
+  }
+#endif
+  for (; i < rays.size(); ++i)
+    if ((!skip || !skip[i]) && may_meet_sphere(centre, radius, rays[i])) out[n++] = static_cast<std::uint32_t>(i);
+  return n;
 }
 
 }  // namespace vf::field

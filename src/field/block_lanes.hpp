@@ -1,0 +1,36 @@
+#pragma once
+// A FieldScene block's bookkeeping on lanes, 16 rays (AVX-512) or 8 (AVX2) at a time, each lane
+// deciding exactly what the scalar code decides for its ray:
+// - occlusion by the exact part when it is small (a ground, a few walls): every triangle tested
+//   against a packet of rays. A lone ray's BVH walk costs more than a field lookup (its setup, a
+//   root node of 8 boxes, a leaf), and in a mixed scene every ray makes one; here a triangle costs a
+//   few operations a ray;
+// - which rays of a block may meet an object's sphere (may_meet_sphere), for scenes of a few objects.
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "visfield/core/ray.hpp"
+
+namespace vf::field {
+
+/// Exact parts of at most this many triangles are tested triangle by triangle (more go through their BVH).
+inline constexpr std::size_t kSmallExactTriangles = 64;
+
+/// occluded[i] = 1 when rays[i] hits one of `triangles` in (tmin, tmax] by the watertight test, else 0:
+/// bit for bit what intersect_triangle() decides one ray and triangle at a time (and so what a Bvh or
+/// BruteForce over them answers). Packets of lanes, the rest one by one; O(rays · triangles).
+void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded);
+
+/// Scenes of at most this many field objects find each object's rays by testing its sphere against
+/// every ray of a block on lanes; more objects go through the tree over their spheres.
+inline constexpr std::size_t kFewObjects = 16;
+
+/// The indices i of rays[i] (ascending) that may meet the sphere (centre, radius) by
+/// may_meet_sphere(), bit for bit, leaving out those with skip[i] != 0 when `skip` is given; into
+/// out[0 ..) (room for rays.size()); returns how many. O(rays).
+std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint8_t* skip,
+                                std::uint32_t* out);
+
+}  // namespace vf::field
