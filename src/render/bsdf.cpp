@@ -31,8 +31,9 @@ Vec3f ggx_half_vector(float u, float v, float alpha) {
   const float tan2 = alpha * alpha * u / (1.0f - u);
   const float cos_h = 1.0f / std::sqrt(1.0f + tan2);
   const float sin_h = std::sqrt(std::fmax(0.0f, 1.0f - cos_h * cos_h));
-  const float phi = 2.0f * kPi * v;
-  return {sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
+  float sin_phi, cos_phi;
+  sincos_turn(v, sin_phi, cos_phi);  // of 2πv
+  return {sin_h * cos_phi, sin_h * sin_phi, cos_h};
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "visfield/core/sampling.hpp"
 
 namespace vf {
 namespace {
@@ -123,8 +124,9 @@ std::optional<SphereCone> SphereCone::toward(const SphereLight& light, const Vec
 LightSample SphereCone::sample(float u, float v) const {
   const float cos_theta = 1.0f - u * one_minus_cos_max_;
   const float sin_theta = std::sqrt(std::fmax(0.0f, 1.0f - cos_theta * cos_theta));
-  const float phi = 2.0f * std::numbers::pi_v<float> * v;
-  const Vec3f wi = normalize(tangent_ * (sin_theta * std::cos(phi)) + bitangent_ * (sin_theta * std::sin(phi)) + axis_ * cos_theta);
+  float sin_phi, cos_phi;
+  sincos_turn(v, sin_phi, cos_phi);  // of 2πv
+  const Vec3f wi = normalize(tangent_ * (sin_theta * cos_phi) + bitangent_ * (sin_theta * sin_phi) + axis_ * cos_theta);
   // Entry point along wi: the nearer root of |from + t wi - c| = r.
   const float inside = radius_ * radius_ - distance_ * distance_ * (1.0f - cos_theta * cos_theta);
   const float t = distance_ * cos_theta - std::sqrt(std::fmax(0.0f, inside));
