@@ -2,8 +2,9 @@
 # Regenerates the ObjectField measurements (docs/objectfield-measurements.md): the speed against
 # Embree on the same AO rays, the 2008 paper's Figures 6, 5/7 and 8 and the lookup options with
 # visfield-experiments --figure, and the GPU paper's Figures 3 and 5 on the CPU.
-# Usage: scripts/field-figures.sh MODELS_DIR [OUT.md]   (MODELS_DIR holds bun_zipper.ply, cow.obj, ...)
-# Takes about 15 minutes on 2 cores (the 16642 x 256^2 fields of Figure 6 most of it).
+# Usage: [SNOWDEN=BUST.ply] scripts/field-figures.sh MODELS_DIR [OUT.md]   (MODELS_DIR holds bun_zipper.ply, cow.obj, ...)
+# With SNOWDEN (written by scripts/snowden-mesh.sh: a scanned mesh not among the shared models) the
+# many-copies measurement runs on its copies too. Takes about 8 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -45,12 +46,28 @@ threads=$(nproc)
   echo "The batch kernel's time goes to the cell gather (15% of its samples on the instruction after it) and the"
   echo "lattice corners' gather (3%); the arithmetic is spread thin, so removing operations pays little on the CPU."
   echo
+  echo "## Scenes of field objects on an exact ground, measured one change at a time"
+  echo
+  echo "Measured on 2026-11-26 as above, on copies of Snowden's bust (below), \`field,embree:levels=2 --count 1000000 --reps 5\`,"
+  echo "two rounds (Mrays/s):"
+  echo
+  echo "| change | 9 busts | 1024 busts |"
+  echo "|---|---|---|"
+  echo "| before (the ground's BVH walked per ray, the tree at 9 objects, leftover rays one at a time) | 20.0, 20.7 | 9.7, 10.0 |"
+  echo "| the exact part of ≤ 64 triangles tested in packets of rays on lanes | 26.3, 25.1 | 11.6, 11.0 |"
+  echo "| up to 16 objects: each sphere against the block's rays on lanes, no tree | 35.1, 34.0 | 11.8, 11.7 |"
+  echo "| an object's leftover partial packets through the kernel, spare lanes repeating a ray | 32.6, 32.7 | 11.1, 11.9 (the others of this row 31.5, 31.4 / 10.5, 10.5) |"
+  echo
+  echo "Before the first change a lone ray's walk of the ground's two-triangle BVH cost more than its field lookup"
+  echo "(\`perf\`: 9.3% of the samples against 7.5% for the kernel); at 1024 objects the tree walk (13%) and the"
+  echo "block's pairing and sphere tests (8%) now outweigh the lookups (6%)."
+  echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
   echo "AO rays (4 per pixel, unlimited length) from what the camera sees of 3 × 3 and 32 × 32 bunnies"
   echo "(\`scripts/copies-scene.py bun_zipper.ply N 0.25 OUT.json --ground 0.025\`), all field objects; the"
-  echo "fields found through the tree over the objects' spheres (\`field\`, the default) and by testing every"
-  echo "sphere (\`field:cull=each\`, as before the tree), beside Embree's instancing;"
+  echo "fields found through the tree over the objects' spheres (\`field\`, the default; up to 16 objects it tests each sphere"
+  echo "on lanes instead) and by testing every sphere (\`field:cull=each\`), beside Embree's instancing;"
   echo "\`visfield-bench --scene OUT.json --rays ao --accel field,field:cull=each,embree:levels=2 --count 1000000 --threads $threads --reps 5\`."
   echo
   for count in 9 1024; do
@@ -62,6 +79,19 @@ threads=$(nproc)
     echo '```'
     echo
   done
+  if [[ -n "${SNOWDEN:-}" ]]; then
+    echo "The same with copies of Snowden's bust (109,259 triangles, a 3D scan; \`scripts/snowden-mesh.sh BUST.ply\` writes it"
+    echo "from the npm package \`snowden\`, standing on y = 0): \`scripts/copies-scene.py BUST.ply N 10 OUT.json --ground 0\`."
+    echo
+    for count in 9 1024; do
+      /usr/bin/python3 scripts/copies-scene.py "$SNOWDEN" "$count" 10 "$work/busts$count.json" --ground 0
+      echo '```'
+      (cd "$work" && "$root/$bin/visfield-bench" --scene "busts$count.json" --rays ao --accel field:cache=cache,field:cull=each,cache=cache,embree:levels=2 \
+        --count 1000000 --threads "$threads" --reps 5)
+      echo '```'
+      echo
+    done
+  fi
   "$bin/visfield-experiments" --figure fig6 --scene "$models/bun_zipper.ply"
   echo
   "$bin/visfield-experiments" --figure lookups --scene "$models/bun_zipper.ply"
