@@ -5,6 +5,8 @@
 /// ObjectFields' SIMD kernel) runs it; the contributions are summed per sample in the order the rays
 /// were added, the order a ray-by-ray loop would sum them in, so images do not depend on batching.
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -26,6 +28,17 @@ class OcclusionBatch {
     sample_.push_back(static_cast<std::uint32_t>(of_sample));
     contribution_.push_back(contribution);
     if (rays_.size() == kCapacity) flush();
+  }
+  /// Queues every ray of `rays`, each adding `contribution` to sample `of_sample` when unoccluded.
+  void add(std::span<const Ray> rays, std::size_t of_sample, const Vec3f& contribution) {
+    for (std::size_t first = 0; first < rays.size();) {
+      const std::size_t take = std::min(rays.size() - first, kCapacity - rays_.size());
+      rays_.insert(rays_.end(), rays.begin() + static_cast<std::ptrdiff_t>(first), rays.begin() + static_cast<std::ptrdiff_t>(first + take));
+      sample_.insert(sample_.end(), take, static_cast<std::uint32_t>(of_sample));
+      contribution_.insert(contribution_.end(), take, contribution);
+      first += take;
+      if (rays_.size() == kCapacity) flush();
+    }
   }
   /// Traces the queued rays and adds their contributions.
   void flush() {

@@ -109,6 +109,17 @@ TEST(Rng, SameKeysSameNumbersDifferentKeysDiffer) {
   EXPECT_TRUE(differs);
 }
 
+// Jumping ahead n numbers lands where n draws do, whatever n (0, 1, odd, powers of two, large).
+TEST(Rng, AdvancedLandsWhereDrawsDo) {
+  for (const std::uint64_t n : {0ull, 1ull, 2ull, 31ull, 32ull, 33ull, 1000ull, 65537ull}) {
+    Rng drawn(9, 4, n);
+    const Rng jumped = drawn.advanced(n);
+    for (std::uint64_t i = 0; i < n; ++i) drawn.next_u32();
+    EXPECT_EQ(jumped.state(), drawn.state()) << n;
+    EXPECT_EQ(jumped.increment(), drawn.increment()) << n;
+  }
+}
+
 TEST(Sampling, CosineHemisphereHasMeanCosineTwoThirds) {
   Rng rng(1);
   double sum = 0;

@@ -14,6 +14,7 @@
 #include "visfield/render/camera.hpp"
 #include "visfield/render/sample_rays.hpp"
 #include "visfield/render/ray_sets.hpp"
+#include "visfield/core/sampling.hpp"
 #include "visfield/scenes/builtin.hpp"
 
 namespace vf {
@@ -302,6 +303,28 @@ TEST(RenderAo, BadOptionsAreRefused) {
   Camera bad = camera;
   bad.width = 0;
   EXPECT_THROW(render_ao(accel, accel, scene, bad, quiet_options(4)), Error);
+}
+
+// ao_rays() draws the very rays ao_ray() draws one by one, bit for bit, and leaves the generator
+// where they leave it: whole packets of 16 on lanes (with AVX-512), the rest one at a time.
+TEST(AoRays, PacketsAreTheRaysOfAoRayOneByOne) {
+  Rng frames(5, 1);
+  for (const std::size_t count : {0, 1, 15, 16, 17, 121, 300})
+    for (int f = 0; f < 6; ++f) {
+      SurfacePoint point;
+      point.position = Vec3f{frames.uniform(), frames.uniform(), frames.uniform()} * 100.0f - Vec3f{50.0f};
+      point.normal = f == 0 ? Vec3f{0.0f, 0.0f, -1.0f} : uniform_sphere(frames.uniform(), frames.uniform());
+      orthonormal_basis(point.normal, point.tangent, point.bitangent);
+      Rng one(11, static_cast<std::uint64_t>(f), count), many = one;
+      std::vector<Ray> rays(count);
+      ao_rays(point, many, 3.5f, count, rays.data());
+      for (std::size_t k = 0; k < count; ++k) {
+        const Ray r = ao_ray(point, one, 3.5f);
+        ASSERT_TRUE(r.org == rays[k].org && r.dir == rays[k].dir && r.tmin == rays[k].tmin && r.tmax == rays[k].tmax)
+            << count << " rays, frame " << f << ", ray " << k;
+      }
+      EXPECT_EQ(one.next_u32(), many.next_u32()) << count;
+    }
 }
 
 }  // namespace
