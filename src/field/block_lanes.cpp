@@ -3,7 +3,8 @@
 // permutation as selects, so a lane decides what the scalar code decides. Lanes whose edge
 // functions come out 0 (where the scalar test falls back to double) are decided by the scalar test itself.
 
-// GCC 12 reports its own avx512fintrin.h placeholders as uninitialised once inlined (as in field_batch.cpp).
+// GCC 12 reports the undefined-value operands of its own avx512fintrin.h (_mm512_undefined_*) as
+// uninitialised once inlined (as in field_batch.cpp): a false positive of the compiler's headers.
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 

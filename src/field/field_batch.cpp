@@ -2,7 +2,7 @@
 // (AVX2), trace_field() for the remainder, for width 1 and where the kernel does not apply. All
 // give the same bits.
 
-// GCC 12 reports its own avx512fintrin.h placeholders (`__Y = __Y` in _mm512_undefined_*) as
+// GCC 12 reports the undefined-value operands of its own avx512fintrin.h (`__Y = __Y` in _mm512_undefined_*) as
 // uninitialised once the kernel is inlined: a false positive of the compiler's headers.
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"

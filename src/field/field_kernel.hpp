@@ -174,8 +174,8 @@ class FieldKernel {
     }
   }
 
-  /// The world-space rays rays[index[lane]] (kWidth indices, repeats allowed) through the query,
-  /// uncalled: how a partial packet runs, its spare lanes repeating one of its rays.
+  /// The world-space rays rays[index[lane]] (kWidth indices, repeats allowed) through the query
+  /// without the sphere cull: how a partial packet runs, its spare lanes repeating one of its rays.
   static Answer trace_indexed(const FieldTables& f, const Ray* rays, const std::uint32_t* index, const float* limit,
                               const InverseTransform& to_object) {
     return trace_lanes(f, gather(rays, index, limit, to_object), L::all());

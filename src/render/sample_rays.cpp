@@ -1,5 +1,5 @@
-// GCC 12 reports its own avx512fintrin.h placeholders as uninitialised once the AO packets'
-// intrinsics are inlined (as in src/field/field_batch.cpp): a false positive of the compiler's headers.
+// GCC 12 reports the undefined-value operands of its own avx512fintrin.h (_mm512_undefined_*) as
+// uninitialised once the AO packets' intrinsics are inlined (as in src/field/field_batch.cpp).
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
