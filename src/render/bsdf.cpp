@@ -90,6 +90,18 @@ Vec3f Bsdf::eval(const Vec3f& wo, const Vec3f& wi) const {
   return f * (1.0f - transmission_);
 }
 
+void Bsdf::eval(const Vec3f& wo, std::span<const Vec3f> wi, Vec3f* f) const {
+  if (glossy()) {
+    for (std::size_t k = 0; k < wi.size(); ++k) f[k] = eval(wo, wi[k]);
+    return;
+  }
+  const float cos_o = dot(wo, n_), opaque = 1.0f - transmission_;
+  for (std::size_t k = 0; k < wi.size(); ++k) {
+    const float cos_i = dot(wi[k], n_);
+    f[k] = cos_o > 0.0f && cos_i > 0.0f ? diffuse_ * (cos_i / kPi) * opaque : Vec3f{0.0f};
+  }
+}
+
 float Bsdf::pdf(const Vec3f& wo, const Vec3f& wi) const {
   const float cos_o = dot(wo, n_), cos_i = dot(wi, n_);
   if (!(cos_o > 0.0f && cos_i > 0.0f)) return 0.0f;

@@ -1,9 +1,15 @@
+// GCC 12 reports the undefined-value operands of its own avx512fintrin.h (_mm512_undefined_*) as
+// uninitialised once the cone's lane intrinsics are inlined (as in sample_rays.cpp).
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
 #include "visfield/render/lights.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "sample_lanes.hpp"
 #include "visfield/core/sampling.hpp"
 
 namespace vf {
@@ -131,6 +137,56 @@ LightSample SphereCone::sample(float u, float v) const {
   const float inside = radius_ * radius_ - distance_ * distance_ * (1.0f - cos_theta * cos_theta);
   const float t = distance_ * cos_theta - std::sqrt(std::fmax(0.0f, inside));
   return LightSample{wi, std::fmax(t, 0.0f), radiance_, pdf_, false};
+}
+
+void SphereCone::sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance) const {
+  std::size_t k = 0;
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+  if (count >= 4) {
+    // sample(u, v) on lanes, its operations in its order (no fused multiply-adds).
+    render_detail::PairLanes lanes(rng);
+    const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+    const auto splat = [](float x) { return _mm512_set1_ps(x); };
+    const __m512 one_minus_cos_max = splat(one_minus_cos_max_), d = splat(distance_);
+    const __m512 r2 = splat(radius_ * radius_), d2 = splat(distance_ * distance_);
+    alignas(64) float x[16], y[16], z[16], t[16];
+    for (; k < count; k += 16) {  // the last packet's spare lanes are not kept
+      __m512 u, v;
+      lanes.pairs(u, v);
+      const __m512 cos_theta = _mm512_sub_ps(one, _mm512_mul_ps(u, one_minus_cos_max));
+      const __m512 sin2 = _mm512_sub_ps(one, _mm512_mul_ps(cos_theta, cos_theta));
+      const __m512 sin_theta = _mm512_sqrt_ps(_mm512_max_ps(sin2, zero));
+      __m512 sin_phi, cos_phi;
+      render_detail::sincos_turn(v, sin_phi, cos_phi);
+      const __m512 a = _mm512_mul_ps(sin_theta, cos_phi), b = _mm512_mul_ps(sin_theta, sin_phi);
+      const auto component = [&](float tc, float bc, float ac) {
+        return _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(splat(tc), a), _mm512_mul_ps(splat(bc), b)), _mm512_mul_ps(splat(ac), cos_theta));
+      };
+      const __m512 wx = component(tangent_.x, bitangent_.x, axis_.x), wy = component(tangent_.y, bitangent_.y, axis_.y),
+                   wz = component(tangent_.z, bitangent_.z, axis_.z);
+      const __m512 length = _mm512_sqrt_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wx, wx), _mm512_mul_ps(wy, wy)), _mm512_mul_ps(wz, wz)));
+      const __m512 inverse = _mm512_div_ps(one, length);
+      _mm512_store_ps(x, _mm512_mul_ps(wx, inverse));
+      _mm512_store_ps(y, _mm512_mul_ps(wy, inverse));
+      _mm512_store_ps(z, _mm512_mul_ps(wz, inverse));
+      const __m512 inside = _mm512_sub_ps(r2, _mm512_mul_ps(d2, sin2));
+      const __m512 entry = _mm512_sub_ps(_mm512_mul_ps(d, cos_theta), _mm512_sqrt_ps(_mm512_max_ps(inside, zero)));
+      _mm512_store_ps(t, _mm512_max_ps(entry, zero));
+      for (std::size_t lane = 0; lane < std::min<std::size_t>(16, count - k); ++lane) {
+        wi[k + lane] = Vec3f{x[lane], y[lane], z[lane]};
+        distance[k + lane] = t[lane];
+      }
+    }
+    k = count;
+    rng = rng.advanced(2 * count);
+  }
+#endif
+  for (; k < count; ++k) {
+    const float u = rng.uniform(), v = rng.uniform();
+    const LightSample s = sample(u, v);
+    wi[k] = s.wi;
+    distance[k] = s.distance;
+  }
 }
 
 std::optional<LightSample> SceneLights::sample_sphere(std::uint32_t index, const Vec3f& from, float u, float v) const {

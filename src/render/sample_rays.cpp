@@ -5,12 +5,10 @@
 
 #include "visfield/render/sample_rays.hpp"
 
+#include <algorithm>
 #include <cmath>
 
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
-#include <immintrin.h>
-#endif
-
+#include "sample_lanes.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/render/lights.hpp"
 
@@ -85,44 +83,10 @@ Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance) {
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
 namespace {
 
-/// Floats of the 8 states in `state` turned into uniform() numbers (next_u32's output, >> 8, × 2^-24).
-__m256 uniforms(__m512i state) {
-  const __m512i xorshifted = _mm512_srli_epi64(_mm512_xor_si512(_mm512_srli_epi64(state, 18), state), 27);
-  const __m256i rot = _mm512_cvtepi64_epi32(_mm512_srli_epi64(state, 59));
-  const __m256i low = _mm512_cvtepi64_epi32(xorshifted);  // the low 32 bits, as the cast keeps them
-  const __m256i word = _mm256_or_si256(_mm256_srlv_epi32(low, rot),
-                                       _mm256_sllv_epi32(low, _mm256_and_si256(_mm256_sub_epi32(_mm256_set1_epi32(32), rot), _mm256_set1_epi32(31))));
-  return _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32(word, 8)), _mm256_set1_ps(0x1p-24f));
-}
-
-/// hd::quadrant_sincos on lanes: the same polynomials, multiplies and adds in the same order.
-void quadrant_sincos(__m512 phi, __m512& s, __m512& c) {
-  const auto step = [](__m512 p, __m512 x2, float k) { return _mm512_add_ps(_mm512_mul_ps(p, x2), _mm512_set1_ps(k)); };
-  const __m512 x2 = _mm512_mul_ps(phi, phi);
-  __m512 ps = _mm512_set1_ps(1.0f / 6227020800.0f);
-  ps = _mm512_sub_ps(_mm512_mul_ps(ps, x2), _mm512_set1_ps(1.0f / 39916800.0f));
-  ps = step(ps, x2, 1.0f / 362880.0f);
-  ps = _mm512_sub_ps(_mm512_mul_ps(ps, x2), _mm512_set1_ps(1.0f / 5040.0f));
-  ps = step(ps, x2, 1.0f / 120.0f);
-  ps = _mm512_sub_ps(_mm512_mul_ps(ps, x2), _mm512_set1_ps(1.0f / 6.0f));
-  ps = step(ps, x2, 1.0f);
-  s = _mm512_mul_ps(phi, ps);
-  __m512 pc = _mm512_set1_ps(-1.0f / 87178291200.0f);
-  pc = step(pc, x2, 1.0f / 479001600.0f);
-  pc = _mm512_sub_ps(_mm512_mul_ps(pc, x2), _mm512_set1_ps(1.0f / 3628800.0f));
-  pc = step(pc, x2, 1.0f / 40320.0f);
-  pc = _mm512_sub_ps(_mm512_mul_ps(pc, x2), _mm512_set1_ps(1.0f / 720.0f));
-  pc = step(pc, x2, 1.0f / 24.0f);
-  pc = _mm512_sub_ps(_mm512_mul_ps(pc, x2), _mm512_set1_ps(0.5f));
-  c = step(pc, x2, 1.0f);
-}
-
-/// 16 AO rays of `point` from the states of their two numbers (`first` for lanes' s, t follows).
-void ao_packet(const SurfacePoint& point, float max_distance, __m512i first_low, __m512i first_high, std::uint64_t inc, Ray* out) {
-  const __m512i mult = _mm512_set1_epi64(static_cast<long long>(Rng::kMultiplier)), add = _mm512_set1_epi64(static_cast<long long>(inc));
-  const auto next = [&](__m512i state) { return _mm512_add_epi64(_mm512_mullo_epi64(state, mult), add); };
-  const __m512 s = _mm512_insertf32x8(_mm512_castps256_ps512(uniforms(first_low)), uniforms(first_high), 1);
-  const __m512 t = _mm512_insertf32x8(_mm512_castps256_ps512(uniforms(next(first_low))), uniforms(next(first_high)), 1);
+/// `count` (<= 16) AO rays of `point` from the next packet of `lanes` (lane l's s and t its two numbers).
+void ao_packet(const SurfacePoint& point, float max_distance, render_detail::PairLanes& lanes, std::size_t count, Ray* out) {
+  __m512 s, t;
+  lanes.pairs(s, t);
   // concentric_disk() and cosine_hemisphere(), branches as masks.
   const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f), two = _mm512_set1_ps(2.0f);
   const __m512 a = _mm512_sub_ps(_mm512_mul_ps(two, s), one), b = _mm512_sub_ps(_mm512_mul_ps(two, t), one);
@@ -131,7 +95,7 @@ void ao_packet(const SurfacePoint& point, float max_distance, __m512i first_low,
   const __m512 ratio = _mm512_mask_blend_ps(a_major, _mm512_div_ps(a, b), _mm512_div_ps(b, a));
   const __m512 phi = _mm512_mul_ps(_mm512_set1_ps(hd::kPi<float> / 4.0f), ratio);
   __m512 sn, cs;
-  quadrant_sincos(_mm512_abs_ps(phi), sn, cs);
+  render_detail::quadrant_sincos(_mm512_abs_ps(phi), sn, cs);
   const __m512 sign = _mm512_set1_ps(-0.0f);
   sn = _mm512_or_ps(_mm512_andnot_ps(sign, sn), _mm512_and_ps(sign, phi));  // copysign(sn, phi)
   __m512 x = _mm512_mask_blend_ps(a_major, _mm512_mul_ps(b, sn), _mm512_mul_ps(a, cs));
@@ -149,7 +113,7 @@ void ao_packet(const SurfacePoint& point, float max_distance, __m512i first_low,
   _mm512_store_ps(dx, world(point.tangent.x, point.bitangent.x, point.normal.x));
   _mm512_store_ps(dy, world(point.tangent.y, point.bitangent.y, point.normal.y));
   _mm512_store_ps(dz, world(point.tangent.z, point.bitangent.z, point.normal.z));
-  for (int lane = 0; lane < 16; ++lane) out[lane] = Ray{point.position, Vec3f{dx[lane], dy[lane], dz[lane]}, 0.0f, max_distance};
+  for (std::size_t lane = 0; lane < count; ++lane) out[lane] = Ray{point.position, Vec3f{dx[lane], dy[lane], dz[lane]}, 0.0f, max_distance};
 }
 
 }  // namespace
@@ -158,21 +122,11 @@ void ao_packet(const SurfacePoint& point, float max_distance, __m512i first_low,
 void ao_rays(const SurfacePoint& point, Rng& rng, float max_distance, std::size_t count, Ray* out) {
   std::size_t k = 0;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
-  if (count >= 16) {
-    // Lane l of a packet takes numbers 2l and 2l + 1 from the packet's first: its states are the
-    // first's stepped 2l times; the next packet's are these stepped 32 times.
-    alignas(64) std::uint64_t state[16];
-    for (int lane = 0; lane < 16; ++lane) state[lane] = rng.advanced(2 * static_cast<std::uint64_t>(lane)).state();
-    std::uint64_t jump_mult = 1, jump_add = 0;
-    Rng::step_by(32, rng.increment(), jump_mult, jump_add);
-    __m512i low = _mm512_load_si512(state), high = _mm512_load_si512(state + 8);
-    const __m512i mult = _mm512_set1_epi64(static_cast<long long>(jump_mult)), add = _mm512_set1_epi64(static_cast<long long>(jump_add));
-    for (; k + 16 <= count; k += 16) {
-      ao_packet(point, max_distance, low, high, rng.increment(), out + k);
-      low = _mm512_add_epi64(_mm512_mullo_epi64(low, mult), add);
-      high = _mm512_add_epi64(_mm512_mullo_epi64(high, mult), add);
-    }
-    rng = rng.advanced(2 * k);
+  if (count >= 4) {  // the last packet's spare lanes are not kept
+    render_detail::PairLanes lanes(rng);
+    for (; k < count; k += 16) ao_packet(point, max_distance, lanes, std::min<std::size_t>(16, count - k), out + k);
+    k = count;
+    rng = rng.advanced(2 * count);
   }
 #endif
   for (; k < count; ++k) out[k] = ao_ray(point, rng, max_distance);

@@ -1,4 +1,7 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "occlusion_batch.hpp"
@@ -6,6 +9,11 @@
 #include "visfield/render/tiles.hpp"
 
 namespace vf::render_detail {
+namespace {
+
+constexpr int kChunk = 64;  // a sphere light's samples drawn and shaded together
+
+}  // namespace
 
 // Per sample: emission and ambient, each point light by one shadow ray, and each sphere light by
 // options.shadow_rays rays uniform in the cone it subtends (the estimator f cos L / pdf, averaged).
@@ -23,6 +31,8 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
                                 static_cast<std::size_t>(options.spp);
     OcclusionBatch batch(context.queries, samples);
     std::vector<Vec3f> base(samples, Vec3f{0.0f});  // what needs no shadow ray: emission and ambient
+    std::array<Vec3f, kChunk> wi, f_cos;
+    std::array<float, kChunk> distance;
     std::size_t slot = 0;
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
@@ -43,19 +53,25 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
             ++rays.shadow;
             batch.add(shadow_ray(surface.point, light.position), slot, f_cos * light.intensity * (1.0f / d2));
           }
-          const auto spheres = context.lights.sphere_lights();
-          for (const SphereLight& light : spheres) {
-            // The cone is prepared once per point and light; its samples draw two numbers each.
+          for (const SphereLight& light : context.lights.sphere_lights()) {
+            // The cone is prepared once per point and light; its samples draw two numbers each,
+            // drawn (on lanes) and shaded a chunk at a time.
             const std::optional<SphereCone> cone = SphereCone::toward(light, surface.point.position);
-            for (int k = 0; k < options.shadow_rays; ++k) {
-              const float u = rng.uniform(), v = rng.uniform();
-              if (!cone) continue;
-              const LightSample sample = cone->sample(u, v);
-              const Vec3f f_cos = surface.bsdf.eval(surface.wo, sample.wi);
-              if (!(max_component(f_cos) > 0.0f)) continue;
-              ++rays.shadow;
-              batch.add(Ray{surface.point.position, sample.wi, 0.0f, sample.distance * (1.0f - 1e-4f)}, slot,
-                        f_cos * sample.radiance * (per_ray / sample.pdf));
+            if (!cone) {
+              rng = rng.advanced(2 * static_cast<std::uint64_t>(options.shadow_rays));
+              continue;
+            }
+            const Vec3f weight = cone->radiance();
+            const float per_pdf = per_ray / cone->pdf();
+            for (int first = 0; first < options.shadow_rays; first += kChunk) {
+              const auto n = static_cast<std::size_t>(std::min(kChunk, options.shadow_rays - first));
+              cone->sample(rng, n, wi.data(), distance.data());
+              surface.bsdf.eval(surface.wo, std::span<const Vec3f>(wi.data(), n), f_cos.data());
+              for (std::size_t k = 0; k < n; ++k) {
+                if (!(max_component(f_cos[k]) > 0.0f)) continue;
+                ++rays.shadow;
+                batch.add(Ray{surface.point.position, wi[k], 0.0f, distance[k] * (1.0f - 1e-4f)}, slot, f_cos[k] * weight * per_pdf);
+              }
             }
           }
         }

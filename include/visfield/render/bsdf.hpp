@@ -7,6 +7,7 @@
 /// the surface; wo towards the viewer.
 
 #include <optional>
+#include <span>
 
 #include "visfield/core/rng.hpp"
 #include "visfield/core/scene.hpp"
@@ -45,6 +46,9 @@ class Bsdf {
 
   /// f(wo, wi) * |cos wi| of the smooth lobes (diffuse and GGX; delta lobes give 0).
   Vec3f eval(const Vec3f& wo, const Vec3f& wi) const;
+  /// eval(wo, wi[k]) into f[k] for every k, bit for bit; one pass without calls when only the
+  /// diffuse lobe is smooth.
+  void eval(const Vec3f& wo, std::span<const Vec3f> wi, Vec3f* f) const;
   /// Density with which sample() draws wi for wo, over the smooth lobes.
   float pdf(const Vec3f& wo, const Vec3f& wi) const;
   /// A scattered direction: a lobe chosen in proportion to its reflectance, then a direction in it.

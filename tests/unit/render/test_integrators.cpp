@@ -1,19 +1,27 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "test_scenes.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/registry/registry.hpp"
+#include "visfield/core/sampling.hpp"
 #include "visfield/render/ao.hpp"
+#include "visfield/render/bsdf.hpp"
 #include "visfield/render/compare.hpp"
 #include "visfield/render/integrators.hpp"
+#include "visfield/render/lights.hpp"
 #include "visfield/scenes/builtin.hpp"
 
 namespace vf {
@@ -95,6 +103,60 @@ TEST(SoftShadows, ConeSamplesOfASphereLightMatchTheAnalyticRadiance) {
   EXPECT_NEAR(got.x, expected, 0.01f * expected);
   EXPECT_EQ(stats.by_kind.camera, 9u * 9u * 4u);
   EXPECT_EQ(stats.by_kind.shadow, 9u * 9u * 4u * 32u);
+}
+
+// Bits of a float, so that -0 and +0 (and NaNs) tell apart.
+std::uint32_t bits(float x) { return std::bit_cast<std::uint32_t>(x); }
+bool same_bits(const Vec3f& a, const Vec3f& b) { return bits(a.x) == bits(b.x) && bits(a.y) == bits(b.y) && bits(a.z) == bits(b.z); }
+
+TEST(SoftShadows, ConeSamplesInPacketsAreTheOnesDrawnOneByOne) {
+  Rng frames(3, 7);
+  for (const std::size_t count : {0, 1, 3, 4, 5, 15, 16, 17, 20, 33, 64, 100})
+    for (int c = 0; c < 8; ++c) {
+      // Near and far lights, small and large, from points all around; c == 0 looks straight down.
+      const SphereLight light{Vec3f{frames.uniform(), frames.uniform(), frames.uniform()} * 20.0f - Vec3f{10.0f},
+                              0.01f + 3.0f * frames.uniform() * frames.uniform(), Vec3f{5.0f, 4.0f, 3.0f}};
+      const Vec3f from = c == 0 ? light.center - Vec3f{0.0f, 4.0f, 0.0f} : light.center + uniform_sphere(frames.uniform(), frames.uniform()) * (light.radius * (1.001f + 10.0f * frames.uniform()));
+      const std::optional<SphereCone> cone = SphereCone::toward(light, from);
+      ASSERT_TRUE(cone.has_value());
+      Rng one(9, static_cast<std::uint64_t>(c), count), many = one;
+      std::vector<Vec3f> wi(count);
+      std::vector<float> distance(count);
+      cone->sample(many, count, wi.data(), distance.data());
+      for (std::size_t k = 0; k < count; ++k) {
+        const float u = one.uniform(), v = one.uniform();
+        const LightSample expected = cone->sample(u, v);
+        ASSERT_TRUE(same_bits(expected.wi, wi[k]) && bits(expected.distance) == bits(distance[k]))
+            << count << " samples, cone " << c << ", sample " << k;
+      }
+      EXPECT_EQ(one.next_u32(), many.next_u32()) << count;
+    }
+}
+
+TEST(SoftShadows, TheBsdfEvaluatedForManyDirectionsIsEachEvaluatedAlone) {
+  Rng frames(4, 2);
+  for (const float roughness : {0.0f, 0.5f})
+    for (const float transmission : {0.0f, 0.25f}) {
+      Material material;
+      material.diffuse = Vec3f{0.8f, 0.5f, 0.2f};
+      material.specular = roughness > 0.0f ? Vec3f{0.3f} : Vec3f{0.0f};
+      material.roughness = roughness;
+      material.transmission = transmission;
+      SurfacePoint point;
+      point.normal = uniform_sphere(frames.uniform(), frames.uniform());
+      orthonormal_basis(point.normal, point.tangent, point.bitangent);
+      const Bsdf bsdf(material, point, true);
+      // Directions on both sides of the surface and in its plane; viewers above and below it.
+      std::vector<Vec3f> wi;
+      for (int k = 0; k < 61; ++k) wi.push_back(uniform_sphere(frames.uniform(), frames.uniform()));
+      wi.push_back(point.tangent);
+      for (const Vec3f& wo : {point.normal, -point.normal, normalize(point.normal + point.tangent), point.bitangent}) {
+        std::vector<Vec3f> f(wi.size());
+        bsdf.eval(wo, std::span<const Vec3f>(wi), f.data());
+        for (std::size_t k = 0; k < wi.size(); ++k)
+          ASSERT_TRUE(same_bits(f[k], bsdf.eval(wo, wi[k]))) << "roughness " << roughness << ", transmission " << transmission << ", direction " << k;
+      }
+    }
 }
 
 TEST(SoftShadows, AnOccluderBetweenGroundAndLightDarkensTheGround) {
