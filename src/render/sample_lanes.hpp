@@ -14,20 +14,43 @@
 
 namespace vf::render_detail {
 
+/// M^(2l) and M^(2l-1) + ... + 1 for l = 0 .. 23 (M the PCG multiplier; l = 16: a packet's 32 numbers).
+struct PcgSteps {
+  alignas(64) long long power[24];
+  alignas(64) long long sum[24];
+};
+constexpr PcgSteps pcg_steps() {
+  PcgSteps t{};
+  std::uint64_t power = 1, sum = 0;
+  for (int l = 0; l < 24; ++l) {
+    t.power[l] = static_cast<long long>(power);
+    t.sum[l] = static_cast<long long>(sum);
+    for (int k = 0; k < 2; ++k) {
+      sum += power;
+      power *= Rng::kMultiplier;
+    }
+  }
+  return t;
+}
+inline constexpr PcgSteps kPcgSteps = pcg_steps();
+
 /// A stream's numbers two per lane, 16 lanes a packet: pairs() gives the packet's (first, second)
 /// of every lane and steps on. After k packets the caller's Rng moves on by rng.advanced(32 k).
 class PairLanes {
  public:
   /// Lanes starting at `rng`'s next number.
   explicit PairLanes(const Rng& rng) : increment_(rng.increment()) {
-    alignas(64) std::uint64_t state[16];
-    for (int lane = 0; lane < 16; ++lane) state[lane] = rng.advanced(2 * static_cast<std::uint64_t>(lane)).state();
-    std::uint64_t jump_mult = 1, jump_add = 0;
-    Rng::step_by(32, increment_, jump_mult, jump_add);
-    low_ = _mm512_load_si512(state);
-    high_ = _mm512_load_si512(state + 8);
-    jump_mult_ = _mm512_set1_epi64(static_cast<long long>(jump_mult));
-    jump_add_ = _mm512_set1_epi64(static_cast<long long>(jump_add));
+    // n steps map s to M^n s + inc (M^(n-1) + ... + 1): the powers and sums are tables, so lane l's
+    // start (n = 2l) and the packets' jump (n = 32) cost a multiply-add each.
+    const __m512i inc = _mm512_set1_epi64(static_cast<long long>(increment_)), start = _mm512_set1_epi64(static_cast<long long>(rng.state()));
+    const auto stepped = [&](int first_lane) {
+      return _mm512_add_epi64(_mm512_mullo_epi64(_mm512_load_si512(kPcgSteps.power + first_lane), start),
+                              _mm512_mullo_epi64(_mm512_load_si512(kPcgSteps.sum + first_lane), inc));
+    };
+    low_ = stepped(0);
+    high_ = stepped(8);
+    jump_mult_ = _mm512_set1_epi64(static_cast<long long>(kPcgSteps.power[16]));
+    jump_add_ = _mm512_mullo_epi64(_mm512_set1_epi64(static_cast<long long>(kPcgSteps.sum[16])), inc);
   }
   /// The next packet: each lane's two uniform() numbers, then the lanes step 32 numbers on.
   void pairs(__m512& first, __m512& second) {
