@@ -137,6 +137,11 @@ BenchReport run_bench(const BenchOptions& options) {
       row.beam_work = BeamWork{counters->single_tile * per_ray, counters->tiles * per_ray, counters->leaves * per_ray,
                                counters->triangle_tests * per_ray};
     }
+    if (const auto counters = count_bvh_work(built[i].accel, rays, options.kind); counters && counters->rays > 0) {
+      const double per_ray = 1.0 / static_cast<double>(counters->rays);
+      row.bvh_work = BvhWork{counters->nodes * per_ray, counters->leaves * per_ray, counters->blocks * per_ray,
+                             counters->triangle_tests * per_ray};
+    }
     report.rows.push_back(std::move(row));
   }
   return report;

@@ -40,12 +40,17 @@ std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const>
   return measurements;
 }
 
-std::optional<BeamQueryCounters> count_beam_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind) {
-  return visit_accel(accel, [&](const auto& structure) -> std::optional<BeamQueryCounters> {
-    if constexpr (std::is_same_v<std::decay_t<decltype(structure)>, BeamField>) {
-      tbb::combinable<BeamQueryCounters> per_thread;
+namespace {
+
+/// The counters of `Structure`'s counting queries summed over `rays`, or nothing when `accel` holds
+/// another structure. Parallel; the sums do not depend on the thread count.
+template <class Structure, class Counters>
+std::optional<Counters> count_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind) {
+  return visit_accel(accel, [&](const auto& structure) -> std::optional<Counters> {
+    if constexpr (std::is_same_v<std::decay_t<decltype(structure)>, Structure>) {
+      tbb::combinable<Counters> per_thread;
       vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 4096), [&](const auto& range) {
-        BeamQueryCounters& counters = per_thread.local();
+        Counters& counters = per_thread.local();
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           if (is_occlusion_kind(kind)) {
             structure.occluded(rays[i], counters);
@@ -54,13 +59,23 @@ std::optional<BeamQueryCounters> count_beam_work(const BenchAccel& accel, std::s
           }
         }
       });
-      BeamQueryCounters total;
-      per_thread.combine_each([&](const BeamQueryCounters& c) { total += c; });
+      Counters total;
+      per_thread.combine_each([&](const Counters& c) { total += c; });
       return total;
     } else {
       return std::nullopt;
     }
   });
+}
+
+}  // namespace
+
+std::optional<BeamQueryCounters> count_beam_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind) {
+  return count_work<BeamField, BeamQueryCounters>(accel, rays, kind);
+}
+
+std::optional<BvhQueryCounters> count_bvh_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind) {
+  return count_work<Bvh, BvhQueryCounters>(accel, rays, kind);
 }
 
 }  // namespace vf::bench

@@ -9,6 +9,7 @@
 #include "bench_accel.hpp"
 #include "timing.hpp"
 #include "visfield/accel/beam_field.hpp"
+#include "visfield/accel/bvh.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/render/ray_kind.hpp"
 
@@ -37,5 +38,9 @@ std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const>
 /// BeamField's work on `rays` (the queries `kind` asks, with counters on; untimed), or nothing when
 /// `accel` is not a BeamField. Parallel; the sums do not depend on the thread count.
 std::optional<BeamQueryCounters> count_beam_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind);
+
+/// The flattened Bvh's work on `rays` (node visits, leaves, blocks, triangle tests; untimed), or
+/// nothing when `accel` is not one. Parallel; the sums do not depend on the thread count.
+std::optional<BvhQueryCounters> count_bvh_work(const BenchAccel& accel, std::span<const Ray> rays, RayKind kind);
 
 }  // namespace vf::bench

@@ -85,6 +85,12 @@ void print_table(std::ostream& out, const BenchReport& report) {
         << " single-tile, " << formatted("%.2f", w.tiles) << " tiles, " << formatted("%.2f", w.leaves) << " leaves, "
         << formatted("%.2f", w.triangle_tests) << " triangle tests\n";
   }
+  for (const ResultRow& row : report.rows) {
+    if (!row.bvh_work) continue;
+    const BvhWork& w = *row.bvh_work;
+    out << row.accel << " work per ray: " << formatted("%.2f", w.nodes) << " nodes, " << formatted("%.2f", w.leaves)
+        << " leaves, " << formatted("%.2f", w.blocks) << " blocks, " << formatted("%.2f", w.triangle_tests) << " triangle tests\n";
+  }
 }
 
 nlohmann::ordered_json report_json(const BenchReport& report) {
@@ -124,6 +130,12 @@ nlohmann::ordered_json report_json(const BenchReport& report) {
                                      {"tiles", row.beam_work->tiles},
                                      {"leaves", row.beam_work->leaves},
                                      {"triangle_tests", row.beam_work->triangle_tests}};
+    }
+    if (row.bvh_work) {
+      results.back()["bvh_work"] = {{"nodes", row.bvh_work->nodes},
+                                    {"leaves", row.bvh_work->leaves},
+                                    {"blocks", row.bvh_work->blocks},
+                                    {"triangle_tests", row.bvh_work->triangle_tests}};
     }
   }
   return doc;

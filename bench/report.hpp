@@ -23,6 +23,14 @@ struct BeamWork {
   double triangle_tests = 0.0;        ///< Ray–triangle tests per ray.
 };
 
+/// A flattened Bvh's work on the ray set (an untimed counting pass), per ray: where its time goes.
+struct BvhWork {
+  double nodes = 0.0;           ///< 8-wide nodes whose children's boxes were tested.
+  double leaves = 0.0;          ///< Leaves visited.
+  double blocks = 0.0;          ///< 8-triangle blocks tested.
+  double triangle_tests = 0.0;  ///< Triangles in those blocks.
+};
+
 /// One structure's figures.
 struct ResultRow {
   std::string accel;                      ///< --accel spec as resolved (automatic choices made).
@@ -34,6 +42,7 @@ struct ResultRow {
   std::size_t mismatches = 0;             ///< Rays answered differently from the reference structure (exact rows).
   std::optional<ApproximateAgreement> approximate;  ///< Approximate rows (fields): their error against the reference.
   std::optional<BeamWork> beam_work;      ///< BeamField rows only: its work per ray.
+  std::optional<BvhWork> bvh_work;        ///< Flattened Bvh rows only: its work per ray.
 };
 
 /// Everything one run reports.
@@ -65,13 +74,14 @@ std::string padded_right(const std::string& text, std::size_t width);
 double mrays_per_second(std::size_t rays, double ms);
 
 /// Prints the header line and the table (accel | build ms | bytes | Mrays/s | ratio to Embree |
-/// mismatches), then one line of work per ray for each BeamField row.
+/// mismatches), then one line of work per ray for each BeamField row and each flattened Bvh row.
 void print_table(std::ostream& out, const BenchReport& report);
 
 /// {"scene", "triangles", "rays", "kind", "threads", ..., ("ao_rays", "max_distance" (null = unlimited)
 /// for ao,) "results": [{"accel", "build_ms", "bytes",
 /// "mrays_per_s", "ratio_to_embree" (null without Embree), "mismatches", ("beam_work": {"single_tile_fraction",
-/// "tiles", "leaves", "triangle_tests"} per ray, BeamField rows only)}]}.
+/// "tiles", "leaves", "triangle_tests"} per ray, BeamField rows only; "bvh_work": {"nodes", "leaves",
+/// "blocks", "triangle_tests"} per ray, flattened Bvh rows only)}]}.
 nlohmann::ordered_json report_json(const BenchReport& report);
 
 }  // namespace vf::bench

@@ -25,6 +25,22 @@ struct BvhConfig {
   float intersection_cost = 1.0f;   ///< SAH cost of one leaf block test (8 triangles at once; > 0).
 };
 
+/// Work done by Bvh queries, summed over the rays of counting queries (for finding where the time
+/// goes). Plain value; not thread-safe (use one per thread and add them up).
+struct BvhQueryCounters {
+  std::uint64_t rays = 0;            ///< Queries counted.
+  std::uint64_t nodes = 0;           ///< 8-wide interior nodes whose children's boxes were tested.
+  std::uint64_t leaves = 0;          ///< Leaves visited.
+  std::uint64_t blocks = 0;          ///< 8-triangle blocks tested.
+  std::uint64_t triangle_tests = 0;  ///< Triangles in the blocks tested (lanes holding one).
+
+  /// Adds `o` to this.
+  BvhQueryCounters& operator+=(const BvhQueryCounters& o) {
+    rays += o.rays, nodes += o.nodes, leaves += o.leaves, blocks += o.blocks, triangle_tests += o.triangle_tests;
+    return *this;
+  }
+};
+
 /// An immutable 8-wide BVH over a TriangleSet. Queries are const and thread-safe. Move-only.
 class Bvh {
  public:
@@ -45,6 +61,10 @@ class Bvh {
   Hit intersect(const Ray& ray) const;
   /// True when any triangle is hit in (tmin, tmax]; stops at the first.
   bool occluded(const Ray& ray) const;
+  /// intersect(ray), adding its work to `counters` (a traversal of its own, so the plain query pays nothing).
+  Hit intersect(const Ray& ray, BvhQueryCounters& counters) const;
+  /// occluded(ray), adding its work to `counters`.
+  bool occluded(const Ray& ray, BvhQueryCounters& counters) const;
   /// Build statistics: 8-wide node count, leaf count, triangle references, deepest leaf (in 8-wide
   /// levels), bytes (nodes, leaf blocks, lane and id maps), build ms.
   const AccelStats& stats() const;

@@ -109,6 +109,8 @@ double Bvh::estimate_build_bytes(std::size_t triangles, const BvhConfig&) { retu
 
 Hit Bvh::intersect(const Ray& ray) const { return bvh::intersect(*layout_, ray); }
 bool Bvh::occluded(const Ray& ray) const { return bvh::occluded(*layout_, ray); }
+Hit Bvh::intersect(const Ray& ray, BvhQueryCounters& counters) const { return bvh::intersect(*layout_, ray, &counters); }
+bool Bvh::occluded(const Ray& ray, BvhQueryCounters& counters) const { return bvh::occluded(*layout_, ray, &counters); }
 const AccelStats& Bvh::stats() const { return layout_->stats; }
 
 }  // namespace vf

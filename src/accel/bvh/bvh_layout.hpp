@@ -8,6 +8,7 @@
 #include "bvh/wide_nodes.hpp"
 #include "simd/watertight_block.hpp"
 #include "visfield/accel/aligned_vector.hpp"
+#include "visfield/accel/bvh.hpp"
 #include "visfield/accel/query.hpp"
 
 namespace vf::bvh {
@@ -31,5 +32,9 @@ struct BvhLayout {
 Hit intersect(const BvhLayout& bvh, const Ray& ray);
 /// Any hit in (tmin, tmax] (see Bvh::occluded). Thread-safe.
 bool occluded(const BvhLayout& bvh, const Ray& ray);
+/// intersect(bvh, ray) by a counting traversal that adds its work to `counters`.
+Hit intersect(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters);
+/// occluded(bvh, ray) by a counting traversal that adds its work to `counters`.
+bool occluded(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters);
 
 }  // namespace vf::bvh

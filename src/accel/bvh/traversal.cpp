@@ -72,17 +72,22 @@ struct TraversalRay {
   }
 };
 
-/// The leaves of the Bvh: runs of triangle blocks, tested with the oracle's kernel.
+/// The leaves of the Bvh: runs of triangle blocks, tested with the oracle's kernel. With kCount, each
+/// leaf and block tested is added to the counters.
+template <bool kCount>
 class TriangleLeaves {
  public:
-  TriangleLeaves(const BvhLayout& bvh, const TraversalRay& ray, float tmin, float tmax)
-      : bvh_(bvh), ray_(ray.triangle), tmin_(LeafLanes::broadcast(tmin)), tmax_(LeafLanes::broadcast(tmax)) {}
+  TriangleLeaves(const BvhLayout& bvh, const TraversalRay& ray, float tmin, float tmax, BvhQueryCounters* counters)
+      : bvh_(bvh), ray_(ray.triangle), tmin_(LeafLanes::broadcast(tmin)), tmax_(LeafLanes::broadcast(tmax)), counters_(counters) {}
 
   /// Any triangle of leaf `ref` hit in (tmin, tmax].
   bool any(std::uint32_t ref) const {
     const std::uint32_t first = leaf_first_item(ref), end = first + leaf_item_count(ref);
-    for (std::uint32_t b = first; b != end; ++b)
+    count_leaf();
+    for (std::uint32_t b = first; b != end; ++b) {
+      count_block(b);
       if (simd::intersect_block<kLeafWidth, false>(bvh_.blocks[b], ray_, tmin_, tmax_, nullptr) != 0) return true;
+    }
     return false;
   }
 
@@ -91,7 +96,9 @@ class TriangleLeaves {
   bool closest(std::uint32_t ref, float& best_t) {
     const std::uint32_t first = leaf_first_item(ref), end = first + leaf_item_count(ref);
     bool improved = false;
+    count_leaf();
     for (std::uint32_t b = first; b != end; ++b) {
+      count_block(b);
       simd::BlockHits<kLeafWidth> hits;
       simd::LaneBits lanes = simd::intersect_block<kLeafWidth, true>(bvh_.blocks[b], ray_, tmin_, tmax_, &hits);
       if (lanes == 0) continue;
@@ -123,31 +130,58 @@ class TriangleLeaves {
   }
 
  private:
+  void count_leaf() const {
+    if constexpr (kCount) ++counters_->leaves;
+  }
+  void count_block(std::uint32_t b) const {
+    if constexpr (kCount) {
+      ++counters_->blocks;
+      for (int lane = 0; lane < kLeafWidth; ++lane)
+        counters_->triangle_tests += bvh_.lane_triangle[b * kLeafWidth + static_cast<std::uint32_t>(lane)] != kInvalidId ? 1 : 0;
+    }
+  }
+
   const BvhLayout& bvh_;
   const simd::BlockRay<kLeafWidth>& ray_;
   const LeafLanes tmin_;
   LeafLanes tmax_;
+  BvhQueryCounters* counters_;
   float t_ = 0.0f, u_ = 0.0f, v_ = 0.0f;
   std::uint32_t triangle_ = kInvalidId, slot_ = 0;
 };
 
-}  // namespace
-
-Hit intersect(const BvhLayout& bvh, const Ray& ray) {
+template <bool kCount>
+Hit closest_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  if constexpr (kCount) ++counters->rays;
   if (bvh.nodes.empty()) return Hit{};
   const TraversalRay traversal_ray(ray);
-  TriangleLeaves leaves(bvh, traversal_ray, ray.tmin, ray.tmax);
-  closest_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax,
-                   [&](std::uint32_t ref, float& best_t) { return leaves.closest(ref, best_t); });
+  TriangleLeaves<kCount> leaves(bvh, traversal_ray, ray.tmin, ray.tmax, counters);
+  const auto visit = [&](std::uint32_t ref, float& best_t) { return leaves.closest(ref, best_t); };
+  if constexpr (kCount)
+    closest_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax, visit, [&] { ++counters->nodes; });
+  else
+    closest_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax, visit);
   return leaves.hit();
 }
 
-bool occluded(const BvhLayout& bvh, const Ray& ray) {
+template <bool kCount>
+bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  if constexpr (kCount) ++counters->rays;
   if (bvh.nodes.empty()) return false;
   const TraversalRay traversal_ray(ray);
-  const TriangleLeaves leaves(bvh, traversal_ray, ray.tmin, ray.tmax);
-  return any_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax,
-                      [&](std::uint32_t ref) { return leaves.any(ref); });
+  const TriangleLeaves<kCount> leaves(bvh, traversal_ray, ray.tmin, ray.tmax, counters);
+  const auto test = [&](std::uint32_t ref) { return leaves.any(ref); };
+  if constexpr (kCount)
+    return any_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax, test, [&] { ++counters->nodes; });
+  else
+    return any_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax, test);
 }
+
+}  // namespace
+
+Hit intersect(const BvhLayout& bvh, const Ray& ray) { return closest_hit<false>(bvh, ray, nullptr); }
+bool occluded(const BvhLayout& bvh, const Ray& ray) { return any_hit<false>(bvh, ray, nullptr); }
+Hit intersect(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) { return closest_hit<true>(bvh, ray, counters); }
+bool occluded(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) { return any_hit<true>(bvh, ray, counters); }
 
 }  // namespace vf::bvh

@@ -14,6 +14,11 @@ namespace vf::bvh {
 /// No traversal stack holds more entries than this.
 inline constexpr int kStackSize = 7 * kMaxBinaryDepth + 1;
 
+/// A walk's hook on each interior node it tests: nothing, for the queries' own walks.
+struct IgnoreNodes {
+  void operator()() const {}
+};
+
 /// Returns the first child of `node` in `lanes` (tree order) and pushes the others, in order, on the
 /// stack at stack[sp], so that the last one is popped first. Writes up to eight entries past the
 /// new top (the stack has that much slack). `lanes` must be non-zero.
@@ -35,13 +40,13 @@ inline std::uint32_t descend_and_push(const Node8& node, simd::LaneBits lanes, s
 
 /// Any hit: children are visited in tree order, without sorting and without distances on the stack.
 /// `test_leaf(ref)` tests the leaf `ref` and returns true when it found a hit, which ends the walk.
-/// Returns whether a leaf did. `nodes` must hold the root.
+/// Returns whether a leaf did. `nodes` must hold the root. `on_node()` runs at each interior node tested.
 ///
 /// Measured on AO rays (bun_zipper, sponza, conference), near-to-far orders (sorted by entry
 /// distance, or by the split planes) were slower: the first occluder found ends the query, and the
 /// subtrees nearest the origin are often the surface the ray leaves.
-template <class TestLeaf>
-bool any_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax, TestLeaf&& test_leaf) {
+template <class TestLeaf, class OnNode = IgnoreNodes>
+bool any_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax, TestLeaf&& test_leaf, OnNode&& on_node = {}) {
   const V8 box_tmin = V8::broadcast(widen_down(tmin)), box_tmax = V8::broadcast(widen_up(tmax));
   std::array<std::uint32_t, kStackSize + 8> stack;
   int sp = 0;
@@ -51,6 +56,7 @@ bool any_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax,
     } else {
       // Entry distances are not needed: any hit ends the walk, whatever its distance.
       V8 unused;
+      on_node();
       const Node8& node = node_at(nodes, ref);
       if (const simd::LaneBits lanes = test_children(node, box, box_tmin, box_tmax, unused)) {
         ref = descend_and_push(node, lanes, stack.data(), sp);
@@ -65,9 +71,9 @@ bool any_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax,
 /// Closest hit: children are visited near to far, and subtrees whose entry distance exceeds the
 /// closest hit so far are skipped. `visit_leaf(ref, best_t)` tests the leaf `ref` against
 /// [tmin, best_t] (best_t starts at tmax) and returns true when it lowered best_t. `nodes` must hold
-/// the root.
-template <class VisitLeaf>
-void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax, VisitLeaf&& visit_leaf) {
+/// the root. `on_node()` runs at each interior node tested.
+template <class VisitLeaf, class OnNode = IgnoreNodes>
+void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax, VisitLeaf&& visit_leaf, OnNode&& on_node = {}) {
   struct StackEntry {
     std::uint32_t ref;
     float t_near;
@@ -81,6 +87,7 @@ void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float t
   std::uint32_t ref = node_ref(0);
   for (;;) {
     if (!is_leaf(ref)) {
+      on_node();
       const Node8& node = node_at(nodes, ref);
       V8 t_near;
       simd::LaneBits lanes = test_children(node, box, box_tmin, box_tmax, t_near);

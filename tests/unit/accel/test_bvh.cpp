@@ -89,6 +89,40 @@ TEST(Bvh, EmptyAndSingleTriangleSets) {
   EXPECT_EQ(one.stats().max_depth, 1);
 }
 
+TEST(Bvh, CountingQueriesAnswerAsThePlainOnesAndCountTheirWork) {
+  // One triangle: the root node, its one leaf, one block holding one triangle.
+  const Bvh one = Bvh::build(test::set_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}));
+  BvhQueryCounters c;
+  EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}}, c));
+  EXPECT_EQ(c.rays, 1u);
+  EXPECT_EQ(c.nodes, 1u);
+  EXPECT_EQ(c.leaves, 1u);
+  EXPECT_EQ(c.blocks, 1u);
+  EXPECT_EQ(c.triangle_tests, 1u);
+  EXPECT_FALSE(one.intersect(Ray{{5.0f, 5.0f, 2.0f}, {0, 0, -1}}, c));  // misses the root's boxes
+  EXPECT_EQ(c.rays, 2u);
+  EXPECT_EQ(c.nodes, 2u);
+  EXPECT_EQ(c.leaves, 1u);
+
+  const TriangleSet set = test::set_from_triangles(test::random_soup(24, 5000, 0.005f, 0.1f));
+  const Bvh bvh = Bvh::build(set);
+  const std::vector<Ray> rays = test::random_rays(set, 8, 2000);
+  BvhQueryCounters closest, any;
+  for (const Ray& r : rays) {
+    ASSERT_TRUE(test::same_bits(bvh.intersect(r, closest), bvh.intersect(r)));
+    ASSERT_EQ(bvh.occluded(r, any), bvh.occluded(r));
+  }
+  for (const BvhQueryCounters& k : {closest, any}) {
+    EXPECT_EQ(k.rays, rays.size());
+    EXPECT_GE(k.nodes, k.rays);  // every walk tests the root's children
+    EXPECT_GE(k.blocks, k.leaves);
+    EXPECT_LE(k.triangle_tests, 8 * k.blocks);
+    EXPECT_GT(k.triangle_tests, 7 * k.blocks / 2);  // the build fills most blocks
+  }
+  EXPECT_LE(any.nodes, closest.nodes);  // any hit stops at the first occluder
+  EXPECT_LT(any.triangle_tests, closest.triangle_tests);
+}
+
 TEST(Bvh, DepthStaysBoundedOnPathologicalInput) {
   // Triangles at geometrically shrinking scales invite a deep SAH tree; identical copies defeat
   // binning. Both must stay within the traversal stack and answer like the oracle.
