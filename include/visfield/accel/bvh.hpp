@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "visfield/accel/query.hpp"
@@ -73,8 +74,18 @@ class Bvh {
   static constexpr Exactness exactness = Exactness::exact;
 
  private:
+  friend void occluded_block(const Bvh&, std::span<const Ray>, std::span<std::uint8_t>);
   explicit Bvh(std::unique_ptr<const bvh::BvhLayout> layout);
   std::unique_ptr<const bvh::BvhLayout> layout_;
 };
+
+/// occluded[i] = bvh.occluded(rays[i]) for every i (spans of equal size), bit for bit, on the calling
+/// thread (for callers already parallel, such as a renderer's tiles): several rays' walks stepped in
+/// turn, so that one ray's wait for memory and compares overlaps another's work.
+void occluded_block(const Bvh& bvh, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+
+/// occluded_block() over chunks of the rays in parallel (TBB); the same answers. Throws
+/// vf::Interrupted on a signal.
+void occluded_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
 
 }  // namespace vf

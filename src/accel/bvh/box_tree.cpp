@@ -62,13 +62,11 @@ void BoxTree::pairs_met(std::span<const Ray> rays, const std::uint8_t* skip, std
   if (!layout_ || layout_->nodes.empty()) return;
   const bvh::Node8* nodes = layout_->nodes.data();
   const std::uint32_t* order = layout_->items.data();
-  // One ray's walk: any_hit_walk's, cut into steps (a node's test, or a leaf's items).
+  // Several rays' walks stepped in turn (bvh::AnyHitState), each leaf's items paired with its ray.
   struct Walk {
     bvh::BoxRay box;
-    bvh::V8 tmin, tmax;
-    std::array<std::uint32_t, bvh::kStackSize + 8> stack;
-    int sp = 0;
-    std::uint32_t ref = 0, ray = 0;
+    bvh::AnyHitState state;
+    std::uint32_t ray = 0;
     bool live = false;
   };
   constexpr int kWalks = 8;  // 1024 field objects, AO rays: 2, 4, 8 walks gave 14.3, 14.3, 14.7 Mrays/s; one walk 12.9
@@ -80,10 +78,7 @@ void BoxTree::pairs_met(std::span<const Ray> rays, const std::uint8_t* skip, std
       const Ray& ray = rays[next];
       const float inv[3] = {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};  // +-inf for +-0
       w.box.set(ray, inv);
-      w.tmin = bvh::V8::broadcast(bvh::widen_down(ray.tmin));
-      w.tmax = bvh::V8::broadcast(bvh::widen_up(ray.tmax));
-      w.sp = 0;
-      w.ref = bvh::node_ref(0);
+      w.state.start(ray.tmin, ray.tmax);
       w.ray = static_cast<std::uint32_t>(next++);
       return true;
     }
@@ -94,25 +89,16 @@ void BoxTree::pairs_met(std::span<const Ray> rays, const std::uint8_t* skip, std
   while (live > 0) {
     for (Walk& w : walks) {
       if (!w.live) continue;
-      if (bvh::is_leaf(w.ref)) {
-        const std::uint32_t first = bvh::leaf_first_item(w.ref), count = bvh::leaf_item_count(w.ref);
+      const auto pair_items = [&](std::uint32_t ref) {
+        const std::uint32_t first = bvh::leaf_first_item(ref), count = bvh::leaf_item_count(ref);
         for (std::uint32_t k = 0; k < count; ++k) {
           items.push_back(order[first + k]);
           ray_index.push_back(w.ray);
         }
-      } else {
-        bvh::V8 unused;
-        const bvh::Node8& node = bvh::node_at(nodes, w.ref);
-        if (const simd::LaneBits lanes = bvh::test_children(node, w.box, w.tmin, w.tmax, unused)) {
-          w.ref = bvh::descend_and_push(node, lanes, w.stack.data(), w.sp);
-          continue;
-        }
-      }
-      if (w.sp > 0) {
-        w.ref = w.stack[--w.sp];
-      } else if (!(w.live = start(w))) {
-        --live;
-      }
+        return false;  // every item met, not the first
+      };
+      if (w.state.step(nodes, w.box, pair_items, bvh::IgnoreNodes{}) == bvh::AnyHitState::Step::going) continue;
+      if (!(w.live = start(w))) --live;
     }
   }
 }

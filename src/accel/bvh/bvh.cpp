@@ -9,6 +9,7 @@
 #include "bvh/bvh_layout.hpp"
 #include "bvh/collapse.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/interrupt.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/parallel.hpp"
 
@@ -112,5 +113,16 @@ bool Bvh::occluded(const Ray& ray) const { return bvh::occluded(*layout_, ray); 
 Hit Bvh::intersect(const Ray& ray, BvhQueryCounters& counters) const { return bvh::intersect(*layout_, ray, &counters); }
 bool Bvh::occluded(const Ray& ray, BvhQueryCounters& counters) const { return bvh::occluded(*layout_, ray, &counters); }
 const AccelStats& Bvh::stats() const { return layout_->stats; }
+
+void occluded_block(const Bvh& bvh, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  bvh::occluded_stream(*bvh.layout_, rays, occluded.data());
+}
+
+void occluded_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
+    check_interrupt();
+    occluded_block(bvh, rays.subspan(range.begin(), range.size()), occluded.subspan(range.begin(), range.size()));
+  });
+}
 
 }  // namespace vf

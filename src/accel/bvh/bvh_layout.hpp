@@ -3,6 +3,7 @@
 /// runs of SIMD triangle blocks.
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bvh/wide_nodes.hpp"
@@ -32,6 +33,11 @@ struct BvhLayout {
 Hit intersect(const BvhLayout& bvh, const Ray& ray);
 /// Any hit in (tmin, tmax] (see Bvh::occluded). Thread-safe.
 bool occluded(const BvhLayout& bvh, const Ray& ray);
+/// Rays whose any-hit walks a stream steps in turn (see occluded_stream).
+inline constexpr int kStreamWalks = 4;
+/// occluded[i] = occluded(bvh, rays[i]) for every ray, bit for bit, the walks of kStreamWalks rays
+/// stepped in turn so that their latencies overlap. Thread-safe.
+void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded);
 /// intersect(bvh, ray) by a counting traversal that adds its work to `counters`.
 Hit intersect(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters);
 /// occluded(bvh, ray) by a counting traversal that adds its work to `counters`.

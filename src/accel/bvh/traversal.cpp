@@ -3,9 +3,12 @@
 // BruteForce, and among equal t the lowest TriangleSet index wins, so closest hits are the oracle's
 // (ties included) whenever the triangle test's rounding keeps a computed hit inside the padded boxes.
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
+#include <optional>
+#include <span>
 
 #include "bvh/box_test.hpp"
 #include "bvh/bvh_layout.hpp"
@@ -178,6 +181,45 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
 }
 
 }  // namespace
+
+void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
+  if (bvh.nodes.empty()) {
+    std::fill(occluded, occluded + rays.size(), std::uint8_t{0});
+    return;
+  }
+  // One ray's walk is a chain of dependent loads and compares (a node's boxes, then the child they
+  // pick); several rays' walks stepped in turn keep the core busy while each waits.
+  struct Slot {
+    std::optional<TraversalRay> ray;
+    std::optional<TriangleLeaves<false>> leaves;
+    AnyHitState walk;
+    std::size_t index = 0;
+    bool live = false;
+  };
+  std::array<Slot, kStreamWalks> slots;
+  std::size_t next = 0;
+  const auto start = [&](Slot& slot) {
+    if (next == rays.size()) return false;
+    const Ray& ray = rays[next];
+    slot.ray.emplace(ray);
+    slot.leaves.emplace(bvh, *slot.ray, ray.tmin, ray.tmax, nullptr);
+    slot.walk.start(ray.tmin, ray.tmax);
+    slot.index = next++;
+    return true;
+  };
+  int live = 0;
+  for (Slot& slot : slots) live += (slot.live = start(slot)) ? 1 : 0;
+  while (live > 0) {
+    for (Slot& slot : slots) {
+      if (!slot.live) continue;
+      const AnyHitState::Step step = slot.walk.step(
+          bvh.nodes.data(), slot.ray->box, [&](std::uint32_t ref) { return slot.leaves->any(ref); }, IgnoreNodes{});
+      if (step == AnyHitState::Step::going) continue;
+      occluded[slot.index] = step == AnyHitState::Step::hit ? 1 : 0;
+      if (!(slot.live = start(slot))) --live;
+    }
+  }
+}
 
 Hit intersect(const BvhLayout& bvh, const Ray& ray) { return closest_hit<false>(bvh, ray, nullptr); }
 bool occluded(const BvhLayout& bvh, const Ray& ray) { return any_hit<false>(bvh, ray, nullptr); }

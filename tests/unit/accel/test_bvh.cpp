@@ -1,4 +1,7 @@
 #include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -121,6 +124,32 @@ TEST(Bvh, CountingQueriesAnswerAsThePlainOnesAndCountTheirWork) {
   }
   EXPECT_LE(any.nodes, closest.nodes);  // any hit stops at the first occluder
   EXPECT_LT(any.triangle_tests, closest.triangle_tests);
+}
+
+TEST(Bvh, StreamedOcclusionAnswersAsOneRayAtATime) {
+  // Several walks stepped in turn: each answer must land on its own ray whatever the order walks end in.
+  const TriangleSet set = test::set_from_triangles(test::random_soup(25, 4000, 0.005f, 0.1f));
+  const Bvh bvh = Bvh::build(set);
+  std::vector<Ray> rays = test::random_rays(set, 9, 3001);
+  for (std::size_t i = 0; i < rays.size(); i += 7) rays[i].tmax = rays[i].tmax * 0.01f;  // short ones end early
+  std::size_t hits = 0;
+  for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5}, rays.size()}) {
+    std::vector<std::uint8_t> block(count, 7), batch(count, 7);
+    const std::span<const Ray> some(rays.data(), count);
+    occluded_block(bvh, some, block);
+    occluded_batch(bvh, some, batch);
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint8_t expected = bvh.occluded(rays[i]) ? 1 : 0;
+      ASSERT_EQ(block[i], expected) << count << " rays, ray " << i;
+      ASSERT_EQ(batch[i], expected) << count << " rays, ray " << i;
+      if (count == rays.size()) hits += expected;
+    }
+  }
+  EXPECT_GT(hits, 300u);
+  EXPECT_LT(hits, rays.size() - 300u);
+  std::vector<std::uint8_t> none(3, 7);
+  occluded_block(Bvh::build(TriangleSet{}), std::span<const Ray>(rays.data(), 3), none);
+  EXPECT_EQ(none, (std::vector<std::uint8_t>{0, 0, 0}));
 }
 
 TEST(Bvh, DepthStaysBoundedOnPathologicalInput) {

@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# Regenerates docs/bvh-measurements.md: the exact BVH against Embree on every model × ray kind
+# (flattened), and its instanced form against Embree's instancing on scenes of copies, with the
+# BVH's work per ray (nodes, leaves, triangle tests) from visfield-bench's counting pass.
+# With BASELINE=path/to/an/older/visfield-bench, each cell also gives that build's figures, the two
+# binaries run in alternation (ROUNDS rounds, default 3) so that both see the same machine.
+# Usage: [BASELINE=BENCH] [ROUNDS=N] scripts/bvh-figures.sh MODELS_DIR [OUT.md]
+# (MODELS_DIR holds bun_zipper.ply, dragon_vrip_res2.ply, Armadillo.ply, sponza.obj,
+# conference.obj, cow.obj; about 15 minutes on 2 cores, twice that with BASELINE)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+models=$(cd "${1:?usage: scripts/bvh-figures.sh MODELS_DIR [OUT.md]}" && pwd)
+out=${2:-docs/bvh-measurements.md}
+bench=build/bin/visfield-bench
+[ -x "$bench" ] || { echo "bvh-figures: error: $bench not built (run the README's build first)" >&2; exit 1; }
+baseline=${BASELINE:-}
+[ -z "$baseline" ] || [ -x "$baseline" ] || { echo "bvh-figures: error: BASELINE=$baseline is not an executable" >&2; exit 1; }
+rounds=${ROUNDS:-3}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# run NAME BINARY SCENE KIND ACCELS: one visfield-bench run, its JSON kept as $work/NAME.rROUND.json.
+run() {
+  "$2" --scene "$3" --rays "$4" --accel "$5" --count 1000000 --threads 2 --reps 5 --json 2>/dev/null > "$work/$1.r$round.json"
+}
+# measure NAME SCENE KIND ACCELS: every round, the baseline then the current build.
+measure() {
+  for round in $(seq "$rounds"); do
+    [ -z "$baseline" ] || run "$1.base" "$baseline" "$2" "$3" "$4"
+    run "$1.new" "$bench" "$2" "$3" "$4"
+  done
+}
+
+flat_models="bun_zipper.ply dragon_vrip_res2.ply Armadillo.ply sponza.obj conference.obj cow.obj"
+kinds="ao shadow primary random"
+for m in $flat_models; do
+  [ -f "$models/$m" ] || { echo "bvh-figures: error: $models/$m not found" >&2; exit 1; }
+  for k in $kinds; do measure "flat.$m.$k" "$models/$m" "$k" bvh,embree; done
+done
+
+/usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" 100 0.25 "$work/bunnies100.json"
+/usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" 10 0.25 "$work/bunnies10.json"
+/usr/bin/python3 scripts/copies-scene.py "$models/cow.obj" 1000 15 "$work/cows1000.json"
+copies="bunnies100.json bunnies10.json cows1000.json builtin:boxes:size=10000 builtin:boxes:size=64"
+for s in $copies; do
+  scene=$s
+  [ "${s#builtin:}" != "$s" ] || scene="$work/$s"
+  for k in ao primary; do measure "two.$s.$k" "$scene" "$k" bvh:levels=2,embree:levels=2; done
+done
+
+{
+  echo "# The exact BVH against Embree"
+  echo
+  echo "Written by \`scripts/bvh-figures.sh MODELS_DIR\` on $(date -u +%Y-%m-%d), $(nproc) threads, $(lscpu | sed -n 's/^Model name: *//p' | head -1)."
+  echo "Each cell: \`visfield-bench --rays KIND --accel bvh,embree --count 1000000 --threads 2 --reps 5\`, the median over"
+  echo "$rounds rounds of the per-process figures (ours and Embree's on the same rays in one process)."
+  [ -z "$baseline" ] || echo "\"before\" is the build at BASELINE, run in alternation with this one in every round."
+  echo
+  /usr/bin/python3 - "$work" "$rounds" "${baseline:+yes}" "$flat_models" "$kinds" "$copies" <<'PY'
+import json, math, statistics, sys
+work, rounds, with_base = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "yes"
+flat_models, kinds, copies = sys.argv[4].split(), sys.argv[5].split(), sys.argv[6].split()
+
+def runs(name):
+    return [json.load(open(f"{work}/{name}.r{r}.json")) for r in range(1, rounds + 1)]
+
+def figures(name, ours_prefix):
+    """Median Mrays/s of ours and Embree's, median ratio, build ms, bytes and work per ray."""
+    ours, embree, ratio = [], [], []
+    for doc in runs(name):
+        rows = {row["accel"].split(":")[0]: row for row in doc["results"]}
+        mine = next(row for row in doc["results"] if row["accel"].startswith(ours_prefix))
+        theirs = rows["embree"]
+        ours.append(mine["mrays_per_s"]); embree.append(theirs["mrays_per_s"])
+        ratio.append(mine["mrays_per_s"] / theirs["mrays_per_s"])
+        last = (mine, theirs)
+    mine, theirs = last
+    return dict(ours=statistics.median(ours), embree=statistics.median(embree), ratio=statistics.median(ratio),
+                build=mine["build_ms"], bytes=mine["bytes"], embree_build=theirs["build_ms"], embree_bytes=theirs["bytes"],
+                work=mine.get("bvh_work"), mismatches=mine["mismatches"])
+
+def mib(b):
+    return f"{b / 2**20:.1f} MiB"
+
+def geomean(xs):
+    return math.exp(sum(math.log(x) for x in xs) / len(xs))
+
+print("## Flattened (`bvh` = `bvh:levels=1`, `embree:levels=1`)\n")
+head = "| model | rays | bvh Mrays/s | Embree Mrays/s | × Embree |"
+if with_base:
+    head += " before: bvh Mrays/s, × Embree |"
+head += " nodes / ray | leaves / ray | triangle tests / ray |"
+print(head)
+print("|" + "---|" * (head.count("|") - 1))
+ratios, base_ratios, builds = [], [], {}
+for m in flat_models:
+    for k in kinds:
+        f = figures(f"flat.{m}.{k}", "bvh")
+        ratios.append(f["ratio"])
+        w = f["work"] or {}
+        cells = [m, k, f"{f['ours']:.2f}", f"{f['embree']:.2f}", f"{f['ratio']:.2f}×"]
+        if with_base:
+            b = figures(f"flat.{m}.{k}.base", "bvh")
+            base_ratios.append(b["ratio"])
+            cells.append(f"{b['ours']:.2f}, {b['ratio']:.2f}×")
+        cells += [f"{w.get('nodes', 0):.2f}", f"{w.get('leaves', 0):.2f}", f"{w.get('triangle_tests', 0):.2f}"]
+        print("| " + " | ".join(cells) + " |")
+        builds[m] = (f, b if with_base else None)
+print()
+print(f"Geometric mean of the ratios to Embree: **{geomean(ratios):.2f}×** (lowest {min(ratios):.2f}×, highest {max(ratios):.2f}×)"
+      + (f"; before: {geomean(base_ratios):.2f}× ({min(base_ratios):.2f}–{max(base_ratios):.2f}×)." if with_base else "."))
+print()
+print("Build (ms) and memory, the last round's:\n")
+head = "| model | bvh build | bvh memory | Embree build | Embree memory |" + (" before: bvh build, memory |" if with_base else "")
+print(head)
+print("|" + "---|" * (head.count("|") - 1))
+for m, (f, b) in builds.items():
+    cells = [m, f"{f['build']:.1f}", mib(f["bytes"]), f"{f['embree_build']:.1f}", mib(f["embree_bytes"])]
+    if b:
+        cells.append(f"{b['build']:.1f}, {mib(b['bytes'])}")
+    print("| " + " | ".join(cells) + " |")
+print()
+print("## Two levels (`bvh:levels=2` against `embree:levels=2`)\n")
+print("Scenes of copies by `scripts/copies-scene.py` (100 and 10 bunnies 0.25 apart, 1000 cows 15 apart) and")
+print("`builtin:boxes:size=N` (N 12-triangle boxes).\n")
+head = "| scene | rays | bvh:levels=2 Mrays/s | Embree's instancing Mrays/s | × Embree |" + (" before: Mrays/s, × Embree |" if with_base else "")
+print(head)
+print("|" + "---|" * (head.count("|") - 1))
+for s in copies:
+    for k in ("ao", "primary"):
+        f = figures(f"two.{s}.{k}", "bvh")
+        cells = [s, k, f"{f['ours']:.2f}", f"{f['embree']:.2f}", f"{f['ratio']:.2f}×"]
+        if with_base:
+            b = figures(f"two.{s}.{k}.base", "bvh")
+            cells.append(f"{b['ours']:.2f}, {b['ratio']:.2f}×")
+        print("| " + " | ".join(cells) + " |")
+PY
+} > "$out"
+echo "wrote $out"
