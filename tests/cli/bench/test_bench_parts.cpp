@@ -235,10 +235,11 @@ BenchReport sample_report(bool with_embree) {
   report.threads = 2;
   report.reference = with_embree ? "embree" : "bvh";
   if (with_embree) report.embree = "Embree 3.13.5";
-  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3, {}, {}});
-  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0, {}, {}});
+  report.rows.push_back({"bvh", 12.5, 4096, 100.0, 10.0, with_embree ? std::optional<double>(0.5) : std::nullopt, 3, {}, {},
+                         BvhWork{6.5, 1.75, 2.0, 13.25}});
+  if (with_embree) report.rows.push_back({"embree", 8.0, 8192, 50.0, 20.0, 1.0, 0, {}, {}, {}});
   report.rows.push_back({"beam", 900.0, 1 << 20, 25.0, 40.0, with_embree ? std::optional<double>(2.0) : std::nullopt, 0,
-                         std::nullopt, BeamWork{0.75, 1.5, 2.25, 4.5}});
+                         std::nullopt, BeamWork{0.75, 1.5, 2.25, 4.5}, {}});
   return report;
 }
 
@@ -258,6 +259,12 @@ TEST(BenchReport, JsonHasTheDocumentedFields) {
   EXPECT_DOUBLE_EQ(bvh.at("ratio_to_embree").get<double>(), 0.5);
   EXPECT_EQ(bvh.at("mismatches"), 3);
   EXPECT_FALSE(bvh.contains("beam_work"));
+  const nlohmann::ordered_json& bvh_work = bvh.at("bvh_work");
+  EXPECT_DOUBLE_EQ(bvh_work.at("nodes").get<double>(), 6.5);
+  EXPECT_DOUBLE_EQ(bvh_work.at("leaves").get<double>(), 1.75);
+  EXPECT_DOUBLE_EQ(bvh_work.at("blocks").get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(bvh_work.at("triangle_tests").get<double>(), 13.25);
+  EXPECT_FALSE(doc.at("results")[2].contains("bvh_work"));
   const nlohmann::ordered_json& work = doc.at("results")[2].at("beam_work");
   EXPECT_DOUBLE_EQ(work.at("single_tile_fraction").get<double>(), 0.75);
   EXPECT_DOUBLE_EQ(work.at("tiles").get<double>(), 1.5);
@@ -277,7 +284,8 @@ TEST(BenchReport, TableHasOneRowPerStructure) {
   EXPECT_NE(text.find("beam work per ray: 75.0% single-tile, 1.50 tiles, 2.25 leaves, 4.50 triangle tests"),
             std::string::npos)
       << text;
-  EXPECT_EQ(text.find("bvh work per ray"), std::string::npos) << text;
+  EXPECT_NE(text.find("bvh work per ray: 6.50 nodes, 1.75 leaves, 2.00 blocks, 13.25 triangle tests"), std::string::npos) << text;
+  EXPECT_EQ(text.find("embree work per ray"), std::string::npos) << text;
 }
 
 TEST(BenchReport, MraysPerSecond) {
