@@ -57,11 +57,13 @@ std::uint32_t write_triangle_leaf(const bvh::BinaryNode& leaf, const bvh::Binary
       const std::uint32_t j = b * kLeafWidth + static_cast<std::uint32_t>(lane);
       if (j < leaf.count) {
         const std::uint32_t t = tree.order[leaf.begin + j];
-        block.set(lane, set.triangles[t][0], set.triangles[t][1], set.triangles[t][2]);
-        out.lane_triangle.push_back(t);
+        block.triangles.set(lane, set.triangles[t][0], set.triangles[t][1], set.triangles[t][2]);
+        block.triangle[lane] = t;
+        block.prim[lane] = set.prim[t];
+        block.instance[lane] = set.instance[t];
       } else {
-        block.clear(lane);
-        out.lane_triangle.push_back(kInvalidId);
+        block.triangles.clear(lane);
+        block.triangle[lane] = block.prim[lane] = block.instance[lane] = kInvalidId;
       }
     }
     out.blocks.push_back(block);
@@ -83,25 +85,15 @@ Bvh Bvh::build(const TriangleSet& set, const BvhConfig& config) {
   auto layout = std::make_unique<bvh::BvhLayout>();
   {
     const bvh::BinaryTree tree = bvh::build_binary_tree(triangle_boxes(set), config, bvh::kLeafWidth);
-    if (tree.root) {
-      const std::size_t blocks = count_blocks(*tree.root);
-      layout->blocks.reserve(blocks);
-      layout->lane_triangle.reserve(blocks * bvh::kLeafWidth);
-    }
+    if (tree.root) layout->blocks.reserve(count_blocks(*tree.root));
     bvh::collapse_to_wide(tree, layout->nodes, layout->stats, [&](const bvh::BinaryNode& leaf) {
       return write_triangle_leaf(leaf, tree, set, *layout);
     });
   }
   layout->nodes.shrink_to_fit();
   layout->blocks.shrink_to_fit();
-  layout->lane_triangle.shrink_to_fit();
-  layout->prim = set.prim;
-  layout->instance = set.instance;
   AccelStats& s = layout->stats;
-  s.memory_bytes = layout->nodes.capacity() * sizeof(bvh::Node8) +
-                   layout->blocks.capacity() * sizeof(bvh::LeafBlock) +
-                   (layout->lane_triangle.capacity() + layout->prim.capacity() + layout->instance.capacity()) *
-                       sizeof(std::uint32_t);
+  s.memory_bytes = layout->nodes.capacity() * sizeof(bvh::Node8) + layout->blocks.capacity() * sizeof(bvh::LeafBlock);
   s.build_ms = watch.elapsed_ms();
   return Bvh(std::move(layout));
 }
@@ -122,6 +114,13 @@ void occluded_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<std::ui
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
     check_interrupt();
     occluded_block(bvh, rays.subspan(range.begin(), range.size()), occluded.subspan(range.begin(), range.size()));
+  });
+}
+
+void intersect_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
+  vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
+    check_interrupt();
+    bvh::intersect_stream(*bvh.layout_, rays.subspan(range.begin(), range.size()), hits.data() + range.begin());
   });
 }
 

@@ -16,16 +16,22 @@ namespace vf::bvh {
 
 /// Triangles per leaf block (the SIMD width of the leaf triangle test).
 inline constexpr int kLeafWidth = 8;
-using LeafBlock = simd::TriangleBlock<kLeafWidth>;
+
+/// A leaf block: kLeafWidth triangles for the SIMD test, then per lane what a closest hit reports,
+/// on the lines right after them (a hit reads them from lines the test has just brought in, not
+/// from arrays in TriangleSet order elsewhere). 384 bytes, six cache lines.
+struct alignas(64) LeafBlock {
+  simd::TriangleBlock<kLeafWidth> triangles;  ///< NaN corners in unused lanes.
+  std::uint32_t triangle[kLeafWidth];         ///< TriangleSet index per lane (ties: the lowest wins); kInvalidId in unused lanes.
+  std::uint32_t prim[kLeafWidth];             ///< The TriangleSet's triangle id per lane.
+  ObjectId instance[kLeafWidth];              ///< The TriangleSet's object id per lane.
+};
 
 /// The built hierarchy. nodes[0] is the root whenever the set has triangles; a leaf reference names
 /// a run of blocks.
 struct BvhLayout {
   AlignedVector<Node8> nodes;
   AlignedVector<LeafBlock> blocks;
-  std::vector<std::uint32_t> lane_triangle;  ///< TriangleSet index per block lane; kInvalidId in unused lanes.
-  std::vector<std::uint32_t> prim;           ///< Copy of the TriangleSet's triangle ids.
-  std::vector<ObjectId> instance;            ///< Copy of the TriangleSet's object ids.
   AccelStats stats;
 };
 
@@ -33,11 +39,15 @@ struct BvhLayout {
 Hit intersect(const BvhLayout& bvh, const Ray& ray);
 /// Any hit in (tmin, tmax] (see Bvh::occluded). Thread-safe.
 bool occluded(const BvhLayout& bvh, const Ray& ray);
-/// Rays whose any-hit walks a stream steps in turn (see occluded_stream).
+/// Rays whose walks a stream steps in turn (see occluded_stream, intersect_stream).
 inline constexpr int kStreamWalks = 4;
+inline constexpr int kClosestStreamWalks = 2;
 /// occluded[i] = occluded(bvh, rays[i]) for every ray, bit for bit, the walks of kStreamWalks rays
 /// stepped in turn so that their latencies overlap. Thread-safe.
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded);
+/// hits[i] = intersect(bvh, rays[i]) for every ray, bit for bit, kStreamWalks walks stepped in turn.
+/// Thread-safe.
+void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits);
 /// intersect(bvh, ray) by a counting traversal that adds its work to `counters`.
 Hit intersect(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters);
 /// occluded(bvh, ray) by a counting traversal that adds its work to `counters`.

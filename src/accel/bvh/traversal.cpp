@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <span>
 
@@ -89,7 +90,7 @@ class TriangleLeaves {
     count_leaf();
     for (std::uint32_t b = first; b != end; ++b) {
       count_block(b);
-      if (simd::intersect_block<kLeafWidth, false>(bvh_.blocks[b], ray_, tmin_, tmax_, nullptr) != 0) return true;
+      if (simd::intersect_block<kLeafWidth, false>(bvh_.blocks[b].triangles, ray_, tmin_, tmax_, nullptr) != 0) return true;
     }
     return false;
   }
@@ -103,12 +104,12 @@ class TriangleLeaves {
     for (std::uint32_t b = first; b != end; ++b) {
       count_block(b);
       simd::BlockHits<kLeafWidth> hits;
-      simd::LaneBits lanes = simd::intersect_block<kLeafWidth, true>(bvh_.blocks[b], ray_, tmin_, tmax_, &hits);
+      simd::LaneBits lanes = simd::intersect_block<kLeafWidth, true>(bvh_.blocks[b].triangles, ray_, tmin_, tmax_, &hits);
       if (lanes == 0) continue;
       for (; lanes != 0; lanes &= lanes - 1) {
         const int l = simd::first_lane(lanes);
         const std::uint32_t slot = b * kLeafWidth + static_cast<std::uint32_t>(l);
-        const std::uint32_t triangle = bvh_.lane_triangle[slot];
+        const std::uint32_t triangle = bvh_.blocks[b].triangle[l];
         // hits.t[l] <= best_t here (best_t is the test's tmax); equal t: lowest index wins.
         if (hits.t[l] < best_t || (hits.t[l] == best_t && triangle < triangle_)) {
           best_t = hits.t[l];
@@ -128,8 +129,9 @@ class TriangleLeaves {
   /// The best hit closest() found, or a miss.
   Hit hit() const {
     if (triangle_ == kInvalidId) return Hit{};
-    return Hit::triangle(t_, u_, v_, bvh_.prim[triangle_], bvh_.instance[triangle_],
-                         bvh_.blocks[slot_ / kLeafWidth].normal(static_cast<int>(slot_ % kLeafWidth)));
+    const LeafBlock& block = bvh_.blocks[slot_ / kLeafWidth];
+    const int lane = static_cast<int>(slot_ % kLeafWidth);
+    return Hit::triangle(t_, u_, v_, block.prim[lane], block.instance[lane], block.triangles.normal(lane));
   }
 
  private:
@@ -140,7 +142,7 @@ class TriangleLeaves {
     if constexpr (kCount) {
       ++counters_->blocks;
       for (int lane = 0; lane < kLeafWidth; ++lane)
-        counters_->triangle_tests += bvh_.lane_triangle[b * kLeafWidth + static_cast<std::uint32_t>(lane)] != kInvalidId ? 1 : 0;
+        counters_->triangle_tests += bvh_.blocks[b].triangle[lane] != kInvalidId ? 1 : 0;
     }
   }
 
@@ -216,6 +218,43 @@ void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8
           bvh.nodes.data(), slot.ray->box, [&](std::uint32_t ref) { return slot.leaves->any(ref); }, IgnoreNodes{});
       if (step == AnyHitState::Step::going) continue;
       occluded[slot.index] = step == AnyHitState::Step::hit ? 1 : 0;
+      if (!(slot.live = start(slot))) --live;
+    }
+  }
+}
+
+void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) {
+  if (bvh.nodes.empty()) {
+    std::fill(hits, hits + rays.size(), Hit{});
+    return;
+  }
+  // As occluded_stream: several rays' walks stepped in turn.
+  struct Slot {
+    std::optional<TraversalRay> ray;
+    std::optional<TriangleLeaves<false>> leaves;
+    ClosestHitState walk;
+    std::size_t index = 0;
+    bool live = false;
+  };
+  std::array<Slot, kClosestStreamWalks> slots;
+  std::size_t next = 0;
+  const auto start = [&](Slot& slot) {
+    if (next == rays.size()) return false;
+    const Ray& ray = rays[next];
+    slot.ray.emplace(ray);
+    slot.leaves.emplace(bvh, *slot.ray, ray.tmin, ray.tmax, nullptr);
+    slot.walk.start(ray.tmin, ray.tmax);
+    slot.index = next++;
+    return true;
+  };
+  int live = 0;
+  for (Slot& slot : slots) live += (slot.live = start(slot)) ? 1 : 0;
+  while (live > 0) {
+    for (Slot& slot : slots) {
+      if (!slot.live) continue;
+      const auto visit = [&](std::uint32_t ref, float& best_t) { return slot.leaves->closest(ref, best_t); };
+      if (slot.walk.step(bvh.nodes.data(), slot.ray->box, visit, IgnoreNodes{})) continue;
+      std::construct_at(&hits[slot.index], slot.leaves->hit());
       if (!(slot.live = start(slot))) --live;
     }
   }

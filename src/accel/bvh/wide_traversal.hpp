@@ -98,37 +98,38 @@ bool any_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax,
   }
 }
 
-/// Closest hit: children are visited near to far, and subtrees whose entry distance exceeds the
-/// closest hit so far are skipped. `visit_leaf(ref, best_t)` tests the leaf `ref` against
-/// [tmin, best_t] (best_t starts at tmax) and returns true when it lowered best_t. `nodes` must hold
-/// the root. `on_node()` runs at each interior node tested.
-template <class VisitLeaf, class OnNode = IgnoreNodes>
-void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax, VisitLeaf&& visit_leaf, OnNode&& on_node = {}) {
-  struct StackEntry {
-    std::uint32_t ref;
-    float t_near;
-  };
-  const V8 box_tmin = V8::broadcast(widen_down(tmin));
-  float best_t = tmax;
-  float cull_t = widen_up(tmax);
-  V8 box_tmax = V8::broadcast(cull_t);
-  std::array<StackEntry, kStackSize> stack;
-  int sp = 0;
-  std::uint32_t ref = node_ref(0);
-  for (;;) {
-    if (!is_leaf(ref)) {
+/// A closest-hit walk taken one node or leaf at a time (closest_hit_walk() runs one to its end; a
+/// stream steps several in turn): children are visited near to far, and subtrees whose entry
+/// distance exceeds the closest hit so far are skipped.
+class ClosestHitState {
+ public:
+  /// A walk from the root for a ray whose interval is [tmin, tmax].
+  void start(float tmin, float tmax) {
+    box_tmin_ = V8::broadcast(widen_down(tmin));
+    best_t_ = tmax;
+    cull_t_ = widen_up(tmax);
+    box_tmax_ = V8::broadcast(cull_t_);
+    sp_ = 0;
+    ref_ = node_ref(0);
+  }
+  /// Tests the next node's children (`on_node()` runs) or leaf: `visit_leaf(ref, best_t)` tests the
+  /// leaf `ref` against [tmin, best_t] and returns true when it lowered best_t. Returns false when
+  /// the walk is over. `nodes` must hold the root.
+  template <class VisitLeaf, class OnNode>
+  bool step(const Node8* nodes, const BoxRay& box, VisitLeaf&& visit_leaf, OnNode&& on_node) {
+    if (!is_leaf(ref_)) {
       on_node();
-      const Node8& node = node_at(nodes, ref);
+      const Node8& node = node_at(nodes, ref_);
       V8 t_near;
-      simd::LaneBits lanes = test_children(node, box, box_tmin, box_tmax, t_near);
+      simd::LaneBits lanes = test_children(node, box, box_tmin_, box_tmax_, t_near);
       if (lanes != 0) {
         alignas(32) float dist[8];
         t_near.store(dist);
         const int first = simd::first_lane(lanes);
         lanes &= lanes - 1;
         if (lanes == 0) {
-          ref = node.child[first];
-          continue;
+          ref_ = node.child[first];
+          return true;
         }
         const int second = simd::first_lane(lanes);
         lanes &= lanes - 1;
@@ -136,12 +137,12 @@ void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float t
           // Two children: descend into the nearer, push the farther.
           const bool swap = dist[second] < dist[first];
           const int near = swap ? second : first, far = swap ? first : second;
-          stack[sp++] = {node.child[far], dist[far]};
-          ref = node.child[near];
-          continue;
+          stack_[sp_++] = {node.child[far], dist[far]};
+          ref_ = node.child[near];
+          return true;
         }
         // Three or more: sort by entry distance, push far to near, descend into the nearest.
-        StackEntry hits[8];
+        Entry hits[8];
         hits[0] = {node.child[first], dist[first]};
         hits[1] = {node.child[second], dist[second]};
         int count = 2;
@@ -150,25 +151,48 @@ void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float t
           hits[count++] = {node.child[l], dist[l]};
         }
         for (int i = 1; i < count; ++i) {
-          const StackEntry e = hits[i];
+          const Entry e = hits[i];
           int j = i;
           for (; j > 0 && hits[j - 1].t_near > e.t_near; --j) hits[j] = hits[j - 1];
           hits[j] = e;
         }
-        for (int i = count - 1; i > 0; --i) stack[sp++] = hits[i];
-        ref = hits[0].ref;
-        continue;
+        for (int i = count - 1; i > 0; --i) stack_[sp_++] = hits[i];
+        ref_ = hits[0].ref;
+        return true;
       }
-    } else if (visit_leaf(ref, best_t)) {
-      cull_t = widen_up(best_t);
-      box_tmax = V8::broadcast(cull_t);
+    } else if (visit_leaf(ref_, best_t_)) {
+      cull_t_ = widen_up(best_t_);
+      box_tmax_ = V8::broadcast(cull_t_);
     }
     // Next subtree from the stack that can still hold a hit.
     do {
-      if (sp == 0) return;
-      --sp;
-    } while (stack[sp].t_near > cull_t);
-    ref = stack[sp].ref;
+      if (sp_ == 0) return false;
+      --sp_;
+    } while (stack_[sp_].t_near > cull_t_);
+    ref_ = stack_[sp_].ref;
+    return true;
+  }
+
+ private:
+  struct Entry {
+    std::uint32_t ref;
+    float t_near;
+  };
+  V8 box_tmin_, box_tmax_;
+  float best_t_ = 0.0f, cull_t_ = 0.0f;
+  std::array<Entry, kStackSize> stack_;
+  int sp_ = 0;
+  std::uint32_t ref_ = 0;
+};
+
+/// Closest hit: the ClosestHitState walk run to its end. `visit_leaf(ref, best_t)` tests the leaf
+/// `ref` against [tmin, best_t] (best_t starts at tmax) and returns true when it lowered best_t.
+/// `nodes` must hold the root. `on_node()` runs at each interior node tested.
+template <class VisitLeaf, class OnNode = IgnoreNodes>
+void closest_hit_walk(const Node8* nodes, const BoxRay& box, float tmin, float tmax, VisitLeaf&& visit_leaf, OnNode&& on_node = {}) {
+  ClosestHitState walk;
+  walk.start(tmin, tmax);
+  while (walk.step(nodes, box, visit_leaf, on_node)) {
   }
 }
 

@@ -126,7 +126,7 @@ TEST(Bvh, CountingQueriesAnswerAsThePlainOnesAndCountTheirWork) {
   EXPECT_LT(any.triangle_tests, closest.triangle_tests);
 }
 
-TEST(Bvh, StreamedOcclusionAnswersAsOneRayAtATime) {
+TEST(Bvh, StreamedQueriesAnswerAsOneRayAtATime) {
   // Several walks stepped in turn: each answer must land on its own ray whatever the order walks end in.
   const TriangleSet set = test::set_from_triangles(test::random_soup(25, 4000, 0.005f, 0.1f));
   const Bvh bvh = Bvh::build(set);
@@ -135,21 +135,28 @@ TEST(Bvh, StreamedOcclusionAnswersAsOneRayAtATime) {
   std::size_t hits = 0;
   for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5}, rays.size()}) {
     std::vector<std::uint8_t> block(count, 7), batch(count, 7);
+    std::vector<Hit> closest(count, Hit::triangle(1.0f, 0.5f, 0.5f, 3, 4, Vec3f{1.0f}));
     const std::span<const Ray> some(rays.data(), count);
     occluded_block(bvh, some, block);
     occluded_batch(bvh, some, batch);
+    intersect_batch(bvh, some, std::span<Hit>(closest));
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint8_t expected = bvh.occluded(rays[i]) ? 1 : 0;
       ASSERT_EQ(block[i], expected) << count << " rays, ray " << i;
       ASSERT_EQ(batch[i], expected) << count << " rays, ray " << i;
+      ASSERT_TRUE(test::same_bits(closest[i], bvh.intersect(rays[i]))) << count << " rays, ray " << i;
       if (count == rays.size()) hits += expected;
     }
   }
   EXPECT_GT(hits, 300u);
   EXPECT_LT(hits, rays.size() - 300u);
+  const Bvh empty = Bvh::build(TriangleSet{});
   std::vector<std::uint8_t> none(3, 7);
-  occluded_block(Bvh::build(TriangleSet{}), std::span<const Ray>(rays.data(), 3), none);
+  occluded_block(empty, std::span<const Ray>(rays.data(), 3), none);
   EXPECT_EQ(none, (std::vector<std::uint8_t>{0, 0, 0}));
+  std::vector<Hit> misses(3, Hit::triangle(1.0f, 0.5f, 0.5f, 3, 4, Vec3f{1.0f}));
+  intersect_batch(empty, std::span<const Ray>(rays.data(), 3), std::span<Hit>(misses));
+  for (const Hit& h : misses) EXPECT_FALSE(h);
 }
 
 TEST(Bvh, DepthStaysBoundedOnPathologicalInput) {
