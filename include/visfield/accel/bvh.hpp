@@ -16,6 +16,7 @@ namespace vf {
 namespace bvh {
 struct BvhLayout;
 }
+class InstanceLayer;
 
 /// Build parameters of the BVH; defaults are the ones measured fastest on the shared models (AO
 /// rays on bun_zipper, sponza, conference). Bvh::build throws vf::Error on values out of range.
@@ -75,6 +76,8 @@ class Bvh {
 
  private:
   friend void occluded_block(const Bvh&, std::span<const Ray>, std::span<std::uint8_t>);
+  friend void intersect_batch(const Bvh&, std::span<const Ray>, std::span<Hit>);
+  friend void occluded_block(const InstanceLayer&, std::span<const Ray>, std::span<std::uint8_t>);
   explicit Bvh(std::unique_ptr<const bvh::BvhLayout> layout);
   std::unique_ptr<const bvh::BvhLayout> layout_;
 };
@@ -87,5 +90,9 @@ void occluded_block(const Bvh& bvh, std::span<const Ray> rays, std::span<std::ui
 /// occluded_block() over chunks of the rays in parallel (TBB); the same answers. Throws
 /// vf::Interrupted on a signal.
 void occluded_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+
+/// hits[i] = bvh.intersect(rays[i]) for every i (spans of equal size), bit for bit: chunks of the rays
+/// in parallel (TBB), several rays' walks stepped in turn in each. Throws vf::Interrupted on a signal.
+void intersect_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<Hit> hits);
 
 }  // namespace vf

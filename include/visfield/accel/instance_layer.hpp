@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -80,6 +81,7 @@ class InstanceLayer {
   std::size_t object_count() const { return objects_.size(); }
 
  private:
+  friend void occluded_block(const InstanceLayer&, std::span<const Ray>, std::span<std::uint8_t>);
   /// One object as the layer keeps it between commits.
   struct Object {
     ObjectId id;
@@ -97,5 +99,14 @@ class InstanceLayer {
   MeshStructureBuilder build_mesh_;
   bool staged_ = false;
 };
+
+/// occluded[i] = layer.occluded(rays[i]) for every i (spans of equal size), on the calling thread:
+/// several rays' walks, through the top level and into the objects' Bvhs, stepped in turn so that
+/// their latencies overlap (objects of other structures answer as their step comes). Bit for bit.
+void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+
+/// occluded_block() over chunks of the rays in parallel (TBB); the same answers. Throws
+/// vf::Interrupted on a signal.
+void occluded_batch(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
 
 }  // namespace vf

@@ -1,3 +1,7 @@
+#include <cstdint>
+#include <span>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "differential/ray_sets.hpp"
@@ -67,6 +71,45 @@ TEST(InstanceLayer, MeshStructuresAreSharedByTheirObjects) {
   EXPECT_LT(hundred.memory_bytes, one + 100 * 512);
   EXPECT_GT(hundred.memory_bytes, one);
   EXPECT_EQ(hundred.reference_count, InstanceLayer::build(scene, build_bvh).stats().reference_count);
+}
+
+TEST(InstanceLayer, StreamedOcclusionAnswersAsOneRayAtATime) {
+  // Overlapping turned and scaled copies of a mesh under a Bvh (its walks stepped in the stream), one
+  // under a grid and one under a one-node Bvh (both answered as their step comes), and a zero-area mesh.
+  Scene scene = test::scene_from_triangles(test::random_soup(6, 3000, 0.01f, 0.1f));
+  scene.meshes.push_back(test::scene_from_triangles(test::random_soup(7, 400, 0.02f, 0.2f)).meshes[0]);
+  scene.meshes.push_back(test::scene_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{2, 0, 0}}}).meshes[0]);
+  scene.meshes.push_back(test::scene_from_triangles(test::random_soup(10, 12, 0.2f, 0.5f)).meshes[0]);
+  Rng place(8);
+  for (int i = 0; i < 80; ++i) {
+    Transform t;
+    t.rotation = Mat3::rotation(Vec3f{place.uniform(), place.uniform(), place.uniform()} + Vec3f{0.1f}, 360.0f * place.uniform());
+    t.scale = 0.5f + place.uniform();
+    t.translation = Vec3f{place.uniform(), place.uniform(), place.uniform()} * 3.0f;
+    scene.add_instance(static_cast<std::uint32_t>(i % 4), t);
+  }
+  const InstanceLayer layer = InstanceLayer::build(scene, [](const TriangleSet& set) -> MeshStructure {
+    if (set.size() > 1000 || set.size() < 20) return Bvh::build(set);
+    return UniformGrid::build(set);
+  });
+  const TriangleSet world = flatten(scene);
+  std::vector<Ray> rays = test::random_rays(world, 9, 2001);
+  for (std::size_t i = 0; i < rays.size(); i += 5) rays[i].tmax = 0.05f;  // short ones end early
+  std::size_t hits = 0;
+  for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{5}, rays.size()}) {
+    std::vector<std::uint8_t> block(count, 7), batch(count, 7);
+    const std::span<const Ray> some(rays.data(), count);
+    occluded_block(layer, some, block);
+    occluded_batch(layer, some, batch);
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint8_t expected = layer.occluded(rays[i]) ? 1 : 0;
+      ASSERT_EQ(block[i], expected) << count << " rays, ray " << i;
+      ASSERT_EQ(batch[i], expected) << count << " rays, ray " << i;
+      if (count == rays.size()) hits += expected;
+    }
+  }
+  EXPECT_GT(hits, 100u);
+  EXPECT_LT(hits, rays.size() - 100u);
 }
 
 TEST(InstanceLayer, EmptyScenesAndEmptyMeshesNeverHit) {
