@@ -5,6 +5,7 @@
 
 #include <array>
 #include <bit>
+#include <type_traits>
 
 #include "bvh/box_test.hpp"
 #include "bvh/wide_nodes.hpp"
@@ -142,6 +143,10 @@ class ClosestHitState {
           return true;
         }
         // Three or more: sort by entry distance, push far to near, descend into the nearest.
+#if defined(__AVX512VL__)
+        ref_ = sort_and_push(node, t_near, lanes | (1u << first) | (1u << second));
+        return true;
+#else
         Entry hits[8];
         hits[0] = {node.child[first], dist[first]};
         hits[1] = {node.child[second], dist[second]};
@@ -159,6 +164,7 @@ class ClosestHitState {
         for (int i = count - 1; i > 0; --i) stack_[sp_++] = hits[i];
         ref_ = hits[0].ref;
         return true;
+#endif
       }
     } else if (visit_leaf(ref_, best_t_)) {
       cull_t_ = widen_up(best_t_);
@@ -178,9 +184,44 @@ class ClosestHitState {
     std::uint32_t ref;
     float t_near;
   };
+#if defined(__AVX512VL__)
+  // Sorts the children in `lanes` by entry distance without branches (an odd-even merge network of 8
+  // keys: the distance's bits with the lane in the 3 lowest, so equal distances keep tree order and
+  // the order is near to far up to those bits, which only order, never cull), pushes all but the
+  // nearest far to near (eight entries stored, the stack has the slack) and returns the nearest.
+  std::uint32_t sort_and_push(const Node8& node, const V8& t_near, simd::LaneBits lanes) {
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    __m256i key = _mm256_or_si256(_mm256_and_si256(_mm256_castps_si256(t_near.v), _mm256_set1_epi32(~7)), lane);
+    key = _mm256_mask_mov_epi32(_mm256_set1_epi32(-1), static_cast<__mmask8>(lanes), key);  // missed lanes last
+    const auto layer = [&](__m256i partner, auto max_lanes) {
+      const __m256i other = _mm256_permutevar8x32_epi32(key, partner);
+      key = _mm256_blend_epi32(_mm256_min_epu32(key, other), _mm256_max_epu32(key, other), decltype(max_lanes)::value);
+    };
+    layer(_mm256_setr_epi32(1, 0, 3, 2, 5, 4, 7, 6), std::integral_constant<int, 0xaa>{});
+    layer(_mm256_setr_epi32(2, 3, 0, 1, 6, 7, 4, 5), std::integral_constant<int, 0xcc>{});
+    layer(_mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7), std::integral_constant<int, 0x44>{});
+    layer(_mm256_setr_epi32(4, 5, 6, 7, 0, 1, 2, 3), std::integral_constant<int, 0xf0>{});
+    layer(_mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7), std::integral_constant<int, 0x30>{});
+    layer(_mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7), std::integral_constant<int, 0x54>{});
+    const __m256i order = _mm256_and_si256(key, _mm256_set1_epi32(7));
+    const int count = std::popcount(lanes);
+    // Stack entries i = 0 .. count - 2 are the sorted children count - 1 - i: far to near.
+    const __m256i far_first = _mm256_permutevar8x32_epi32(order, _mm256_sub_epi32(_mm256_set1_epi32(count - 1), lane));
+    const __m256i children = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
+    const __m256i refs = _mm256_permutevar8x32_epi32(children, far_first);
+    const __m256i dists = _mm256_permutevar8x32_epi32(_mm256_castps_si256(t_near.v), far_first);
+    const __m512i entries = _mm512_permutex2var_epi32(_mm512_castsi256_si512(refs),
+                                                      _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23),
+                                                      _mm512_castsi256_si512(dists));
+    _mm512_storeu_si512(stack_.data() + sp_, entries);
+    sp_ += count - 1;
+    return node.child[_mm256_cvtsi256_si32(order)];
+  }
+#endif
+
   V8 box_tmin_, box_tmax_;
   float best_t_ = 0.0f, cull_t_ = 0.0f;
-  std::array<Entry, kStackSize> stack_;
+  std::array<Entry, kStackSize + 8> stack_;
   int sp_ = 0;
   std::uint32_t ref_ = 0;
 };
