@@ -6,7 +6,7 @@
 # binaries run in alternation (ROUNDS rounds, default 3) so that both see the same machine.
 # Usage: [BASELINE=BENCH] [ROUNDS=N] scripts/bvh-figures.sh MODELS_DIR [OUT.md]
 # (MODELS_DIR holds bun_zipper.ply, dragon_vrip_res2.ply, Armadillo.ply, sponza.obj,
-# conference.obj, cow.obj; about 15 minutes on 2 cores, twice that with BASELINE)
+# conference.obj, cow.obj; about 2 minutes on 2 cores, twice that with BASELINE)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 models=$(cd "${1:?usage: scripts/bvh-figures.sh MODELS_DIR [OUT.md]}" && pwd)
@@ -95,7 +95,7 @@ print("|" + "---|" * (head.count("|") - 1))
 ratios, base_ratios, builds = [], [], {}
 for m in flat_models:
     for k in kinds:
-        f = figures(f"flat.{m}.{k}", "bvh")
+        f = figures(f"flat.{m}.{k}.new", "bvh")
         ratios.append(f["ratio"])
         w = f["work"] or {}
         cells = [m, k, f"{f['ours']:.2f}", f"{f['embree']:.2f}", f"{f['ratio']:.2f}×"]
@@ -128,7 +128,7 @@ print(head)
 print("|" + "---|" * (head.count("|") - 1))
 for s in copies:
     for k in ("ao", "primary"):
-        f = figures(f"two.{s}.{k}", "bvh")
+        f = figures(f"two.{s}.{k}.new", "bvh")
         cells = [s, k, f"{f['ours']:.2f}", f"{f['embree']:.2f}", f"{f['ratio']:.2f}×"]
         if with_base:
             b = figures(f"two.{s}.{k}.base", "bvh")

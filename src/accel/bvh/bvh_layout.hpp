@@ -40,7 +40,7 @@ Hit intersect(const BvhLayout& bvh, const Ray& ray);
 /// Any hit in (tmin, tmax] (see Bvh::occluded). Thread-safe.
 bool occluded(const BvhLayout& bvh, const Ray& ray);
 /// Rays whose walks a stream steps in turn (see occluded_stream, intersect_stream).
-inline constexpr int kStreamWalks = 4;
+inline constexpr int kStreamWalks = 3;
 inline constexpr int kClosestStreamWalks = 2;
 /// occluded[i] = occluded(bvh, rays[i]) for every ray, bit for bit, the walks of kStreamWalks rays
 /// stepped in turn so that their latencies overlap. Thread-safe.
