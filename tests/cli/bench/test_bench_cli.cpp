@@ -142,7 +142,11 @@ TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
   const auto specs = structures();
-  ASSERT_EQ(lines.size(), 2 + specs.size()) << r.out;
+  // Header, column titles, a row per structure, then the flattened bvh's work per ray (the only
+  // structure here with counters: bvh:levels=2 is an instance layer).
+  ASSERT_EQ(lines.size(), 2 + specs.size() + 1) << r.out;
+  EXPECT_EQ(lines.back().rfind("bvh:levels=1 work per ray: ", 0), 0u) << lines.back();
+  EXPECT_NE(lines.back().find(" nodes, "), std::string::npos) << lines.back();
   EXPECT_NE(lines[0].find("triangles"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("ao rays"), std::string::npos) << lines[0];
   EXPECT_NE(lines[0].find("threads 2"), std::string::npos) << lines[0];
