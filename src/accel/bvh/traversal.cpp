@@ -46,32 +46,18 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
 }  // namespace
 
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
-  // One ray's walk is a chain of dependent loads and compares (a node's boxes, then the child they
-  // pick); several rays' walks stepped in turn keep the core busy while each waits.
-  struct Slot {
-    BvhAnyHit walk;
-    std::size_t index = 0;
-    bool live = false;
+  struct Walk {
+    BvhAnyHit through;
+    AnyHitState::Step last = AnyHitState::Step::going;
   };
-  std::array<Slot, kStreamWalks> slots;
-  std::size_t next = 0;
-  const auto start = [&](Slot& slot) {
-    if (next == rays.size()) return false;
-    slot.walk.start(bvh, rays[next]);
-    slot.index = next++;
-    return true;
-  };
-  int live = 0;
-  for (Slot& slot : slots) live += (slot.live = start(slot)) ? 1 : 0;
-  while (live > 0) {
-    for (Slot& slot : slots) {
-      if (!slot.live) continue;
-      const AnyHitState::Step step = slot.walk.step();
-      if (step == AnyHitState::Step::going) continue;
-      occluded[slot.index] = step == AnyHitState::Step::hit ? 1 : 0;
-      if (!(slot.live = start(slot))) --live;
-    }
-  }
+  interleave_walks<Walk, kStreamWalks>(
+      rays.size(),
+      [&](Walk& w, std::size_t i) {
+        w.through.start(bvh, rays[i]);
+        return true;
+      },
+      [](Walk& w) { return (w.last = w.through.step()) == AnyHitState::Step::going; },
+      [&](const Walk& w, std::size_t i) { occluded[i] = w.last == AnyHitState::Step::hit ? 1 : 0; });
 }
 
 void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) {
@@ -79,36 +65,24 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
     std::fill(hits, hits + rays.size(), Hit{});
     return;
   }
-  // As occluded_stream: several rays' walks stepped in turn.
-  struct Slot {
+  struct Walk {
     std::optional<TraversalRay> ray;
     std::optional<TriangleLeaves<false>> leaves;
-    ClosestHitState walk;
-    std::size_t index = 0;
-    bool live = false;
+    ClosestHitState state;
   };
-  std::array<Slot, kClosestStreamWalks> slots;
-  std::size_t next = 0;
-  const auto start = [&](Slot& slot) {
-    if (next == rays.size()) return false;
-    const Ray& ray = rays[next];
-    slot.ray.emplace(ray);
-    slot.leaves.emplace(bvh, *slot.ray, ray.tmin, ray.tmax, nullptr);
-    slot.walk.start(ray.tmin, ray.tmax);
-    slot.index = next++;
-    return true;
-  };
-  int live = 0;
-  for (Slot& slot : slots) live += (slot.live = start(slot)) ? 1 : 0;
-  while (live > 0) {
-    for (Slot& slot : slots) {
-      if (!slot.live) continue;
-      const auto visit = [&](std::uint32_t ref, float& best_t) { return slot.leaves->closest(ref, best_t); };
-      if (slot.walk.step(bvh.nodes.data(), slot.ray->box, visit, IgnoreNodes{})) continue;
-      std::construct_at(&hits[slot.index], slot.leaves->hit());
-      if (!(slot.live = start(slot))) --live;
-    }
-  }
+  interleave_walks<Walk, kClosestStreamWalks>(
+      rays.size(),
+      [&](Walk& w, std::size_t i) {
+        w.ray.emplace(rays[i]);
+        w.leaves.emplace(bvh, *w.ray, rays[i].tmin, rays[i].tmax, nullptr);
+        w.state.start(rays[i].tmin, rays[i].tmax);
+        return true;
+      },
+      [&](Walk& w) {
+        return w.state.step(bvh.nodes.data(), w.ray->box, [&](std::uint32_t ref, float& best_t) { return w.leaves->closest(ref, best_t); },
+                            IgnoreNodes{});
+      },
+      [&](const Walk& w, std::size_t i) { std::construct_at(&hits[i], w.leaves->hit()); });
 }
 
 Hit intersect(const BvhLayout& bvh, const Ray& ray) { return closest_hit<false>(bvh, ray, nullptr); }

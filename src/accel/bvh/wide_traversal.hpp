@@ -5,6 +5,7 @@
 
 #include <array>
 #include <bit>
+#include <cstddef>
 #include <type_traits>
 
 #include "bvh/box_test.hpp"
@@ -19,6 +20,38 @@ inline constexpr int kStackSize = 7 * kMaxBinaryDepth + 1;
 struct IgnoreNodes {
   void operator()() const {}
 };
+
+/// Runs the walks of items 0 .. count - 1, kWalks of them at a time stepped in turn, so that one
+/// walk's chain of dependent loads and compares overlaps the others' work: `start(walk, i)` begins
+/// item i in `walk` (false: the item needs no walk), `step(walk)` takes one step and returns true
+/// while the walk goes on, `finish(walk, i)` takes the ended walk's answer.
+template <class Walk, int kWalks, class Start, class Step, class Finish>
+void interleave_walks(std::size_t count, Start&& start, Step&& step, Finish&& finish) {
+  struct Slot {
+    Walk walk;
+    std::size_t item = 0;
+    bool live = false;
+  };
+  std::array<Slot, kWalks> slots;
+  std::size_t next = 0;
+  const auto begin = [&](Slot& slot) {
+    for (; next < count; ++next)
+      if (start(slot.walk, next)) {
+        slot.item = next++;
+        return true;
+      }
+    return false;
+  };
+  int live = 0;
+  for (Slot& slot : slots) live += (slot.live = begin(slot)) ? 1 : 0;
+  while (live > 0) {
+    for (Slot& slot : slots) {
+      if (!slot.live || step(slot.walk)) continue;
+      finish(slot.walk, slot.item);
+      if (!(slot.live = begin(slot))) --live;
+    }
+  }
+}
 
 /// Returns the first child of `node` in `lanes` (tree order) and pushes the others, in order, on the
 /// stack at stack[sp], so that the last one is popped first. Writes up to eight entries past the

@@ -1,8 +1,6 @@
 // Queries of the instance layer: the top level's 8-wide traversal (shared with the Bvh) whose leaves
 // map the ray into each object's space and ask the object's mesh structure.
 
-#include <array>
-
 #include <tbb/blocked_range.h>
 
 #include "bvh/box_test.hpp"
@@ -76,78 +74,65 @@ void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::
   }
   // A ray's walk: the top level's any-hit walk; a leaf it reaches hands over its objects, whose Bvh
   // walks are stepped in the same turns, one object after another, before the top level goes on.
-  struct Slot {
+  enum class Answer { pending, hit, miss };
+  struct Walk {
     const Ray* ray = nullptr;
     bvh::BoxRay box;
     bvh::AnyHitState top;
-    bool top_done = false;                                  // the top level's stack is empty
+    bool top_done = false;                                              // the top level's stack is empty
     const instances::PlacedObject *object = nullptr, *end = nullptr;  // the leaf's objects left
-    bvh::BvhAnyHit inside;                                  // the walk in *object's Bvh
+    bvh::BvhAnyHit inside;                                              // the walk in *object's Bvh
     bool in_object = false;
-    std::size_t index = 0;
-    bool live = false;
+    Answer answer = Answer::pending;
   };
-  constexpr int kWalks = bvh::kStreamWalks;
-  std::array<Slot, kWalks> slots;
-  std::size_t next = 0;
-  const auto start = [&](Slot& slot) {
-    if (next == rays.size()) return false;
-    slot.ray = &rays[next];
-    slot.box = box_ray(*slot.ray);
-    slot.top.start(slot.ray->tmin, slot.ray->tmax);
-    slot.top_done = slot.in_object = false;
-    slot.object = slot.end = nullptr;
-    slot.index = next++;
-    return true;
-  };
-  // Enters the next object of the slot's leaf whose Bvh walk is stepped; answers the others (small
+  // Enters the next object of the walk's leaf whose Bvh walk is stepped; answers the others (small
   // Bvhs, meshes of other structures) at once. Returns true when one of those was hit.
-  const auto enter_object = [&](Slot& slot) {
-    for (; slot.object != slot.end; ++slot.object) {
-      const Ray local = slot.object->to_object.apply(*slot.ray);
+  const auto enter_object = [&](Walk& w) {
+    for (; w.object != w.end; ++w.object) {
+      const Ray local = w.object->to_object.apply(*w.ray);
       // A Bvh of one node (a few leaves under the root) is answered at once: stepping it would cost
       // more in switching between walks than its latency (10,000 boxes of 12 triangles: -10%).
-      const Bvh* mesh = std::get_if<Bvh>(slot.object->mesh);
+      const Bvh* mesh = std::get_if<Bvh>(w.object->mesh);
       if (mesh && mesh->layout_->nodes.size() > 1) {
-        slot.inside.start(*mesh->layout_, local);
-        slot.in_object = true;
+        w.inside.start(*mesh->layout_, local);
+        w.in_object = true;
         return false;
       }
-      if (std::visit([&](const auto& mesh) { return mesh.occluded(local); }, *slot.object->mesh)) return true;
+      if (std::visit([&](const auto& m) { return m.occluded(local); }, *w.object->mesh)) return true;
     }
-    slot.in_object = false;
+    w.in_object = false;
     return false;
   };
-  // One step of the slot: a node or leaf of the top level, or of the object's Bvh it is in.
-  enum class Answer { pending, hit, miss };
-  const auto step = [&](Slot& slot) {
-    if (slot.in_object) {
-      const bvh::AnyHitState::Step inside = slot.inside.step();
+  // One step: a node or leaf of the top level, or of the object's Bvh the walk is in.
+  const auto step = [&](Walk& w) {
+    if (w.in_object) {
+      const bvh::AnyHitState::Step inside = w.inside.step();
       if (inside == bvh::AnyHitState::Step::going) return Answer::pending;
       if (inside == bvh::AnyHitState::Step::hit) return Answer::hit;
-      ++slot.object;
+      ++w.object;
     } else {
-      const bvh::AnyHitState::Step top = slot.top.step(layout.nodes.data(), slot.box, [&](std::uint32_t ref) {
-        slot.object = leaf_objects(layout, ref, slot.end);
+      const bvh::AnyHitState::Step top = w.top.step(layout.nodes.data(), w.box, [&](std::uint32_t ref) {
+        w.object = leaf_objects(layout, ref, w.end);
         return false;  // its objects are walked in the next steps
       }, bvh::IgnoreNodes{});
-      slot.top_done = top == bvh::AnyHitState::Step::miss;
+      w.top_done = top == bvh::AnyHitState::Step::miss;
     }
-    if (enter_object(slot)) return Answer::hit;
-    if (slot.in_object || !slot.top_done) return Answer::pending;
+    if (enter_object(w)) return Answer::hit;
+    if (w.in_object || !w.top_done) return Answer::pending;
     return Answer::miss;
   };
-  int live = 0;
-  for (Slot& slot : slots) live += (slot.live = start(slot)) ? 1 : 0;
-  while (live > 0) {
-    for (Slot& slot : slots) {
-      if (!slot.live) continue;
-      const Answer answer = step(slot);
-      if (answer == Answer::pending) continue;
-      occluded[slot.index] = answer == Answer::hit ? 1 : 0;
-      if (!(slot.live = start(slot))) --live;
-    }
-  }
+  bvh::interleave_walks<Walk, bvh::kStreamWalks>(
+      rays.size(),
+      [&](Walk& w, std::size_t i) {
+        w.ray = &rays[i];
+        w.box = box_ray(rays[i]);
+        w.top.start(rays[i].tmin, rays[i].tmax);
+        w.top_done = w.in_object = false;
+        w.object = w.end = nullptr;
+        return true;
+      },
+      [&](Walk& w) { return (w.answer = step(w)) == Answer::pending; },
+      [&](const Walk& w, std::size_t i) { occluded[i] = w.answer == Answer::hit ? 1 : 0; });
 }
 
 void occluded_batch(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
