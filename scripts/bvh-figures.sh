@@ -135,5 +135,32 @@ for s in copies:
             cells.append(f"{b['ours']:.2f}, {b['ratio']:.2f}×")
         print("| " + " | ".join(cells) + " |")
 PY
+  cat <<'TEXT'
+
+## Where the time goes
+
+- **Counters** (the tables' last columns, from `visfield-bench`'s counting pass, `bvh_work` in its JSON): AO and
+  shadow rays on the scanned models walk 7–8 nodes and 2 leaves (13–16 triangle tests) per ray; random and
+  primary rays 2–3 nodes and under one leaf. Build parameters (`leaf=4|16`, `kt=0.25|0.5|2`, `bins=64`) moved
+  no ratio beyond noise (bunny, Armadillo, conference; AO and random rays).
+- **Profiles** (`perf record` on software events): in one ray's walk the samples sit on the loads of a node's
+  boxes and of a leaf block and on the compares right after them: a chain of dependent loads and compares
+  about 40 cycles long per node, with little else for the core to do. Stepping several rays' walks in turn
+  (`interleave_walks`) fills that time: AO on the bunny 0.89x -> 1.10x Embree with four walks, shadow
+  0.96x -> 1.18x. Software prefetch of the next node on the stack, 2 MiB pages for the nodes and blocks
+  (`madvise`), and running a walk several steps before switching were each within noise and are not kept.
+- **Short walks** (random rays on Sponza, the conference room and the cow: 2–2.5 nodes and under one leaf per
+  ray) are bound by each ray's fixed cost. Measurement builds with parts of the closest-hit stream taken out
+  (`cmake -DVISFIELD_MEASURE_BVH_CUT=1|2`, then `visfield-bench --rays random --accel bvh,embree --count
+  1000000`, per thread of 2): the batch loop and the answers' memory alone 6 ns a ray (cut 1: 290–350
+  Mrays/s); with each ray's constants (the watertight shear and the box reciprocals, one 8-lane division and
+  its permutes) 30 ns (cut 2: 65–68 Mrays/s); the whole query 88 ns on the cow and 127 ns on Sponza, against
+  Embree's 71 and 97 ns for everything. The set-up alone is a third of Embree's whole query on the cow, and
+  interleaving walks does not pay there (two walks: random rays on Sponza 0.82x -> 0.72x before the
+  branch-free child sort, which brought them back to 0.80x).
+- **Two levels**: on 12-triangle boxes each object costs a ray transform and that set-up for a walk of one node
+  (`perf`: the object's `any_hit` 48% of the samples, most of it the set-up), so Embree's instancing stays
+  1.5–2x ahead there.
+TEXT
 } > "$out"
 echo "wrote $out"

@@ -43,6 +43,12 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
     return any_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax, test);
 }
 
+// A measurement build's cut (CMake VISFIELD_MEASURE_BVH_CUT; 0 in every other build).
+#ifndef VISFIELD_MEASURE_BVH_CUT
+#define VISFIELD_MEASURE_BVH_CUT 0
+#endif
+constexpr int kMeasureCut = VISFIELD_MEASURE_BVH_CUT;
+
 }  // namespace
 
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
@@ -61,7 +67,7 @@ void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8
 }
 
 void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) {
-  if (bvh.nodes.empty()) {
+  if (bvh.nodes.empty() || kMeasureCut == 1) {
     std::fill(hits, hits + rays.size(), Hit{});
     return;
   }
@@ -79,6 +85,7 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
         return true;
       },
       [&](Walk& w) {
+        if constexpr (kMeasureCut == 2) return false;
         return w.state.step(bvh.nodes.data(), w.ray->box, [&](std::uint32_t ref, float& best_t) { return w.leaves->closest(ref, best_t); },
                             IgnoreNodes{});
       },
