@@ -7,7 +7,7 @@
 
 #include "agreement.hpp"
 #include "bench_accel.hpp"
-#include "bench_rays.hpp"
+#include "visfield/render/ray_sets.hpp"
 #include "query_runner.hpp"
 #include "visfield/core/direction_lines.hpp"
 #include "visfield/core/parallel.hpp"
@@ -60,7 +60,7 @@ std::vector<Ray> bench_ray_set(const BenchOptions& options, const Scene& scene, 
   request.count = options.count;
   request.seed = options.seed;
   std::vector<Ray> rays =
-      visit_accel(ray_source(built).accel, [&](const auto& structure) { return make_bench_rays(structure, scene, request); });
+      visit_accel(ray_source(built).accel, [&](const auto& structure) { return make_ray_set(structure, scene, request); });
   if (!options.line_major) return rays;
   // Grouped by line (a counting sort on the stored direction's line), pixel order within each.
   const DirectionLines lines(options.psf_level);

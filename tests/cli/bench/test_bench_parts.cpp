@@ -12,7 +12,7 @@
 #include "agreement.hpp"
 #include "bench_accel.hpp"
 #include "bench_options.hpp"
-#include "bench_rays.hpp"
+#include "visfield/render/ray_sets.hpp"
 #include "report.hpp"
 #include "timing.hpp"
 #include "visfield/accel/brute_force.hpp"
