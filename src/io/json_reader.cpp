@@ -137,7 +137,7 @@ void JsonField::fail(const std::string& problem) const {
 
 void JsonField::fail_expected(const std::string& expected) const { fail("expected " + expected + ", got " + show(*value_)); }
 
-void JsonField::require_object(std::initializer_list<std::string_view> allowed) const {
+void JsonField::require_object(std::span<const std::string_view> allowed) const {
   if (!value_->is_object()) fail_expected("an object");
   for (const auto& [key, value] : value_->items()) {
     bool known = false;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -66,7 +67,11 @@ class JsonField {
   [[noreturn]] void fail_expected(const std::string& expected) const;
 
   /// Requires an object whose keys all appear in `allowed` (a misspelt key must not pass silently).
-  void require_object(std::initializer_list<std::string_view> allowed) const;
+  void require_object(std::span<const std::string_view> allowed) const;
+  /// As above, for a list written in place.
+  void require_object(std::initializer_list<std::string_view> allowed) const {
+    require_object(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
   /// The member `key` of an object; throws when absent.
   JsonField member(std::string_view key) const;
   /// The member `key` of an object, or nothing when absent.

@@ -30,8 +30,9 @@ constexpr std::string_view ray_kind_name(RayKind kind) {
   return "primary";
 }
 
-/// The kind spelled `name`, or nothing when no kind has that name.
+/// The kind spelled `name` ("camera" also names primary rays), or nothing when no kind has that name.
 constexpr std::optional<RayKind> parse_ray_kind(std::string_view name) {
+  if (name == "camera") return RayKind::primary;
   for (RayKind kind : kRayKinds)
     if (ray_kind_name(kind) == name) return kind;
   return std::nullopt;
