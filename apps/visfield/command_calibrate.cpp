@@ -21,13 +21,12 @@ struct CalibrateOptions {
 };
 
 int run_calibrate(const CalibrateOptions& o) {
-  const CalibrationOptions options = o.measure.options();
+  o.measure.options();  // bad flags fail before any scene loads
   check_writable(o.out);
   ThreadLimit limit(o.threads);
   std::vector<NamedScene> scenes;
   for (const std::string& spec : o.scenes) scenes.push_back(load_named(spec));
-  const Calibration calibration =
-      calibrate(scenes, options, [](const SceneMeasurement& m) { std::cout << "measured " << measurement_line(m) << std::endl; });
+  const Calibration calibration = calibrate_with_progress(scenes, o.measure);
   save_calibration(o.out, calibration);
   const CalibrationConstants& c = calibration.constants;
   std::cout << "constants: C_B " << c.build_ms_per_n_log2_n << " ms per N log2 N, C_R " << c.ray_us(RayKind::random)
@@ -41,7 +40,7 @@ int run_calibrate(const CalibrateOptions& o) {
 void register_calibrate_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "calibrate", "Measure grid and kd-tree builds and ray times on a set of scenes; write the selection constants");
+      "calibrate", "Measure every structure's builds, ray times per kind, updates and field errors on a set of scenes; write the planner's constants");
   cmd->add_option("scenes", options->scenes, "Mesh files, scene .json files or builtin:NAME[:size=N,seed=S]")->required();
   cmd->add_option("-o,--out", options->out, "Calibration file to write (JSON)")->required();
   add_measure_flags(*cmd, options->measure);

@@ -1,5 +1,7 @@
 #include <filesystem>
+#include <cstdio>
 #include <functional>
+#include <limits>
 #include <map>
 #include <iostream>
 #include <memory>
@@ -13,6 +15,8 @@
 #include "visfield/field/field_params.hpp"
 #include "visfield/io/atomic_file.hpp"
 #include "visfield/registry/registry.hpp"
+#include "visfield/select/calibration.hpp"
+#include "visfield/registry/planning.hpp"
 #include "visfield/render/progress.hpp"
 
 namespace vf::cli {
@@ -25,7 +29,44 @@ struct FieldBuildOptions {
   std::string out;
   int threads = 0;
   bool no_progress = false;
+  double target_rms = 0.0;   ///< > 0: positions and directions from the planner's error model.
+  std::string calibration;   ///< Calibration file holding that model (empty: built in).
 };
+
+// The positions and directions of the smallest field the calibration's error model expects to keep
+// the AO image's RMS within `o.target_rms` for `scene`; writes them into `table` and says so.
+void size_for_target_rms(const FieldBuildOptions& o, const Scene& scene,
+                         std::map<std::string, std::string, std::less<>>& table) {
+  const Calibration calibration = o.calibration.empty() ? builtin_calibration() : load_calibration(o.calibration);
+  const FieldErrorModel& model = calibration.plan.field_error;
+  if (model.samples == 0)
+    throw Error("--target-rms: " + (o.calibration.empty() ? std::string("the built-in calibration") : o.calibration) +
+                " has no field error model (run visfield calibrate without --no-plan)");
+  SceneGeometry geometry(scene);
+  const SceneProfile profile = profile_for_plan(geometry, {}, true);
+  const std::size_t pick = field_for_target_rms(model, profile, o.target_rms);
+  char line[256];
+  if (pick >= plan_candidates().size()) {
+    int finest_positions = 0, finest_directions = 0;
+    double finest = std::numeric_limits<double>::infinity();
+    for (const PlanCandidate& c : plan_candidates())
+      if (c.approximate() && model.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms) < finest)
+        finest = model.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms), finest_positions = c.positions,
+        finest_directions = c.directions;
+    std::snprintf(line, sizeof line, "--target-rms %g: no field the planner weighs is expected to meet it (lowest bound %.2f, positions=%d,directions=%d)",
+                  o.target_rms, finest, finest_positions, finest_directions);
+    throw Error(line);
+  }
+  const PlanCandidate& c = plan_candidates()[pick];
+  table["positions"] = std::to_string(c.positions);
+  table["directions"] = std::to_string(c.directions);
+  std::snprintf(line, sizeof line,
+                "sized for RMS <= %g: positions=%d, directions=%d (expected RMS %.2f, 90%% bound %.2f; probe %s RMS %.2f, AO rays occluded %.3f)\n",
+                o.target_rms, c.positions, c.directions, model.predict(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms),
+                model.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms), std::string(kFieldProbe).c_str(),
+                profile.field_probe_rms, profile.ao_occluded);
+  std::cout << line;
+}
 
 // The one mesh the argument names (a mesh file, or a scene whose objects all use one mesh).
 const TriangleMesh& the_mesh(const Scene& scene, const std::string& argument) {
@@ -42,13 +83,19 @@ const TriangleMesh& the_mesh(const Scene& scene, const std::string& argument) {
 int run_field_build(const FieldBuildOptions& o) {
   if (std::filesystem::path(o.out).extension() != ".vfield") throw Error("-o " + o.out + ": the file name must end in .vfield");
   check_writable(o.out);
-  std::string spec = "field";
-  for (const auto& [key, value] : o.table) spec += (spec == "field" ? ":" : ",") + key + "=" + value;
-  const field::ObjectFieldConfig config = field_config_from_spec(spec, "");
+  const auto spec_of = [](const std::map<std::string, std::string, std::less<>>& table) {
+    std::string spec = "field";
+    for (const auto& [key, value] : table) spec += (spec == "field" ? ":" : ",") + key + "=" + value;
+    return spec;
+  };
+  field_config_from_spec(spec_of(o.table), "");  // bad values fail before the mesh loads
   ThreadLimit limit(o.threads);
   const Scene scene = load_scene_argument(o.mesh);
   const TriangleSet triangles = mesh_triangles(the_mesh(scene, o.mesh));
   if (triangles.size() == 0) throw Error(o.mesh + ": no triangles of non-zero area");
+  std::map<std::string, std::string, std::less<>> table = o.table;
+  if (o.target_rms > 0.0) size_for_target_rms(o, scene, table);
+  const field::ObjectFieldConfig config = field_config_from_spec(spec_of(table), "");
   ProgressBar bar("field", static_cast<std::size_t>(config.positions), !o.no_progress);
   const field::ObjectField built = field::ObjectField::build(triangles, config, [&](std::size_t n) { bar.tick(n); });
   bar.finish();
@@ -98,7 +145,18 @@ void register_field_command(CLI::App& app, Action& action) {
   auto build = std::make_shared<FieldBuildOptions>();
   CLI::App* b = field->add_subcommand("build", "Precompute the ObjectField of a mesh and write it to a .vfield file");
   add_scene_argument(*b, build->mesh);
-  for (const ParamSpec& param : field::kTableParams) add_param_option(*b, param, build->table[std::string(param.key)]);
+  std::vector<CLI::Option*> resolution;
+  for (const ParamSpec& param : field::kTableParams) {
+    CLI::Option* option = add_param_option(*b, param, build->table[std::string(param.key)]);
+    if (param.key == "positions" || param.key == "directions") resolution.push_back(option);
+  }
+  CLI::Option* target = b->add_option("--target-rms", build->target_rms,
+                                      "E: choose positions and directions so that the AO image's RMS (0-255) against the exact one is "
+                                      "expected to stay <= E (the calibration's field error model, 90% bound)")
+                            ->check(number_in(0.01, 255.0));
+  for (CLI::Option* option : resolution) target->excludes(option);
+  b->add_option("--calibration", build->calibration, "Calibration file whose error model --target-rms uses (default: built in)")
+      ->needs(target);
   b->add_option("-o,--out", build->out, "The .vfield file to write")->required();
   b->add_flag("--no-progress", build->no_progress, "Do not draw the progress bar");
   add_resource_options(*b, build->threads);

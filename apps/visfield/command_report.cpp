@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "select_cli_support.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/atomic_file.hpp"
 #include "visfield/scenes/builtin.hpp"
@@ -71,7 +72,11 @@ std::string command_line(const ReportCommandOptions& o, int threads) {
     if (o.no_builtin) s << " --no-builtin";
     s << " --rays " << static_cast<std::uint64_t>(o.measure.rays) << " --sample-rays "
       << static_cast<std::uint64_t>(o.measure.sample_rays) << " --build-repetitions " << o.measure.build_repetitions
-      << " --bounces " << o.measure.bounces << " --seed " << o.measure.seed << " --threads " << threads;
+      << " --bounces " << o.measure.bounces << " --seed " << o.measure.seed << (o.measure.no_plan ? " --no-plan" : "")
+      << " --threads " << threads;
+    // The memory limit decides which candidates are measured (a BeamField over it is left out).
+    const MemoryLimit limit = memory_limit();
+    if (limit.source.rfind("--max-memory ", 0) == 0) s << " --max-memory " << static_cast<std::uint64_t>(limit.bytes);
     if (!o.save_measurements.empty()) s << " --save-measurements " << o.save_measurements;
   }
   s << " --splits " << o.splits << " --split-seed " << o.split_seed << " --out " << o.out;
@@ -86,10 +91,10 @@ int run_report(const ReportCommandOptions& o) {
   if (!o.from.empty()) {
     measured = load_calibration(o.from);
   } else {
-    const CalibrationOptions options = o.measure.options();
+    o.measure.options();
     std::vector<NamedScene> scenes;
     for (const std::string& spec : scene_specs(o)) scenes.push_back(load_named(spec));
-    measured = calibrate(scenes, options, [](const SceneMeasurement& m) { std::cout << "measured " << measurement_line(m) << std::endl; });
+    measured = calibrate_with_progress(scenes, o.measure);
     if (!o.save_measurements.empty()) {
       save_calibration(o.save_measurements, measured);
       std::cout << "wrote " << std::filesystem::absolute(o.save_measurements).string() << "\n";

@@ -1,14 +1,15 @@
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
-#include <optional>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "select_cli_support.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
-#include "visfield/select/decision.hpp"
+#include "visfield/io/scene_file.hpp"
+#include "visfield/registry/planning.hpp"
 
 namespace vf::cli {
 
@@ -17,51 +18,66 @@ namespace {
 struct SelectCommandOptions {
   std::string scene;
   double rays = 0;
-  std::string calibration;
   std::string kind = "path";
-  double sample_rays = 500;
+  double error = 0.0;
+  double updates = 0.0;
+  std::string calibration;
+  double sample_rays = static_cast<double>(kProfileSampleRays);
   std::uint64_t seed = 1;
   int threads = 0;
 };
 
-std::string rays_text(double rays) {
-  if (std::isinf(rays)) return "infinite (the grid is never slower per ray)";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.0f", rays);
-  return buffer;
+std::string cell(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
 }
 
 int run_select(const SelectCommandOptions& o) {
-  const std::uint64_t rays = ray_count(o.rays, "--rays");
-  SelectOptions options;
-  options.sample_rays = ray_count(o.sample_rays, "--sample-rays");
-  options.seed = o.seed;
-  validate_select_options(options);
+  PlanRequest request;
+  request.rays = static_cast<double>(ray_count(o.rays, "--rays"));
+  request.kind = *parse_ray_kind(o.kind);
+  request.max_error = o.error;
+  request.updates = static_cast<double>(ray_count(o.updates, "--updates"));
+  const std::size_t sample_rays = ray_count(o.sample_rays, "--sample-rays");
   const Calibration calibration = o.calibration.empty() ? builtin_calibration() : load_calibration(o.calibration);
   ThreadLimit limit(o.threads);
   if (!o.calibration.empty()) require_calibration_for(calibration, this_machine(limit.threads()), o.calibration);
-  const NamedScene loaded = load_named(o.scene);
-  const RayKind kind = *parse_ray_kind(o.kind);
-  const Selection s = select_structure(loaded.scene, loaded.triangles, rays, calibration, kind, options);
-  const GridStatistics& g = s.grid_statistics;
-  std::cout << "scene:              " << o.scene << "\n"
-            << "calibration:        " << (o.calibration.empty() ? "built in" : o.calibration) << " ("
-            << calibration.machine.cpu_model << ", " << calibration.machine.threads << " threads)\n"
-            << "triangles N:        " << s.triangles << "\n"
-            << "grid:               " << s.grid_resolution[0] << " x " << s.grid_resolution[1] << " x " << s.grid_resolution[2]
-            << " cells, " << format_bytes(static_cast<double>(s.grid_memory_bytes)) << "\n"
-            << "grid statistics:    sparseness " << g.sparseness << ", maxRefs " << g.max_refs << ", mean " << g.mean
-            << ", variance " << g.variance << ", std dev " << g.std_dev << ", skewness " << g.skewness << ", kurtosis "
-            << g.kurtosis << "\n"
-            << "T_B^G (measured):   " << s.grid_build_ms << " ms\n"
-            << "t_R^G (sampled):    " << s.grid_ray_us << " us per ray (" << s.sample_count << " " << ray_kind_name(kind)
-            << " rays, " << limit.threads() << " threads)\n"
-            << "T_B^H (estimated):  " << s.tree_build_ms << " ms\n"
-            << "t_R^H (estimated):  " << s.tree_ray_us << " us per ray\n"
-            << "R_C:                " << rays_text(s.critical_rays) << "\n"
-            << "R:                  " << s.rays << " rays\n"
-            << "estimated totals:   grid " << s.grid_total_ms << " ms, kdtree " << s.tree_total_ms << " ms (build included)\n"
-            << "decision:           " << s.structure << "\n";
+  const MemoryLimit memory = memory_limit();
+  request.max_memory = memory.bytes;
+  validate_plan_request(request);
+  const Scene scene = load_scene(o.scene);
+  SceneGeometry geometry(scene);
+  const RayKind kinds[] = {request.kind};
+  const SceneProfile profile =
+      profile_for_plan(geometry, kinds, request.max_error > 0.0 && is_occlusion_kind(request.kind), sample_rays, o.seed);
+  const Plan plan = plan_structures(geometry, profile, calibration, request);
+
+  std::cout << "scene:        " << o.scene << " (" << profile.triangles << " triangles, " << profile.unique_triangles
+            << " in its meshes, " << profile.objects << " objects)\n"
+            << "calibration:  " << (o.calibration.empty() ? "built in" : o.calibration) << " (" << calibration.machine.cpu_model
+            << ", " << calibration.machine.threads << " threads)\n"
+            << "workload:     " << cell("%.0f", request.rays) << " " << ray_kind_name(request.kind) << " rays, "
+            << cell("%.0f", request.updates) << " updates, error <= " << cell("%g", request.max_error) << ", memory limit "
+            << memory.source << ", " << limit.threads() << " threads\n";
+  const double sample_us = profile.grid_sample_us[plan_kind_index(request.kind)];
+  if (sample_us > 0.0)
+    std::cout << "grid sample:  " << cell("%.4f", sample_us) << " us per ray (" << sample_rays << " rays), built in "
+              << cell("%.3f", profile.grid_build_ms) << " ms; AO rays occluded " << cell("%.3f", profile.ao_occluded) << "\n";
+  else
+    std::cout << "grid sample:  none (the scene is too large to flatten for it)\n";
+  if (profile.field_probe_rms >= 0.0)
+    std::cout << "field probe:  " << kFieldProbe << " RMS " << cell("%.3f", profile.field_probe_rms) << " (0-255)\n";
+  std::cout << "\ncandidate                               build ms     us/ray  update ms     total ms       memory  error  \n";
+  for (std::size_t i = 0; i < plan.rows.size(); ++i) {
+    const PlanRow& r = plan.rows[i];
+    char line[256];
+    std::snprintf(line, sizeof line, "%s %-36s %9.4g %10.4g %10.4g %12.6g %12s %6.2f  %s\n", i == plan.chosen ? "*" : " ",
+                  r.spec.c_str(), r.build_ms, r.ray_us, r.update_ms, r.total_ms, format_bytes(r.bytes).c_str(), r.error,
+                  r.excluded.empty() ? "" : ("(" + r.excluded + ")").c_str());
+    std::cout << line;
+  }
+  std::cout << "\ndecision:     " << plan.rows[plan.chosen].spec << "\nwhy:          " << plan.reason << "\n";
   return 0;
 }
 
@@ -70,14 +86,18 @@ int run_select(const SelectCommandOptions& o) {
 void register_select_command(CLI::App& app, Action& action) {
   auto options = std::make_shared<SelectCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "select", "Choose between the uniform grid and the SAH kd-tree for a workload of R rays (build, sample, estimate R_C)");
+      "select", "Plan a workload: predict every structure's build, ray and update time, memory and error; print them and the choice");
   add_scene_argument(*cmd, options->scene);
   cmd->add_option("--rays", options->rays, "R: rays the workload will trace")->check(number_in(0.0, 1e15))->required();
-  cmd->add_option("--calibration", options->calibration, "Calibration file from `visfield calibrate` (default: built in)");
-  cmd->add_option("--kind", options->kind, "Kind of the workload's rays")
-      ->check(CLI::IsMember({"random", "path"}))
+  cmd->add_option("--kind", options->kind, "Kind of the workload's rays (camera = primary)")
+      ->check(CLI::IsMember({"ao", "shadow", "camera", "primary", "random", "path"}))
       ->capture_default_str();
-  cmd->add_option("--sample-rays", options->sample_rays, "S: sample rays timed through the grid")
+  cmd->add_option("--error", options->error, "E: RMS (0-255) of an AO image allowed against the exact one; 0 = exact structures only")
+      ->check(number_in(0.0, 255.0))
+      ->capture_default_str();
+  cmd->add_option("--updates", options->updates, "U: object moves the workload makes")->check(number_in(0.0, 1e15))->capture_default_str();
+  cmd->add_option("--calibration", options->calibration, "Calibration file from `visfield calibrate` (default: built in)");
+  cmd->add_option("--sample-rays", options->sample_rays, "Sample rays timed through the grid")
       ->check(number_in(5.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--seed", options->seed, "Seed of the sample rays")->capture_default_str();

@@ -7,6 +7,7 @@
 
 #include "cli_support.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/registry/planning.hpp"
 #include "visfield/select/calibrate.hpp"
 
 namespace vf::cli {
@@ -57,6 +58,25 @@ void add_measure_flags(CLI::App& cmd, MeasureFlags& flags) {
       ->capture_default_str();
   cmd.add_option("--bounces", flags.bounces, "Diffuse bounces of the path-tracing rays")->check(CLI::Range(0, 16))->capture_default_str();
   cmd.add_option("--seed", flags.seed, "Seed of the ray sets")->capture_default_str();
+  cmd.add_flag("--no-plan", flags.no_plan,
+               "Measure the grid and the kd-tree only (Hapala et al.), not every structure for the planner (`auto`, `select`)");
+}
+
+Calibration calibrate_with_progress(const std::vector<NamedScene>& scenes, const MeasureFlags& flags) {
+  const CalibrationOptions options = flags.options();
+  std::function<PlanMeasurement(const NamedScene&)> measure;
+  if (!flags.no_plan)
+    measure = [&](const NamedScene& scene) {
+      return measure_plan(scene, options, [&](std::string_view spec) { std::cerr << "  " << scene.name << ": " << spec << "\n"; });
+    };
+  return calibrate(
+      scenes, options,
+      [](const SceneMeasurement& m) {
+        std::cout << "measured " << measurement_line(m);
+        if (!m.plan.candidates.empty()) std::cout << "; " << m.plan.candidates.size() << " structures for the planner";
+        std::cout << std::endl;
+      },
+      measure);
 }
 
 }  // namespace vf::cli

@@ -29,12 +29,17 @@ struct MeasureFlags {
   int build_repetitions = 3;
   int bounces = 2;
   std::uint64_t seed = 1;
+  bool no_plan = false;  ///< Measure the grid and the kd-tree only, not every structure for the planner.
 
   /// The validated options.
   CalibrationOptions options() const;
 };
 
-/// Registers --rays, --sample-rays, --build-repetitions, --bounces and --seed on `cmd`.
+/// Registers --rays, --sample-rays, --build-repetitions, --bounces, --seed and --no-plan on `cmd`.
 void add_measure_flags(CLI::App& cmd, MeasureFlags& flags);
+
+/// calibrate() over `scenes` with `flags`, every planner candidate measured too (measure_plan) unless
+/// --no-plan; prints a line per scene measured.
+Calibration calibrate_with_progress(const std::vector<NamedScene>& scenes, const MeasureFlags& flags);
 
 }  // namespace vf::cli

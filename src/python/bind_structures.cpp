@@ -11,6 +11,9 @@
 #include "handles.hpp"
 #include "keywords.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
+#include "visfield/core/parallel.hpp"
+#include "visfield/registry/planning.hpp"
 #include "visfield/registry/scene_geometry.hpp"
 #include "visfield/registry/structure_queries.hpp"
 
@@ -73,6 +76,54 @@ void bind_structures(py::module_& m) {
       py::arg("scene"), py::arg("spec") = "bvh",
       "Builds the structure `spec` names ('bvh', 'kdtree:kt=10', 'beam:dirs=513', 'field:positions=4226', ...) over the scene as it is "
       "now. The memory estimate is checked first (MemoryError). The GIL is released while it builds.");
+
+  m.def(
+      "plan",
+      [](const SceneHandle& scene, double rays, const std::string& kind, double error, double updates,
+         const std::optional<std::string>& calibration) {
+        const std::shared_ptr<Scene> s = scene.shared();
+        const std::optional<RayKind> parsed = parse_ray_kind(kind);
+        if (!parsed) throw py::value_error("plan: kind must be ao, shadow, camera, primary, random or path, got " + kind);
+        PlanRequest request;
+        request.rays = rays;
+        request.kind = *parsed;
+        request.max_error = error;
+        request.updates = updates;
+        request.max_memory = memory_limit().bytes;
+        try {
+          validate_plan_request(request);
+        } catch (const Error& e) {
+          throw py::value_error(e.what());
+        }
+        if (s->instances().empty() || s->instanced_triangle_count() == 0) throw py::value_error("plan: the scene has no triangles");
+        Plan plan;
+        {
+          py::gil_scoped_release release;
+          const Calibration c = calibration ? load_calibration(*calibration) : builtin_calibration();
+          if (calibration) require_calibration_for(c, this_machine(threads_in_force()), *calibration);
+          SceneGeometry geometry(*s);
+          const RayKind kinds[] = {request.kind};
+          const bool probe = request.max_error > 0.0 && is_occlusion_kind(request.kind);
+          plan = plan_structures(geometry, profile_for_plan(geometry, kinds, probe), c, request);
+        }
+        py::list rows;
+        for (const PlanRow& r : plan.rows) {
+          py::dict row;
+          row["spec"] = r.spec, row["build_ms"] = r.build_ms, row["ray_us"] = r.ray_us, row["update_ms"] = r.update_ms;
+          row["total_ms"] = r.total_ms, row["bytes"] = r.bytes, row["error"] = r.error, row["excluded"] = r.excluded;
+          rows.append(row);
+        }
+        py::dict out;
+        out["chosen"] = plan.rows[plan.chosen].spec, out["reason"] = plan.reason, out["rows"] = rows;
+        return out;
+      },
+      py::arg("scene"), py::arg("rays"), py::arg("kind") = "path", py::arg("error") = 0.0, py::arg("updates") = 0.0,
+      py::arg("calibration") = py::none(),
+      "The planner's table for a workload of `rays` rays of `kind` (ao, shadow, camera, random, path), `updates` object moves and "
+      "an AO image RMS `error` (0-255; 0 = exact structures only), as `visfield select` prints it: {'chosen': spec, 'reason': "
+      "text, 'rows': [{spec, build_ms, ray_us, update_ms, total_ms, bytes, error, excluded}, ...]}. build(scene, "
+      "'auto:rays=R,kind=K,error=E,updates=U') builds the chosen one. ValueError on a bad request; visfield.Error when "
+      "no structure fits (the memory limit).");
 
   py::class_<StructureHandle>(m, "Structure", "A built structure: exact (bvh, kdtree, grid, median-bsp, beam, brute) or approximate (field).")
       .def_property_readonly("spec", [](const StructureHandle& h) { return h.get().spec; }, "The spec as resolved ('bvh:levels=1').")

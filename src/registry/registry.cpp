@@ -1,6 +1,7 @@
 #include "visfield/registry/registry.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <initializer_list>
 #include <string>
@@ -14,7 +15,7 @@
 #include "visfield/field/field_params.hpp"
 #include "visfield/render/progress.hpp"
 #include "visfield/select/calibration.hpp"
-#include "visfield/select/decision.hpp"
+#include "visfield/registry/planning.hpp"
 
 namespace vf {
 namespace {
@@ -271,30 +272,57 @@ double estimate_field(const ParamValues& p, const SceneGeometry& geometry) {
 
 constexpr ParamSpec kAutoParams[] = {
     {"rays", ParamType::whole, "", "R, the rays the workload traces (default: the command's own count)", 1, 1e15},
-    {"kind", ParamType::choice, "path", "kind of the workload's rays", 0, 0, "random|path"},
+    {"kind", ParamType::choice, "path", "kind of the workload's rays (camera = primary)", 0, 0, "ao|shadow|camera|primary|random|path"},
+    {"error", ParamType::number, "0", "E, the RMS (0-255) of an AO image allowed against the exact one; 0 = exact structures only", 0, 255},
+    {"updates", ParamType::whole, "0", "U, object moves the workload makes", 0, 1e15},
     {"calibration", ParamType::text, "", "calibration file from `visfield calibrate` (default: built in)"},
 };
 
-BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const BuildContext& context) {
-  const TriangleSet& set = geometry.flattened();
-  if (set.size() == 0) throw Error("auto: the scene has no non-degenerate triangles");
-  const Calibration calibration = p.has("calibration") ? load_calibration(p.text("calibration")) : builtin_calibration();
-  if (p.has("calibration")) require_calibration_for(calibration, this_machine(threads_in_force()), p.text("calibration"));
-  const std::uint64_t rays = p.has("rays") ? p.whole("rays") : context.expected_rays;
-  const RayKind kind = *parse_ray_kind(p.text("kind"));
-  Selection selection = select_structure(geometry.scene(), set, rays, calibration, kind);
-  const std::string resolved = "auto:kind=" + p.text("kind") + ",rays=" + std::to_string(rays) +
-                               (p.has("calibration") ? ",calibration=" + p.text("calibration") : "") + " -> " +
-                               selection.structure;
-  // The grid the decision built is the structure when it wins: no second build.
-  if (selection.structure == UniformGrid::name()) return {std::move(*selection.grid), resolved, set.degenerate_count};
-  return {KdTree::build(set), resolved, set.degenerate_count};
+// `value` as %g writes it.
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
 }
 
-// The decision's grid and, when it loses, the kd-tree built while the grid is still held.
+// The planner's request of an auto spec; the calibration is loaded (and checked against this machine)
+// when the spec names one.
+PlanRequest auto_request(const ParamValues& p, const BuildContext& context) {
+  PlanRequest request;
+  request.rays = static_cast<double>(p.has("rays") ? p.whole("rays") : context.expected_rays);
+  request.kind = *parse_ray_kind(p.text("kind"));
+  request.max_error = p.number("error");
+  request.updates = static_cast<double>(p.whole("updates"));
+  request.max_memory = memory_limit().bytes;
+  return request;
+}
+
+Calibration auto_calibration(const ParamValues& p) {
+  if (!p.has("calibration")) return builtin_calibration();
+  Calibration calibration = load_calibration(p.text("calibration"));
+  require_calibration_for(calibration, this_machine(threads_in_force()), p.text("calibration"));
+  return calibration;
+}
+
+BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const BuildContext& context) {
+  const PlanRequest request = auto_request(p, context);
+  const Calibration calibration = auto_calibration(p);
+  const RayKind kinds[] = {request.kind};
+  const SceneProfile profile = profile_for_plan(geometry, kinds, request.max_error > 0.0 && is_occlusion_kind(request.kind));
+  const Plan plan = plan_structures(geometry, profile, calibration, request);
+  const std::string& chosen = plan.rows[plan.chosen].spec;
+  BuiltStructure built = build_structure(chosen, geometry, context, "auto -> ");
+  built.resolved = "auto:kind=" + p.text("kind") + ",rays=" + std::to_string(static_cast<std::uint64_t>(request.rays)) +
+                   (request.max_error > 0.0 ? ",error=" + number_text(request.max_error) : "") +
+                   (request.updates > 0.0 ? ",updates=" + std::to_string(p.whole("updates")) : "") +
+                   (p.has("calibration") ? ",calibration=" + p.text("calibration") : "") + " -> " + built.resolved;
+  return built;
+}
+
+// The profile's flattening and grid, then (the planner stays within the limit) at most the limit itself.
 double estimate_auto(const ParamValues&, const SceneGeometry& geometry) {
   const std::size_t n = geometry.instanced_triangle_count();
-  return flattening_bytes(geometry) + UniformGrid::estimate_build_bytes(n) + KdTree::estimate_build_bytes(n);
+  return n > kProfileFlattenLimit ? 0.0 : flattening_bytes(geometry) + UniformGrid::estimate_build_bytes(n);
 }
 
 constexpr std::string_view kTwoLevelUpdates = "with levels=2";
@@ -315,7 +343,8 @@ const StructureInfo kTable[] = {
     {"field", "ObjectFields: per-mesh 4D distance fields on the bounding sphere, shared by instances; approximate, "
               "constant time per object (meshes marked exact stay exact)",
      Exactness::approximate, "", kFieldParams, build_field, estimate_field},
-    {"auto", "grid or kdtree, whichever the calibrated selection (Hapala et al.) expects to finish first",
+    {"auto", "the structure the planner predicts finishes the workload first (build + rays + updates) within the memory limit "
+             "and the error allowed (`visfield select` shows its table)",
      Exactness::exact, "", kAutoParams, build_auto, estimate_auto},
 };
 
@@ -350,7 +379,8 @@ BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, c
   const double estimate = info->estimate(params, geometry);
   require_memory(estimate, std::string(what) + std::string(spec) + ": the build");
   BuiltStructure built = info->build(params, geometry, context);
-  built.estimated_bytes = estimate;
+  // auto's own estimate covers its profile; the structure it picked was checked against its own.
+  built.estimated_bytes = std::max(estimate, built.estimated_bytes);
   return built;
 }
 

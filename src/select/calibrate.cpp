@@ -1,6 +1,8 @@
 #include "visfield/select/calibrate.hpp"
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "visfield/accel/grid_stats.hpp"
 #include "visfield/accel/kdtree.hpp"
@@ -51,8 +53,8 @@ SceneMeasurement measure_scene(const NamedScene& named, const CalibrationOptions
   m.grid_resolution = grid.structure.resolution();
   m.grid_memory_bytes = grid.structure.stats().memory_bytes;
   m.grid_statistics = compute_grid_statistics(grid.structure);
-  // The decision algorithm's sample, right after the grid build as in select_structure (the build leaves
-  // the grid in cache, and so would an application's).
+  // The decision algorithm's sample, right after the grid build as the planner's profile takes it (the
+  // build leaves the grid in cache, and so would an application's).
   for (RayKind kind : kCalibratedKinds) {
     const SampleTiming sample = time_sample(kind, grid.structure, named.scene, triangles, options.sample_rays,
                                             options.seed + 1, options.path_bounces, threads);
@@ -75,8 +77,25 @@ SceneMeasurement measure_scene(const NamedScene& named, const CalibrationOptions
   return m;
 }
 
+PlanModel fit_plan_model(std::span<const SceneMeasurement> scenes, int threads) {
+  std::vector<PlanMeasurement> plans;
+  std::vector<std::size_t> measured;
+  for (const SceneMeasurement& s : scenes) {
+    if (!s.plan.candidates.empty()) measured.push_back(plans.size());
+    plans.push_back(s.plan);
+  }
+  if (measured.empty()) {
+    PlanModel none;
+    none.threads = std::max(threads, 1);
+    none.constants.resize(plan_candidates().size());
+    return none;
+  }
+  return fit_plan_model(plans, measured, threads);
+}
+
 Calibration calibrate(const std::vector<NamedScene>& scenes, const CalibrationOptions& options,
-                      const std::function<void(const SceneMeasurement&)>& on_scene) {
+                      const std::function<void(const SceneMeasurement&)>& on_scene,
+                      const std::function<PlanMeasurement(const NamedScene&)>& measure_plan) {
   validate_calibration_options(options);
   if (scenes.empty()) throw Error("calibration: no scenes given");
   Calibration c;
@@ -84,9 +103,11 @@ Calibration calibrate(const std::vector<NamedScene>& scenes, const CalibrationOp
   c.settings = options;
   for (const NamedScene& scene : scenes) {
     c.scenes.push_back(measure_scene(scene, options));
+    if (measure_plan) c.scenes.back().plan = measure_plan(scene);
     if (on_scene) on_scene(c.scenes.back());
   }
   c.constants = compute_constants(c.scenes);
+  c.plan = fit_plan_model(c.scenes, c.machine.threads);
   return c;
 }
 

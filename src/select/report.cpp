@@ -1,5 +1,6 @@
 #include "visfield/select/report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -52,7 +53,7 @@ std::string scientific(double value) {
 
 void write_header(std::ostringstream& md, const Calibration& c, const ReportOptions& options) {
   const CalibrationOptions& s = c.settings;
-  md << "# Uniform grid or SAH kd-tree: calibration and selection report\n\n"
+  md << "# Choosing a structure: calibration, the grid-or-kd-tree selection and the planner\n\n"
      << "Reproduces the evaluation of Hapala, Karlík, Havran, *When It Makes Sense to Use Uniform Grids for Ray Tracing*"
      << " (section 4) with visfield's `grid` (UniformGrid, default density) and `kdtree` (KdTree, SAH).\n\n"
      << "- Machine: " << c.machine.cpu_model << " (" << c.machine.hostname << "), " << c.machine.threads << " threads\n"
@@ -161,6 +162,128 @@ void write_decisions(std::ostringstream& md, const Calibration& c, const ReportO
   md << "\nOverall: " << right << " of " << total << " decisions right (" << percent(right, total) << ").\n";
 }
 
+// A pick this close to the measured fastest is within the noise of the timings themselves.
+constexpr double kCloseRegret = 1.05;
+
+// The planner's targets: every ray kind, R = 1e4 .. 1e9, E in {0, 1, 3, 8}.
+constexpr double kPlanRays[] = {1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+constexpr double kPlanErrors[] = {0.0, 1.0, 3.0, 8.0};
+
+void write_planner(std::ostringstream& md, const Calibration& c) {
+  const int threads = c.machine.threads;
+  md << "\n## The planner: every structure, every ray kind, an error tolerance\n\n"
+     << "For each scene, the planner (`auto:rays=R,kind=K,error=E`, `visfield select`) is fitted on every *other* scene"
+     << " (leave-one-out) and picks among " << plan_candidates().size() << " candidates from the scene's profile alone (counts, grid"
+     << " build and sample, AO occlusion and, when E > 0, the error of the probe field). It is right when its pick is the candidate with the lowest measured total build + R t_R"
+     << " among those allowed (exact ones; fields too when their *measured* AO RMS is ≤ E > 0). Regret = measured total of"
+     << " the pick / the lowest. Each cell: right / scenes, then the worst regret. Fields answer AO and shadow rays only.\n\n"
+     << "| kind | E |";
+  for (double r : kPlanRays) md << " R = " << scientific(r) << " |";
+  md << "\n|---|--:|";
+  for (std::size_t i = 0; i < std::size(kPlanRays); ++i) md << "--:|";
+  md << "\n";
+  std::size_t right = 0, total = 0, error_missed = 0, close = 0;
+  std::vector<double> regrets;
+  for (RayKind kind : kRayKinds) {
+    for (double e : kPlanErrors) {
+      if (e > 0.0 && !is_occlusion_kind(kind)) continue;  // only fields use E, and they answer occlusion only
+      md << "| " << ray_kind_name(kind) << " | " << fixed(e, 0) << " |";
+      for (double r : kPlanRays) {
+        PlanRequest request;
+        request.rays = r;
+        request.kind = kind;
+        request.max_error = e;
+        std::size_t cell_right = 0;
+        double worst = 1.0;
+        const std::vector<PlanOutcome> outcomes = plan_leave_one_out(c.scenes, request, threads);
+        for (const PlanOutcome& o : outcomes) {
+          cell_right += o.right() ? 1 : 0;
+          close += o.error_kept && o.regret() <= kCloseRegret ? 1 : 0;
+          error_missed += o.error_kept ? 0 : 1;
+          worst = std::max(worst, o.regret());
+          regrets.push_back(o.regret());
+        }
+        right += cell_right;
+        total += outcomes.size();
+        md << " " << cell_right << "/" << outcomes.size() << " (" << fixed(worst, 2) << ") |";
+      }
+      md << "\n";
+    }
+  }
+  std::sort(regrets.begin(), regrets.end());
+  const double median_regret = regrets.empty() ? 1.0 : regrets[regrets.size() / 2];
+  md << "\nOverall: " << right << " of " << total << " choices right (" << percent(right, total) << "); within "
+     << fixed(100.0 * (kCloseRegret - 1.0), 0) << "% of the fastest (the spread of repeated timings on this machine): " << close
+     << " (" << percent(close, total) << "); regret median "
+     << fixed(median_regret, 3) << ", 90th percentile " << fixed(regrets.empty() ? 1.0 : regrets[regrets.size() * 9 / 10], 2)
+     << ", worst " << fixed(regrets.empty() ? 1.0 : regrets.back(), 2) << "; picks whose measured error exceeded E: "
+     << error_missed << ".\n\n";
+
+  // One workload in full, to show what is picked and why it loses where it does.
+  PlanRequest shown;
+  shown.rays = 1e7;
+  shown.kind = RayKind::ao;
+  shown.max_error = 8.0;
+  md << "Per scene, " << scientific(shown.rays) << " AO rays with E = " << fixed(shown.max_error, 0) << ":\n\n"
+     << "| scene | picked | measured fastest | regret |\n|---|---|---|--:|\n";
+  for (const PlanOutcome& o : plan_leave_one_out(c.scenes, shown, threads))
+    md << "| " << scene_label(o.scene) << " | `" << o.chosen << "`" << (o.error_kept ? "" : " (error over E)") << " | `" << o.best
+       << "` | " << fixed(o.regret(), 2) << " |\n";
+
+  const FieldErrorModel& f = c.plan.field_error;
+  md << "\n## Fields sized from a target error (`visfield field build --target-rms E`)\n\n"
+     << "Error model over all scenes: log RMS = log RMS_probe + " << fixed(f.coefficients[0], 3) << " + " << fixed(f.coefficients[1], 3)
+     << " log(positions / 1090) + " << fixed(f.coefficients[2], 3) << " log(directions / 16) + " << fixed(f.coefficients[3], 3)
+     << " log(AO occluded + 0.01), residual σ = " << fixed(f.sigma, 3) << " over " << f.samples << " fields, RMS_probe the"
+     << " measured RMS of `" << kFieldProbe << "` on the scene (the smallest field: the planner builds it to profile a scene"
+     << " when E > 0); a field is picked when exp(1.2816 σ) × the fit (its 90% bound) is ≤ E. RMS: the AO image (128 × 128,"
+     << " the scene's camera, 32 AO rays of unlimited length per pixel that sees the scene) against the exact one with the same"
+     << " rays, 0-255. Leave-one-out: the model is fitted without the scene it sizes. A refusal (no field is expected to"
+     << " meet E) is right when no measured field meets E. Size: the pick's bytes / the smallest measured field that"
+     << " meets E.\n\n"
+     << "| E | fields picked | picks that meet E | refusals | refusals where a field meets E | size ratio median | worst |\n"
+     << "|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (double e : {1.0, 3.0, 8.0}) {
+    const std::vector<TargetRmsOutcome> outcomes = target_rms_leave_one_out(c.scenes, e, threads);
+    std::size_t met = 0, picks = 0, wrong_refusals = 0;
+    std::vector<double> ratios;
+    for (const TargetRmsOutcome& o : outcomes) {
+      picks += o.chosen.empty() ? 0 : 1;
+      met += !o.chosen.empty() && o.met() ? 1 : 0;
+      wrong_refusals += o.chosen.empty() && !o.met() ? 1 : 0;
+      if (o.size_ratio() > 0.0) ratios.push_back(o.size_ratio());
+    }
+    std::sort(ratios.begin(), ratios.end());
+    md << "| " << fixed(e, 0) << " | " << picks << "/" << outcomes.size() << " | " << met << "/" << picks << " | " << outcomes.size() - picks
+       << " | " << wrong_refusals << " | " << (ratios.empty() ? "n/a" : fixed(ratios[ratios.size() / 2], 2)) << " | "
+       << (ratios.empty() ? "n/a" : fixed(ratios.back(), 2)) << " |\n";
+  }
+  md << "\n| scene | AO occluded | probe RMS | E = 1 | E = 3 | E = 8 |\n|---|--:|--:|---|---|---|\n";
+  const std::vector<TargetRmsOutcome> one = target_rms_leave_one_out(c.scenes, 1.0, threads);
+  const std::vector<TargetRmsOutcome> three = target_rms_leave_one_out(c.scenes, 3.0, threads);
+  const std::vector<TargetRmsOutcome> eight = target_rms_leave_one_out(c.scenes, 8.0, threads);
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    double occluded = 0.0, probe = 0.0;
+    for (const SceneMeasurement& s : c.scenes)
+      if (s.name == one[i].scene) occluded = s.plan.profile.ao_occluded, probe = s.plan.profile.field_probe_rms;
+    md << "| " << scene_label(one[i].scene) << " | " << fixed(occluded, 3) << " | " << fixed(probe, 2);
+    for (const TargetRmsOutcome* o : {&one[i], &three[i], &eight[i]}) {
+      md << " | ";
+      if (o->chosen.empty())
+        md << "none" << (o->met() ? "" : " (one meets it)");
+      else
+        md << o->chosen.substr(o->chosen.find(':') + 1) << ": " << fixed(o->chosen_rms, 2) << (o->met() ? "" : " ✗");
+    }
+    md << " |\n";
+  }
+}
+
+bool has_plan(const Calibration& c) {
+  std::size_t planned = 0;
+  for (const SceneMeasurement& s : c.scenes) planned += s.plan.candidates.empty() ? 0 : 1;
+  return planned >= 2;
+}
+
 }  // namespace
 
 std::string report_markdown(const Calibration& measured, const ReportOptions& options) {
@@ -173,6 +296,7 @@ std::string report_markdown(const Calibration& measured, const ReportOptions& op
   write_statistics(md, measured);
   write_leave_k_out(md, measured, options);
   write_decisions(md, measured, options);
+  if (has_plan(measured)) write_planner(md, measured);
   return md.str();
 }
 

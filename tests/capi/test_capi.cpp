@@ -131,6 +131,21 @@ INSTANTIATE_TEST_SUITE_P(Registry, CApiStructures,
                            return name;
                          });
 
+TEST(CApi, AutoSpecsPlanTheWorkloadAndNameTheChoice) {
+  vf_scene c = nullptr;
+  ASSERT_EQ(vf_scene_load("builtin:sphere", &c), VF_OK);  // 20,000 triangles: fields beat the BVH per ray
+  vf_structure loose = nullptr, exact = nullptr;
+  ASSERT_EQ(vf_structure_build(c, "auto:rays=1000000000000,kind=ao,error=255", &loose), VF_OK) << vf_last_error_message();
+  const std::string planned = vf_structure_spec(loose);
+  EXPECT_EQ(planned.rfind("auto:kind=ao,rays=1000000000000,error=255 -> field:", 0), 0u) << planned;
+  ASSERT_EQ(vf_structure_build(c, "auto:rays=1000000000000,kind=ao", &exact), VF_OK) << vf_last_error_message();
+  EXPECT_EQ(std::string(vf_structure_spec(exact)).find("-> field:"), std::string::npos) << vf_structure_spec(exact);
+  EXPECT_EQ(vf_structure_build(c, "auto:error=300", &exact), VF_ERROR_INVALID_ARGUMENT);
+  vf_structure_release(loose);
+  vf_structure_release(exact);
+  vf_scene_release(c);
+}
+
 TEST(CApi, ScenesFromArraysEqualTheSceneTheyCopy) {
   // Identity objects: the C scene holds the same triangles bit for bit, so every answer is equal.
   Scene scene = load_scene("builtin:soup:size=2000,seed=4");

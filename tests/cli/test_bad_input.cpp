@@ -237,11 +237,24 @@ std::vector<Row> catalogue() {
       // Calibration files.
       {"CalibrationOfAnotherVersion", {{"cal.json", R"({"format": "visfield-calibration", "version": 99})"}},
        "select builtin:cornell --rays 1e6 --calibration cal.json", 1,
-       "cal.json: version: unsupported version 99 (this build reads version 1)"},
+       "cal.json: version: unsupported version 99 (this build reads version 2; run visfield calibrate again)"},
       {"CalibrationOfAnotherMachine", {{"cal.json", calibration_of_another_machine()}},
        "select builtin:cornell --rays 1e6 --calibration cal.json", 1,
        "cal.json: measured on Another CPU with 2 threads, but this is …: its timings do not apply (run visfield calibrate "
        "here…)"},
+      // The planner.
+      {"PlanErrorOutOfRange", {}, "select builtin:cornell --rays 1e6 --error 300", 2, "--error: must be a number in [0, 255], got 300"},
+      {"PlanUpdatesNotWhole", {}, "select builtin:cornell --rays 1e6 --updates 1.5", 1,
+       "--updates: expected a whole number of rays in 0..1e15, got 1.500000"},
+      {"PlanProfileOverMaxMemory", {}, "select builtin:boxes:size=8 --rays 100 --max-memory 6KiB", 1,
+       "primary rays: … rays would need about …, more than --max-memory 6.0 KiB"},
+      {"AutoErrorOutOfRange", {}, render + "builtin:cornell --accel auto:error=300", 2, "--accel: auto: error=300: expected a number in [0, 255]"},
+      {"FieldTargetRmsUnreachable", {tri}, "field build tri.obj --target-rms 0.01 -o tri.vfield", 1,
+       "--target-rms 0.01: no field the planner weighs is expected to meet it (lowest bound …, positions=…,directions=…)"},
+      {"FieldTargetRmsWithPositions", {tri}, "field build tri.obj --target-rms 3 --positions 1090 -o tri.vfield", 2,
+       "--positions excludes --target-rms"},
+      {"FieldCalibrationWithoutTargetRms", {tri}, "field build tri.obj --calibration c.json -o tri.vfield", 2,
+       "--calibration requires --target-rms"},
       // ObjectField files and builds.
       {"FieldFileCutShort", {{"cut.vfield", "VISFIELD\x01"}}, "field info cut.vfield", 1,
        "cut.vfield: the file is cut short (not a complete .vfield file)"},

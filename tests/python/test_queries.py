@@ -139,3 +139,20 @@ def test_fields_build_save_load_and_answer_as_the_field_structure(tmp_path):
     other = vf.load("builtin:boxes:size=2,seed=1")
     with pytest.raises(vf.Error, match="another mesh"):
         vf.Field.load(str(path), other, 0)
+
+
+def test_plan_weighs_every_structure_and_auto_builds_its_choice():
+    scene = vf.load("builtin:sphere")  # one sphere of 20,000 triangles on a ground: fields beat the BVH per ray
+    plan = vf.plan(scene, rays=1e12, kind="ao", error=255)
+    assert {row["spec"] for row in plan["rows"]} >= {"bvh:levels=1", "beam", "field:positions=1090,directions=16"}
+    assert plan["chosen"].startswith("field:")  # a trillion rays: the constant-time lookups
+    assert "lowest predicted total" in plan["reason"]
+    exact = vf.plan(scene, rays=1e12, kind="ao")
+    assert not exact["chosen"].startswith("field:")
+    assert all(row["excluded"] for row in exact["rows"] if row["spec"].startswith("field:"))
+    built = vf.build(scene, "auto:rays=1000000000000,kind=ao,error=255")
+    assert " -> field:" in built.spec and not built.exact
+    with pytest.raises(ValueError, match="kind must be"):
+        vf.plan(scene, rays=10, kind="diffuse")
+    with pytest.raises(ValueError, match="error must be"):
+        vf.plan(scene, rays=10, error=300)

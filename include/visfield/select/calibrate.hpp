@@ -22,9 +22,15 @@ void validate_calibration_options(const CalibrationOptions& options);
 /// kd-tree builds, O(build_repetitions * N log N).
 SceneMeasurement measure_scene(const NamedScene& scene, const CalibrationOptions& options);
 
-/// The calibration phase over `scenes` (at least one): measure_scene on each, in order, calling
-/// `on_scene` after each (for progress); then the constants of eqs. 7 and 8 over all of them.
+/// The calibration phase over `scenes` (at least one): measure_scene on each, in order, with its plan
+/// measurement from `measure_plan` when given (the registry's measure_plan: every structure), calling
+/// `on_scene` after each (for progress); then the constants of eqs. 7 and 8 and the planner's model over
+/// all of them.
 Calibration calibrate(const std::vector<NamedScene>& scenes, const CalibrationOptions& options,
-                      const std::function<void(const SceneMeasurement&)>& on_scene = {});
+                      const std::function<void(const SceneMeasurement&)>& on_scene = {},
+                      const std::function<PlanMeasurement(const NamedScene&)>& measure_plan = {});
+
+/// The planner's model over every scene of `scenes` that holds a plan measurement, for `threads`.
+PlanModel fit_plan_model(std::span<const SceneMeasurement> scenes, int threads);
 
 }  // namespace vf

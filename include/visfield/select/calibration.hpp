@@ -14,6 +14,7 @@
 
 #include "visfield/accel/grid_stats.hpp"
 #include "visfield/render/ray_kind.hpp"
+#include "visfield/select/plan.hpp"
 
 namespace vf {
 
@@ -48,6 +49,7 @@ struct SceneMeasurement {
   double tree_build_ms = 0.0;             ///< T_B^H.
   std::uint64_t tree_memory_bytes = 0;    ///< Bytes held by the kd-tree.
   std::array<RayTimings, 2> rays{};       ///< Indexed by calibrated_kind_index().
+  PlanMeasurement plan;                   ///< Every candidate of the planner on this scene (empty when not measured).
 
   /// Timings of `kind`.
   const RayTimings& timings(RayKind kind) const { return rays[calibrated_kind_index(kind)]; }
@@ -95,6 +97,7 @@ struct Calibration {
   MachineInfo machine;
   CalibrationOptions settings;
   CalibrationConstants constants;
+  PlanModel plan;                        ///< The planner's constants and field error model (fitted on the scenes' plan measurements).
   std::vector<SceneMeasurement> scenes;  ///< Empty for the built-in calibration (constants only).
 
   /// Field-by-field equality (exact, doubles included).
@@ -113,11 +116,13 @@ CalibrationConstants compute_constants(std::span<const SceneMeasurement> scenes,
 /// The constants over every scene of `scenes`. Throws vf::Error when `scenes` is empty.
 CalibrationConstants compute_constants(std::span<const SceneMeasurement> scenes);
 
-/// The calibration as JSON text: {"format": "visfield-calibration", "version": 1, "machine", "settings",
-/// "constants", "scenes"}.
+/// The calibration as JSON text: {"format": "visfield-calibration", "version": 2, "machine", "settings",
+/// "constants", "plan", "scenes"}.
 std::string calibration_to_json(const Calibration& calibration);
 
-/// Parses calibration JSON, validating every field; `source` names the file in messages. Throws a
+/// Parses calibration JSON, validating every field; `source` names the file in messages. When scenes
+/// hold plan measurements, the planner's model is fitted anew from them (fit_plan_model), so a file
+/// written by an older fit gets this build's. Throws a
 /// one-line vf::Error naming `source` and the field on malformed JSON, a wrong "format" or "version",
 /// a missing field or ray kind, a wrong type or an out-of-range value.
 Calibration calibration_from_json(const std::string& text, const std::string& source);

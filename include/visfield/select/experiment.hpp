@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "visfield/select/calibration.hpp"
@@ -65,5 +66,44 @@ struct DecisionRow {
 /// two scenes (throws vf::Error).
 std::vector<DecisionRow> decision_accuracy(std::span<const SceneMeasurement> scenes, RayKind kind,
                                            std::span<const double> ray_counts, double epsilon = kCriticalEpsilon);
+
+/// The planner on one held-out scene for one workload.
+struct PlanOutcome {
+  std::string scene;             ///< The scene's name.
+  std::string chosen;            ///< What the planner picked with the model fitted on the other scenes.
+  std::string best;              ///< The measured fastest among the candidates allowed (measured error <= E).
+  double chosen_ms = 0.0;        ///< Measured total of the choice (build + R rays + U updates).
+  double best_ms = 0.0;          ///< Measured total of the best.
+  bool error_kept = true;        ///< The choice's measured error is within E.
+
+  /// The choice is the best (or as fast, to a part in 1e9) and keeps the error.
+  bool right() const { return error_kept && chosen_ms <= best_ms * (1.0 + 1e-9); }
+  /// chosen_ms / best_ms.
+  double regret() const { return best_ms > 0.0 ? chosen_ms / best_ms : 1.0; }
+};
+
+/// For each scene with plan measurements (at least two are needed; throws vf::Error): the planner's
+/// choice for `request` (no memory limit) with the model fitted on every other scene, against the
+/// measured totals of that scene's candidates. Candidates a scene did not measure are not chosen.
+std::vector<PlanOutcome> plan_leave_one_out(std::span<const SceneMeasurement> scenes, const PlanRequest& request, int threads);
+
+/// A field sized from a target error on one held-out scene.
+struct TargetRmsOutcome {
+  std::string scene;
+  double target = 0.0;            ///< E.
+  std::string chosen;             ///< The field the error model (fitted on the other scenes) picks; empty: none predicted to meet E.
+  double chosen_rms = 0.0;        ///< Its measured RMS.
+  double chosen_bytes = 0.0;      ///< Its measured memory.
+  double smallest_bytes = 0.0;    ///< The smallest measured field that meets E; 0 when none does.
+
+  /// The choice meets E (a refusal is right when no measured field meets E).
+  bool met() const { return chosen.empty() ? smallest_bytes == 0.0 : chosen_rms <= target; }
+  /// chosen_bytes / smallest_bytes (0 when either is missing).
+  double size_ratio() const { return chosen.empty() || smallest_bytes == 0.0 ? 0.0 : chosen_bytes / smallest_bytes; }
+};
+
+/// field_for_target_rms with the error model fitted on every other scene, for each scene with field
+/// measurements, against that scene's measured fields. Needs two such scenes (throws vf::Error).
+std::vector<TargetRmsOutcome> target_rms_leave_one_out(std::span<const SceneMeasurement> scenes, double target, int threads);
 
 }  // namespace vf

@@ -26,14 +26,32 @@ struct NamedScene {
 /// on bad input or a scene without non-degenerate triangles.
 NamedScene load_named_scene(const std::string& spec);
 
+/// Side of the base image the camera-based kinds (primary, ao, shadow) are drawn from before
+/// make_ray_set scales it to the count asked for.
+inline constexpr int kWorkloadImageSide = 256;
+
 /// `count` queries of `kind` over `scene` (whose flattened triangles are `triangles`): random rays
-/// (make_random_rays over the triangles' bounds, closest-hit queries) or path-tracing rays traced
-/// through `accel` (make_path_rays with `path_bounces` bounces). Deterministic in `seed`.
+/// (make_random_rays over the triangles' bounds, closest-hit queries), path-tracing rays traced
+/// through `accel` (make_path_rays with `path_bounces` bounces), or the camera's primary rays
+/// (closest hit), AO rays (4 per hit, unlimited length) or shadow rays (both occlusion queries) of
+/// make_ray_set, the primary hits found through `accel`; the camera is the scene's, else the default
+/// framing. Deterministic in `seed`; throws vf::Error when the camera sees nothing.
 template <Accelerator A>
 QuerySet make_queries(RayKind kind, const A& accel, const Scene& scene, const TriangleSet& triangles, std::size_t count,
                       std::uint64_t seed, int path_bounces) {
-  if (kind == RayKind::random) return QuerySet{make_random_rays(triangles.bounds, count, seed), {}};
-  return make_path_rays(accel, scene, count, PathRayOptions{path_bounces, seed});
+  switch (kind) {
+    case RayKind::random: return QuerySet{make_random_rays(triangles.bounds, count, seed), {}};
+    case RayKind::path: return make_path_rays(accel, scene, count, PathRayOptions{path_bounces, seed});
+    default: break;
+  }
+  RaySetRequest request;
+  request.kind = kind;
+  request.camera = scene.camera_or_default(kWorkloadImageSide, kWorkloadImageSide);
+  request.count = count;
+  request.seed = seed;
+  std::vector<Ray> rays = make_ray_set(accel, scene, request);
+  if (is_occlusion_kind(kind)) return QuerySet{{}, std::move(rays)};
+  return QuerySet{std::move(rays), {}};
 }
 
 /// What the decision algorithm learns from its sample: how many queries it traced and their time.

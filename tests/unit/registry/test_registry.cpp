@@ -179,15 +179,20 @@ TEST(Registry, LevelsAutoFlattensSmallScenesAndInstancesManyCopies) {
   EXPECT_FALSE(many.is_flattened());  // the two-level build never flattens
 }
 
-TEST(Registry, AutoKeepsTheGridItMeasured) {
-  // Few rays: the grid wins, and it is the grid the decision built (its build time, not a second one).
+TEST(Registry, AutoBuildsWhatThePlannerPicks) {
   SceneGeometry geometry(small_scene());
-  const BuiltStructure few = build_structure("auto:rays=10", geometry);
-  ASSERT_TRUE(std::holds_alternative<UniformGrid>(few.structure)) << few.resolved;
-  EXPECT_NE(few.resolved.find("-> grid"), std::string::npos);
-  const BuiltStructure many = build_structure("auto:rays=1000000000000", geometry);
-  EXPECT_TRUE(std::holds_alternative<KdTree>(many.structure)) << many.resolved;
+  // One ray: nothing pays for a costly build, so the grid or brute force (builds linear in N) win.
+  const BuiltStructure one = build_structure("auto:rays=1,kind=camera", geometry);
+  EXPECT_TRUE(std::holds_alternative<UniformGrid>(one.structure) || std::holds_alternative<BruteForce>(one.structure)) << one.resolved;
+  EXPECT_EQ(one.resolved.rfind("auto:kind=camera,rays=1 -> ", 0), 0u) << one.resolved;
+  // A trillion AO rays with any error allowed: the fields' constant-time lookups; with none, never a field.
+  const BuiltStructure loose = build_structure("auto:rays=1000000000000,kind=ao,error=255", geometry);
+  EXPECT_TRUE(std::holds_alternative<field::FieldScene>(loose.structure)) << loose.resolved;
+  EXPECT_EQ(loose.resolved.rfind("auto:kind=ao,rays=1000000000000,error=255 -> field:", 0), 0u) << loose.resolved;
+  const BuiltStructure exact = build_structure("auto:rays=1000000000000,kind=ao", geometry);
+  EXPECT_FALSE(std::holds_alternative<field::FieldScene>(exact.structure)) << exact.resolved;
   EXPECT_NE(build_error("auto:calibration=missing.json", small_scene()).find("missing.json"), std::string::npos);
+  EXPECT_NE(build_error("auto:error=300", small_scene()).find("error=300"), std::string::npos);
 }
 
 TEST(Registry, BatchQueriesMatchSingleQueries) {

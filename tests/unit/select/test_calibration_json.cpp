@@ -8,6 +8,7 @@
 
 #include "synthetic.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/select/calibrate.hpp"
 #include "visfield/select/calibration.hpp"
 
 namespace vf {
@@ -27,7 +28,10 @@ Calibration sample_calibration() {
   c.scenes.push_back(test::model_scene("builtin:soup", 1000, 1.25e-4, 0.07, 0.13, 0.75, 1.5, 2.25));
   c.scenes.push_back(test::model_scene("models/bunny.ply", 69451, 1.5e-4, 0.0625, 0.1875, 7.125, 3.0, 0.1));
   c.scenes[1].rays[1].grid_sample_us = 0.123456789012345;
+  c.scenes[1].plan = test::synthetic_plan_measurement(test::synthetic_plan_model(), test::synthetic_profile(69451, 3, 0.375));
+  c.scenes[1].plan.candidates.resize(9);  // a few candidates left out (over the memory limit)
   c.constants = compute_constants(c.scenes);
+  c.plan = fit_plan_model(c.scenes, 2);
   return c;
 }
 
@@ -38,7 +42,7 @@ TEST(CalibrationJson, RoundTripsEveryFieldExactly) {
   // The format tag and version lead the document.
   EXPECT_EQ(text.find("\"format\""), text.find('"'));
   EXPECT_NE(text.find("\"visfield-calibration\""), std::string::npos);
-  EXPECT_NE(text.find("\"version\": 1"), std::string::npos);
+  EXPECT_NE(text.find("\"version\": 2"), std::string::npos);
 }
 
 TEST(CalibrationJson, SavesAtomicallyAndLoadsBack) {
@@ -90,7 +94,7 @@ TEST(CalibrationJson, RejectsMalformedJson) {
 TEST(CalibrationJson, RejectsWrongFormatOrVersion) {
   expect_edit_error([](json& d) { d["format"] = "visfield-scene"; }, "format: expected \"visfield-calibration\"");
   expect_edit_error([](json& d) { d.erase("format"); }, "top level: missing required key \"format\"");
-  expect_edit_error([](json& d) { d["version"] = 2; }, "version: unsupported version 2");
+  expect_edit_error([](json& d) { d["version"] = 1; }, "version: unsupported version 1 (this build reads version 2; run visfield calibrate again)");
   expect_edit_error([](json& d) { d["version"] = "1"; }, "version: unsupported version \"1\"");
   expect_edit_error([](json& d) { d.erase("version"); }, "top level: missing required key \"version\"");
 }
@@ -104,6 +108,21 @@ TEST(CalibrationJson, RejectsMissingFieldsAndRayKinds) {
   expect_edit_error([](json& d) { d["scenes"][0]["grid"]["statistics"].erase("kurtosis"); },
                     "scenes[0].grid.statistics: missing required key \"kurtosis\"");
   expect_edit_error([](json& d) { d["scenes"][0].erase("kdtree"); }, "scenes[0]: missing required key \"kdtree\"");
+  expect_edit_error([](json& d) { d.erase("plan"); }, "top level: missing required key \"plan\"");
+  expect_edit_error([](json& d) { d["plan"]["candidates"].erase("beam"); }, "plan.candidates: missing required key \"beam\"");
+  expect_edit_error([](json& d) { d["scenes"][1]["plan"]["candidates"][0]["ray_us"].erase("ao"); },
+                    "scenes[1].plan.candidates[0].ray_us: missing required key \"ao\"");
+  expect_edit_error([](json& d) { d["scenes"][1]["plan"].erase("profile"); }, "scenes[1].plan: missing required key \"profile\"");
+}
+
+TEST(CalibrationJson, RejectsPlanEntriesThisBuildDoesNotWeigh) {
+  expect_edit_error([](json& d) { d["scenes"][1]["plan"]["candidates"][0]["spec"] = "octree"; },
+                    "scenes[1].plan.candidates[0].spec: not a candidate of this build's planner");
+  expect_edit_error([](json& d) { d["plan"]["candidates"]["octree"] = d["plan"]["candidates"]["beam"]; },
+                    "plan.candidates: unknown key \"octree\"");
+  expect_edit_error([](json& d) { d["plan"]["field_error"]["coefficients"] = {1, 2, 3}; }, "plan.field_error.coefficients");
+  expect_edit_error([](json& d) { d["scenes"][1]["plan"]["candidates"][2]["ao_rms"] = 300; }, "ao_rms");
+  expect_edit_error([](json& d) { d["scenes"][1]["plan"]["profile"]["ao_occluded"] = 1.5; }, "ao_occluded");
 }
 
 TEST(CalibrationJson, RejectsWrongTypes) {
@@ -144,7 +163,7 @@ TEST(CalibrationJson, LoadNamesAMissingFileOrAFolder) {
     EXPECT_NE(std::string(e.what()).find("nope.json"), std::string::npos);
   }
   EXPECT_THROW(load_calibration(dir), Error);
-  std::ofstream(dir / "bad.json") << "{\"format\": \"visfield-calibration\", \"version\": 1}";
+  std::ofstream(dir / "bad.json") << "{\"format\": \"visfield-calibration\", \"version\": 2}";
   try {
     load_calibration(dir / "bad.json");
     ADD_FAILURE();

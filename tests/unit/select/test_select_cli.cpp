@@ -7,6 +7,7 @@
 
 #include "support/run_command.hpp"
 #include "visfield/select/calibration.hpp"
+#include "visfield/select/plan.hpp"
 
 namespace vf {
 namespace {
@@ -42,9 +43,10 @@ class SelectCli : public ::testing::Test {
     EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
     EXPECT_EQ(files(), before) << args;
   }
+  // The grid-or-kd-tree calibration alone (--no-plan: fast).
   void calibrate_small() {
     const auto r = visfield("calibrate builtin:boxes:size=8 builtin:cornell:size=100 --rays 300 --sample-rays 100 "
-                            "--build-repetitions 1 --threads 2 -o cal.json");
+                            "--build-repetitions 1 --no-plan --threads 2 -o cal.json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("measured builtin:boxes:size=8"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("constants: C_B"), std::string::npos) << r.out;
@@ -61,19 +63,73 @@ TEST_F(SelectCli, CalibrateWritesALoadableFile) {
   EXPECT_EQ(c.machine.threads, 2);
 }
 
-TEST_F(SelectCli, SelectPrintsEveryQuantityAndTheDecision) {
-  calibrate_small();
-  const auto r = visfield("select builtin:sphere:size=2000 --rays 1e6 --kind random --calibration cal.json --threads 2");
+TEST_F(SelectCli, CalibrateMeasuresEveryStructureForThePlannerAndSelectUsesIt) {
+  const auto r = visfield("calibrate builtin:boxes:size=8 builtin:sphere:size=300 --rays 300 --sample-rays 100 "
+                          "--build-repetitions 1 --threads 2 -o plan.json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* needle : {"triangles N:", "grid:", "sparseness", "kurtosis", "T_B^G (measured):", "t_R^G (sampled):",
-                             "T_B^H (estimated):", "t_R^H (estimated):", "R_C:", "decision:"})
-    EXPECT_NE(r.out.find(needle), std::string::npos) << needle << "\n" << r.out;
-  EXPECT_TRUE(r.out.find("decision:           grid") != std::string::npos ||
-              r.out.find("decision:           kdtree") != std::string::npos)
-      << r.out;
-  const auto builtin = visfield("select builtin:boxes:size=8 --rays 100");
-  ASSERT_EQ(builtin.exit_code, 0) << builtin.err;
-  EXPECT_NE(builtin.out.find("calibration:        built in"), std::string::npos) << builtin.out;
+  EXPECT_NE(r.out.find("17 structures for the planner"), std::string::npos) << r.out;
+  const Calibration c = load_calibration(dir_ / "plan.json");
+  ASSERT_EQ(c.scenes.size(), 2u);
+  for (const SceneMeasurement& s : c.scenes) {
+    ASSERT_EQ(s.plan.candidates.size(), plan_candidates().size()) << s.name;
+    EXPECT_GT(s.plan.profile.grid_sample_us[plan_kind_index(RayKind::path)], 0.0) << s.name;
+    EXPECT_GE(s.plan.find("beam")->update_ms, 0.0) << s.name;  // BeamField moves objects in place
+    EXPECT_LT(s.plan.find("bvh:levels=1")->update_ms, 0.0) << s.name;  // a flattened BVH rebuilds
+    EXPECT_LT(s.plan.find("field:positions=1090,directions=16")->ray_us[plan_kind_index(RayKind::random)], 0.0);
+    EXPECT_GT(s.plan.find("field:positions=1090,directions=16")->ao_rms, 0.0) << s.name;
+  }
+  EXPECT_EQ(c.plan.field_error.samples, 18u);
+  EXPECT_GT(c.plan.constants[plan_candidate_index("kdtree:levels=1")].ray_us[plan_kind_index(RayKind::ao)], 0.0);
+
+  const auto select = visfield("select builtin:sphere:size=2000 --rays 1e6 --kind random --calibration plan.json --threads 2");
+  ASSERT_EQ(select.exit_code, 0) << select.err;
+  for (const PlanCandidate& candidate : plan_candidates()) {
+    std::string row(" ");
+    row.append(candidate.spec).append(" ");
+    EXPECT_NE(select.out.find(row), std::string::npos) << candidate.spec << "\n" << select.out;
+  }
+  for (const char* needle : {"workload:     1000000 random rays, 0 updates, error <= 0", "grid sample:", "candidate", "build ms",
+                             "(answers occlusion (ao, shadow) rays only)", "decision:", "why:          lowest predicted total"})
+    EXPECT_NE(select.out.find(needle), std::string::npos) << needle << "\n" << select.out;
+  // The starred row is the decision.
+  const std::size_t star = select.out.find("\n* ");
+  ASSERT_NE(star, std::string::npos) << select.out;
+  const std::string starred = select.out.substr(star + 3, select.out.find(' ', star + 3) - star - 3);
+  EXPECT_NE(select.out.find("decision:     " + starred + "\n"), std::string::npos) << select.out;
+
+  const auto report = visfield("report --from plan.json --splits 2 -o report.md");
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string md = test::read_text_file(dir_ / "report.md");
+  for (const char* needle : {"## The planner", "| ao | 8 |", "| path | 0 |", "R = 1e+09", "Overall:", "## Fields sized from a target error",
+                             "| builtin:sphere:size=300 |"})
+    EXPECT_NE(md.find(needle), std::string::npos) << needle << "\n" << md;
+}
+
+TEST_F(SelectCli, SelectWithTheBuiltInCalibrationWeighsFieldsWhenAnErrorIsAllowed) {
+  const auto exact = visfield("select builtin:boxes:size=8 --rays 100 --kind ao --threads 2");
+  ASSERT_EQ(exact.exit_code, 0) << exact.err;
+  EXPECT_NE(exact.out.find("calibration:  built in"), std::string::npos) << exact.out;
+  EXPECT_NE(exact.out.find("(approximate; error=0 allows exact structures only)"), std::string::npos) << exact.out;
+  // A sphere of 20,000 triangles and a trillion AO rays: the fields' constant-time lookups win.
+  const auto loose = visfield("select builtin:sphere --rays 1e12 --kind ao --error 255 --threads 2");
+  ASSERT_EQ(loose.exit_code, 0) << loose.err;
+  EXPECT_EQ(loose.out.find("(approximate;"), std::string::npos) << loose.out;
+  EXPECT_NE(loose.out.find("field probe:  field:positions=1090,directions=16 RMS "), std::string::npos) << loose.out;
+  EXPECT_NE(loose.out.find("decision:     field:"), std::string::npos) << loose.out;
+}
+
+TEST_F(SelectCli, FieldBuildSizesAFieldFromATargetError) {
+  std::ofstream(dir_ / "tet.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const std::string mesh = "tet.obj";
+  const auto r = visfield("field build " + mesh + " --target-rms 200 --no-progress --threads 2 -o s.vfield");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The loosest target: the smallest field the planner weighs.
+  EXPECT_NE(r.out.find("sized for RMS <= 200: positions=1090, directions=16"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("field: 1090 positions x 16^2"), std::string::npos) << r.out;
+  expect_clean_failure("field build " + mesh + " --target-rms 0.01 --threads 2 -o t.vfield",
+                       "--target-rms 0.01: no field the planner weighs is expected to meet it");
+  expect_clean_failure("field build " + mesh + " --target-rms 3 --positions 1090 -o t.vfield", "excludes", 2);
+  expect_clean_failure("field build " + mesh + " --calibration c.json -o t.vfield", "requires", 2);
 }
 
 TEST_F(SelectCli, SelectRefusesBadInputWithOneLine) {
@@ -83,6 +139,9 @@ TEST_F(SelectCli, SelectRefusesBadInputWithOneLine) {
   expect_clean_failure("select builtin:boxes --rays 100 --kind diffuse", "--kind", 2);
   expect_clean_failure("select builtin:boxes", "--rays", 2);
   expect_clean_failure("select builtin:boxes --rays 2.5", "--rays");
+  expect_clean_failure("select builtin:boxes --rays 100 --error 300", "--error", 2);
+  expect_clean_failure("select builtin:boxes --rays 100 --updates 1.5", "--updates");
+  expect_clean_failure("select builtin:boxes --rays 100 --kind ao --max-memory 1KiB", "more than --max-memory 1.0 KiB");
 }
 
 TEST_F(SelectCli, StatsPrintsTheGridStatistics) {
@@ -109,7 +168,7 @@ TEST_F(SelectCli, ReportWritesTheTablesFromMeasurementsOrAFile) {
   std::ofstream(dir_ / "tet.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
   const auto r = visfield("report --no-builtin --scene builtin:boxes:size=8 --scene builtin:cornell:size=100 "
                           "--scene builtin:sphere:size=300 --scene " + (dir_ / "tet.obj").string() +
-                          " --rays 300 --sample-rays 100 --build-repetitions 1 --splits 3 --threads 2"
+                          " --rays 300 --sample-rays 100 --build-repetitions 1 --no-plan --splits 3 --threads 2"
                           " --save-measurements cal.json -o report.md");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string md = test::read_text_file(dir_ / "report.md");

@@ -1,0 +1,323 @@
+#include "visfield/select/plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <tuple>
+#include <utility>
+
+#include "visfield/core/error.hpp"
+#include "visfield/select/calibration.hpp"
+
+namespace vf {
+namespace {
+
+// The structures and the parameter choices weighed. Fields come in three positional and three
+// directional resolutions (the calibration measures each, so the error model's choices can be
+// checked against measured errors); the other structures at their defaults, BeamField also at a
+// quarter of its directions and tiles (4x faster to build, a sixteenth of the memory).
+constexpr PlanCandidate kCandidates[] = {
+    {"grid:levels=1", CostShape::grid, false},
+    {"kdtree:levels=1", CostShape::tree, false},
+    {"bvh:levels=1", CostShape::tree, false},
+    {"bvh:levels=2", CostShape::two_level, true},
+    {"median-bsp:levels=1", CostShape::tree, false},
+    {"beam", CostShape::beam, true},
+    {"beam:dirs=129,n=32", CostShape::beam, true},
+    {"brute:levels=1", CostShape::brute, false},
+    {"field:positions=1090,directions=16", CostShape::field, false, 1090, 16},
+    {"field:positions=1090,directions=32", CostShape::field, false, 1090, 32},
+    {"field:positions=1090,directions=64", CostShape::field, false, 1090, 64},
+    {"field:positions=4226,directions=16", CostShape::field, false, 4226, 16},
+    {"field:positions=4226,directions=32", CostShape::field, false, 4226, 32},
+    {"field:positions=4226,directions=64", CostShape::field, false, 4226, 64},
+    {"field:positions=16642,directions=16", CostShape::field, false, 16642, 16},
+    {"field:positions=16642,directions=32", CostShape::field, false, 16642, 32},
+    {"field:positions=16642,directions=64", CostShape::field, false, 16642, 64},
+};
+
+double n_log_n(double n) { return std::max(n, 1.0) * cost_log2(static_cast<std::uint64_t>(n)); }
+
+double field_cells(const PlanCandidate& c) { return static_cast<double>(c.positions) * c.directions * c.directions; }
+
+// Geometric mean of the positive values (0 when there are none).
+double geometric_mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (double v : values)
+    if (v > 0.0 && std::isfinite(v)) sum += std::log(v), ++n;
+  return n == 0 ? 0.0 : std::exp(sum / static_cast<double>(n));
+}
+
+std::array<double, 4> error_features(int positions, int directions, double ao_occluded) {
+  return {1.0, std::log(static_cast<double>(positions) / 1090.0), std::log(static_cast<double>(directions) / 16.0),
+          std::log(std::clamp(ao_occluded, 0.0, 1.0) + 0.01)};
+}
+
+// Whether a candidate's per-ray cost is a fitted power of its feature (a measured time, or N with
+// caches that stop holding the triangles) rather than proportional to it.
+bool power_law(const PlanCandidate& c) { return c.shape == CostShape::grid || c.shape == CostShape::brute; }
+
+// Coefficient and exponent of t = c f^e by least squares on (log f, log t); e = 1 (the geometric mean)
+// when the features do not spread.
+std::pair<double, double> fit_power(const std::vector<double>& f, const std::vector<double>& t) {
+  double mf = 0.0, mt = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i) mf += std::log(f[i]), mt += std::log(t[i]);
+  mf /= static_cast<double>(f.size()), mt /= static_cast<double>(f.size());
+  double sff = 0.0, sft = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    sff += (std::log(f[i]) - mf) * (std::log(f[i]) - mf);
+    sft += (std::log(f[i]) - mf) * (std::log(t[i]) - mt);
+  }
+  const double e = sff > 1e-6 ? sft / sff : 1.0;
+  return {std::exp(mt - e * mf), e};
+}
+
+// Least squares by the normal equations (Gaussian elimination with partial pivoting; a tiny ridge keeps
+// a degenerate design, such as one positional resolution only, solvable).
+std::array<double, 4> least_squares(const std::vector<std::array<double, 4>>& x, const std::vector<double>& y) {
+  double a[4][5] = {};
+  for (std::size_t s = 0; s < x.size(); ++s)
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) a[i][j] += x[s][i] * x[s][j];
+      a[i][4] += x[s][i] * y[s];
+    }
+  for (int i = 0; i < 4; ++i) a[i][i] += 1e-9 * (1.0 + a[i][i]);
+  for (int col = 0; col < 4; ++col) {
+    int pivot = col;
+    for (int r = col + 1; r < 4; ++r)
+      if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
+    for (int k = 0; k < 5; ++k) std::swap(a[col][k], a[pivot][k]);
+    for (int r = 0; r < 4; ++r) {
+      if (r == col || a[col][col] == 0.0) continue;
+      const double f = a[r][col] / a[col][col];
+      for (int k = col; k < 5; ++k) a[r][k] -= f * a[col][k];
+    }
+  }
+  std::array<double, 4> beta{};
+  for (int i = 0; i < 4; ++i) beta[i] = a[i][i] != 0.0 ? a[i][4] / a[i][i] : 0.0;
+  return beta;
+}
+
+std::string format_number(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+// The log RMS a field error measurement counts as (an RMS of 0 would have no logarithm).
+constexpr double kLeastRms = 0.01;
+// The z of the one-sided 90% quantile of a normal distribution.
+constexpr double kNinetyPercentZ = 1.2816;
+// Below this many field measurements the error model is not fitted.
+constexpr std::size_t kLeastErrorSamples = 6;
+
+}  // namespace
+
+std::span<const PlanCandidate> plan_candidates() { return kCandidates; }
+
+std::size_t plan_candidate_index(std::string_view spec) {
+  for (std::size_t i = 0; i < std::size(kCandidates); ++i)
+    if (kCandidates[i].spec == spec) return i;
+  return static_cast<std::size_t>(-1);
+}
+
+std::size_t plan_kind_index(RayKind kind) {
+  for (std::size_t i = 0; i < kRayKinds.size(); ++i)
+    if (kRayKinds[i] == kind) return i;
+  return 0;
+}
+
+double build_feature(const PlanCandidate& c, const SceneProfile& p) {
+  const double n = static_cast<double>(p.triangles), u = static_cast<double>(p.unique_triangles),
+               o = static_cast<double>(p.objects);
+  switch (c.shape) {
+    case CostShape::grid: return p.grid_build_ms;
+    case CostShape::brute: return std::max(n, 1.0);
+    case CostShape::tree:
+    case CostShape::beam: return n_log_n(n);
+    case CostShape::two_level: return n_log_n(u) + n_log_n(o);
+    case CostShape::field: return field_cells(c) * std::max(p.mesh_log2_sum, 1.0);
+  }
+  return 1.0;
+}
+
+double ray_feature(const PlanCandidate& c, const SceneProfile& p, RayKind kind) {
+  switch (c.shape) {
+    case CostShape::grid: return p.grid_sample_us[plan_kind_index(kind)];
+    case CostShape::tree:
+    case CostShape::beam: return cost_log2(p.triangles);
+    case CostShape::two_level: return cost_log2(p.unique_triangles) + cost_log2(p.objects);
+    case CostShape::brute: return static_cast<double>(std::max<std::uint64_t>(p.triangles, 1));
+    case CostShape::field: return cost_log2(p.objects);
+  }
+  return 1.0;
+}
+
+double update_feature(const PlanCandidate& c, const SceneProfile& p) {
+  const double o = static_cast<double>(std::max<std::uint64_t>(p.objects, 1));
+  if (c.shape == CostShape::two_level) return n_log_n(o);
+  if (c.shape == CostShape::beam) return std::max(static_cast<double>(p.triangles) / o, 1.0);
+  return 1.0;
+}
+
+double FieldErrorModel::predict(int positions, int directions, double ao_occluded, double probe_rms) const {
+  const std::array<double, 4> x = error_features(positions, directions, ao_occluded);
+  double log_rms = std::log(std::max(probe_rms, kLeastRms));
+  for (int i = 0; i < 4; ++i) log_rms += coefficients[i] * x[i];
+  return std::exp(log_rms);
+}
+
+double FieldErrorModel::bound(int positions, int directions, double ao_occluded, double probe_rms) const {
+  return predict(positions, directions, ao_occluded, probe_rms) * std::exp(kNinetyPercentZ * sigma);
+}
+
+const CandidateMeasurement* PlanMeasurement::find(std::string_view spec) const {
+  for (const CandidateMeasurement& m : candidates)
+    if (m.spec == spec) return &m;
+  return nullptr;
+}
+
+PlanModel fit_plan_model(std::span<const PlanMeasurement> scenes, std::span<const std::size_t> subset, int threads) {
+  if (subset.empty()) throw Error("plan: no calibration scenes to fit the model on");
+  PlanModel model;
+  model.threads = std::max(threads, 1);
+  std::vector<std::array<double, 4>> x;
+  std::vector<double> y;
+  for (const PlanCandidate& c : kCandidates) {
+    std::vector<double> build, update;
+    std::array<std::vector<double>, kPlanKinds> features, times;
+    for (std::size_t s : subset) {
+      if (s >= scenes.size()) throw Error("plan: scene index " + std::to_string(s) + " out of range");
+      const PlanMeasurement& scene = scenes[s];
+      const CandidateMeasurement* m = scene.find(c.spec);
+      if (!m) continue;
+      const double bf = build_feature(c, scene.profile);
+      if (bf > 0.0) build.push_back(m->build_ms / bf);
+      if (c.updatable && m->update_ms > 0.0) update.push_back(m->update_ms / update_feature(c, scene.profile));
+      for (std::size_t k = 0; k < kPlanKinds; ++k) {
+        const double feature = ray_feature(c, scene.profile, kRayKinds[k]);
+        if (m->ray_us[k] > 0.0 && feature > 0.0) features[k].push_back(feature), times[k].push_back(m->ray_us[k]);
+      }
+      if (c.approximate() && scene.profile.field_probe_rms >= 0.0) {
+        x.push_back(error_features(c.positions, c.directions, scene.profile.ao_occluded));
+        y.push_back(std::log(std::max(m->ao_rms, kLeastRms)) - std::log(std::max(scene.profile.field_probe_rms, kLeastRms)));
+      }
+    }
+    CandidateConstants k;
+    k.build_ms = geometric_mean(build);
+    k.update_ms = geometric_mean(update);
+    for (std::size_t kind = 0; kind < kPlanKinds; ++kind) {
+      if (features[kind].empty()) continue;
+      if (power_law(c)) {
+        std::tie(k.ray_us[kind], k.ray_exponent[kind]) = fit_power(features[kind], times[kind]);
+      } else {
+        std::vector<double> ratios;
+        for (std::size_t i = 0; i < features[kind].size(); ++i) ratios.push_back(times[kind][i] / features[kind][i]);
+        k.ray_us[kind] = geometric_mean(ratios);
+      }
+    }
+    model.constants.push_back(k);
+  }
+  if (x.size() >= kLeastErrorSamples) {
+    FieldErrorModel& e = model.field_error;
+    e.coefficients = least_squares(x, y);
+    e.samples = x.size();
+    double squares = 0.0;
+    for (std::size_t s = 0; s < x.size(); ++s) {
+      double fit = 0.0;
+      for (int i = 0; i < 4; ++i) fit += e.coefficients[i] * x[s][i];
+      squares += (y[s] - fit) * (y[s] - fit);
+    }
+    e.sigma = std::sqrt(squares / static_cast<double>(x.size() > 4 ? x.size() - 4 : 1));
+  }
+  return model;
+}
+
+void validate_plan_request(const PlanRequest& r) {
+  if (!(r.rays >= 1.0) || !std::isfinite(r.rays)) throw Error("plan: rays must be a finite number >= 1, got " + std::to_string(r.rays));
+  if (!(r.max_error >= 0.0 && r.max_error <= 255.0))
+    throw Error("plan: error must be an RMS in 0..255, got " + std::to_string(r.max_error));
+  if (!(r.updates >= 0.0) || !std::isfinite(r.updates))
+    throw Error("plan: updates must be a finite number >= 0, got " + std::to_string(r.updates));
+  if (!(r.max_memory > 0.0)) throw Error("plan: the memory limit must be > 0 bytes");
+}
+
+Plan make_plan(const PlanModel& model, const SceneProfile& profile, const PlanRequest& request, int threads,
+               const std::function<double(std::string_view spec)>& bytes_of) {
+  validate_plan_request(request);
+  if (model.constants.size() != std::size(kCandidates))
+    throw Error("plan: the calibration holds " + std::to_string(model.constants.size()) + " candidates, this build weighs " +
+                std::to_string(std::size(kCandidates)));
+  const std::size_t k = plan_kind_index(request.kind);
+  const double thread_ratio = static_cast<double>(model.threads) / std::max(threads, 1);
+  const double sample_ratio = static_cast<double>(std::max(profile.threads, 1)) / std::max(threads, 1);
+  Plan plan;
+  for (std::size_t i = 0; i < std::size(kCandidates); ++i) {
+    const PlanCandidate& c = kCandidates[i];
+    const CandidateConstants& constants = model.constants[i];
+    PlanRow row;
+    row.spec = std::string(c.spec);
+    const double rf = ray_feature(c, profile, request.kind);
+    row.build_ms = constants.build_ms * build_feature(c, profile);
+    row.ray_us = constants.ray_us[k] * std::pow(rf, constants.ray_exponent[k]) * (c.shape == CostShape::grid ? sample_ratio : thread_ratio);
+    row.update_ms = c.updatable && constants.update_ms > 0.0 ? constants.update_ms * update_feature(c, profile) : row.build_ms;
+    row.total_ms = row.build_ms + request.rays * row.ray_us / 1000.0 + request.updates * row.update_ms;
+    row.bytes = bytes_of(c.spec);
+    if (c.approximate() && model.field_error.samples > 0 && profile.field_probe_rms >= 0.0)
+      row.error = model.field_error.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms);
+    if (!c.answers(request.kind))
+      row.excluded = "answers occlusion (ao, shadow) rays only";
+    else if (constants.build_ms <= 0.0 || constants.ray_us[k] <= 0.0)
+      row.excluded = "not calibrated for " + std::string(ray_kind_name(request.kind)) + " rays";
+    else if (rf <= 0.0)
+      row.excluded = "no grid sample of this scene (too large to flatten for it)";
+    else if (c.approximate() && request.max_error <= 0.0)
+      row.excluded = "approximate; error=0 allows exact structures only";
+    else if (c.approximate() && model.field_error.samples == 0)
+      row.excluded = "no field error model in the calibration";
+    else if (c.approximate() && profile.field_probe_rms < 0.0)
+      row.excluded = "the scene was not probed with a field";
+    else if (c.approximate() && row.error > request.max_error)
+      row.excluded = "predicted RMS " + format_number("%.2f", row.error) + " > error " + format_number("%g", request.max_error);
+    else if (row.bytes > request.max_memory)
+      row.excluded = "needs " + format_number("%.3g", row.bytes / (1024.0 * 1024.0)) + " MiB, over the memory limit";
+    if (row.excluded.empty() && (plan.chosen == std::numeric_limits<std::size_t>::max() || row.total_ms < plan.rows[plan.chosen].total_ms))
+      plan.chosen = plan.rows.size();
+    plan.rows.push_back(std::move(row));
+  }
+  if (plan.chosen == std::numeric_limits<std::size_t>::max())
+    throw Error("plan: no structure fits this workload (every candidate is excluded: see `visfield select`)");
+  const PlanRow& win = plan.rows[plan.chosen];
+  std::size_t runner = std::numeric_limits<std::size_t>::max();
+  for (std::size_t i = 0; i < plan.rows.size(); ++i)
+    if (i != plan.chosen && plan.rows[i].excluded.empty() &&
+        (runner == std::numeric_limits<std::size_t>::max() || plan.rows[i].total_ms < plan.rows[runner].total_ms))
+      runner = i;
+  plan.reason = "lowest predicted total, " + format_number("%.4g", win.total_ms) + " ms (build " + format_number("%.4g", win.build_ms) +
+                " + rays " + format_number("%.4g", request.rays * win.ray_us / 1000.0) + " + updates " +
+                format_number("%.4g", request.updates * win.update_ms) + ")";
+  if (runner != std::numeric_limits<std::size_t>::max())
+    plan.reason += "; next " + plan.rows[runner].spec + " at " + format_number("%.4g", plan.rows[runner].total_ms) + " ms (" +
+                   format_number("%.2f", plan.rows[runner].total_ms / std::max(win.total_ms, 1e-12)) + "x)";
+  return plan;
+}
+
+std::size_t field_for_target_rms(const FieldErrorModel& model, const SceneProfile& profile, double target_rms) {
+  std::size_t best = static_cast<std::size_t>(-1);
+  if (model.samples == 0 || profile.field_probe_rms < 0.0) return best;
+  for (std::size_t i = 0; i < std::size(kCandidates); ++i) {
+    const PlanCandidate& c = kCandidates[i];
+    if (!c.approximate() || model.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms) > target_rms) continue;
+    if (best == static_cast<std::size_t>(-1) || field_cells(c) < field_cells(kCandidates[best])) best = i;
+  }
+  return best;
+}
+
+double measured_total_ms(const CandidateMeasurement& m, RayKind kind, double rays, double updates) {
+  const double ray_us = m.ray_us[plan_kind_index(kind)];
+  if (ray_us < 0.0) return std::numeric_limits<double>::infinity();
+  return m.build_ms + rays * ray_us / 1000.0 + updates * (m.update_ms >= 0.0 ? m.update_ms : m.build_ms);
+}
+
+}  // namespace vf
