@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/statistics.hpp"
 #include "visfield/select/calibration.hpp"
 
 namespace vf {
@@ -109,6 +110,9 @@ std::string format_number(const char* pattern, double value) {
 constexpr double kLeastRms = 0.01;
 // The z of the one-sided 90% quantile of a normal distribution.
 constexpr double kNinetyPercentZ = 1.2816;
+// The standard deviation of normal residuals over their median absolute deviation.
+constexpr double kMadToSigma = 1.4826;
+
 // Below this many field measurements the error model is not fitted.
 constexpr std::size_t kLeastErrorSamples = 6;
 
@@ -223,13 +227,17 @@ PlanModel fit_plan_model(std::span<const PlanMeasurement> scenes, std::span<cons
     FieldErrorModel& e = model.field_error;
     e.coefficients = least_squares(x, y);
     e.samples = x.size();
-    double squares = 0.0;
+    // A robust sigma: 1.4826 x the median absolute deviation of the residuals (the standard deviation
+    // for normal residuals), so that one defective field far off the fit does not loosen every bound.
+    std::vector<double> residuals;
     for (std::size_t s = 0; s < x.size(); ++s) {
       double fit = 0.0;
       for (int i = 0; i < 4; ++i) fit += e.coefficients[i] * x[s][i];
-      squares += (y[s] - fit) * (y[s] - fit);
+      residuals.push_back(y[s] - fit);
     }
-    e.sigma = std::sqrt(squares / static_cast<double>(x.size() > 4 ? x.size() - 4 : 1));
+    const double centre = median(residuals);
+    for (double& r : residuals) r = std::fabs(r - centre);
+    e.sigma = kMadToSigma * median(residuals);
   }
   return model;
 }

@@ -234,7 +234,7 @@ void write_planner(std::ostringstream& md, const Calibration& c) {
   md << "\n## Fields sized from a target error (`visfield field build --target-rms E`)\n\n"
      << "Error model over all scenes: log RMS = log RMS_probe + " << fixed(f.coefficients[0], 3) << " + " << fixed(f.coefficients[1], 3)
      << " log(positions / 1090) + " << fixed(f.coefficients[2], 3) << " log(directions / 16) + " << fixed(f.coefficients[3], 3)
-     << " log(AO occluded + 0.01), residual σ = " << fixed(f.sigma, 3) << " over " << f.samples << " fields, RMS_probe the"
+     << " log(AO occluded + 0.01), residual σ (1.4826 × their median absolute deviation) = " << fixed(f.sigma, 3) << " over " << f.samples << " fields, RMS_probe the"
      << " measured RMS of `" << kFieldProbe << "` on the scene (the smallest field: the planner builds it to profile a scene"
      << " when E > 0); a field is picked when exp(1.2816 σ) × the fit (its 90% bound) is ≤ E. RMS: the AO image (128 × 128,"
      << " the scene's camera, 32 AO rays of unlimited length per pixel that sees the scene) against the exact one with the same"

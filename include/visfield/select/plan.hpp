@@ -119,7 +119,7 @@ struct CandidateConstants {
 /// the same rays, `probe` that of kFieldProbe on the same scene (SceneProfile::field_probe_rms).
 struct FieldErrorModel {
   std::array<double, 4> coefficients{};  ///< c0..c3.
-  double sigma = 0.0;                    ///< Standard deviation of the fit's residuals, in log RMS.
+  double sigma = 0.0;                    ///< Spread of the fit's residuals in log RMS: 1.4826 x their median absolute deviation.
   std::size_t samples = 0;               ///< Measurements fitted (0: no model; fields are never planned).
 
   /// The fit's RMS for a field of `positions` x `directions`^2 on a scene whose AO rays are
