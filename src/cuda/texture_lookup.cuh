@@ -34,9 +34,9 @@ __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTable
   const field::SampleRead r = field::sample_read(f, v, sample);
   float s, t;
   field::square_of(f, sample, r.q, s, t);
-  field::FieldAnswer a = texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions);
-  if (a.hit) a.t = a.t + r.shift;
-  return field::place_answer(f, v, a);
+  const field::FieldAnswer a =
+      texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions);
+  return field::place_answer(f, v, field::shifted_answer(r, a));
 }
 
 /// gpu::occluded (fields, then the exact part) with the fields' cells read through textures.

@@ -548,12 +548,14 @@ class FieldKernel {
   };
 
   /// sample_read on lanes: the sample with inward normal `w`, the lanes' Geometry `g` and their
-  /// parallel direction `q`; the direction to read in and the shift of a hit's distance.
-  [[gnu::always_inline]] static void sample_read(const FieldTables& f, const Geometry& g, const Vec& w, const Vec& q, Vec& read, F& shift) {
-    const F zero = L::splat(0.0f);
+  /// parallel direction `q`; the direction to read in, the shift of a hit's distance and its limit.
+  [[gnu::always_inline]] static void sample_read(const FieldTables& f, const Geometry& g, const Vec& w, const Vec& q, Vec& read, F& shift,
+                                                 F& limit) {
+    const F zero = L::splat(0.0f), beyond = L::splat(2.0f);
     if (f.sample_line == SampleLine::parallel) {
       read = q;
       shift = zero;
+      limit = beyond;
       return;
     }
     const F radius = L::splat(f.radius);
@@ -562,16 +564,27 @@ class FieldKernel {
     const M long_enough = len > L::splat(kShortestLine * f.radius);
     const F inv = L::splat(1.0f) / len;
     read = {select(long_enough, line.x * inv, q.x), select(long_enough, line.y * inv, q.y), select(long_enough, line.z * inv, q.z)};
-    shift = select(long_enough & g.inside, (g.s_exit - len) / L::splat(2.0f * f.radius), zero);
+    const M from_inside = long_enough & g.inside;
+    const F diameter = L::splat(2.0f * f.radius);
+    shift = select(from_inside, (g.s_exit - len) / diameter, zero);
+    const Vec apart{read.x - q.x, read.y - q.y, read.z - q.z};
+    const F chord = sqrt(dot(apart, apart));
+    limit = select(from_inside, len / diameter - max(L::splat(f.self_offset), L::splat(kChordShare) * chord), beyond);
+  }
+
+  /// shifted_answer on lanes.
+  [[gnu::always_inline]] static void shift_answer(Answer& a, const F& shift, const F& limit) {
+    a.hit = a.hit & (a.t < limit);
+    a.t = a.t + shift;
   }
 
   /// read_sample on lanes: the sample `sample` with inward normal `w`.
   [[gnu::always_inline]] static Answer read_sample(const FieldTables& f, const Geometry& g, I sample, const Vec& w, const Vec& q, M m) {
     Vec read;
-    F shift;
-    sample_read(f, g, w, q, read, shift);
+    F shift, limit;
+    sample_read(f, g, w, q, read, shift, limit);
     Answer a = read_direction(f, sample, w, read, m);
-    a.t = a.t + shift;
+    shift_answer(a, shift, limit);
     return a;
   }
 
@@ -677,7 +690,7 @@ class FieldKernel {
   struct Located {
     Geometry g;
     I sample, i, j;
-    F shift;  // sample_read's
+    F shift, limit;  // sample_read's
   };
 
   [[gnu::always_inline]] static void locate(const FieldTables& f, const Rays& r, M valid, Located& l) {
@@ -685,7 +698,7 @@ class FieldKernel {
     l.g = geometry(f, r, valid, e, q);
     nearest_sample(f, corners(f, e), l.g.active, l.sample, w);
     Vec read;
-    sample_read(f, l.g, w, q, read, l.shift);
+    sample_read(f, l.g, w, q, read, l.shift, l.limit);
     F s, t;
     square_point(f, w, read, l.g.active, s, t);
     l.i = cell_of(s, f.directions);
@@ -694,7 +707,7 @@ class FieldKernel {
 
   [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
     Answer a = read_cell(f, l.sample, l.i, l.j, l.g.active);
-    a.t = a.t + l.shift;
+    shift_answer(a, l.shift, l.limit);
     return place(f, l.g, a);
   }
 
