@@ -67,7 +67,7 @@ struct BeamFieldStats {
   double references_per_triangle = 0;  ///< references / triangles (over all directions).
   double empty_tile_fraction = 0;      ///< empty_tiles / tiles.
   double last_commit_ms = 0;           ///< Wall-clock time of the last commit() (0 before any).
-  bool last_commit_rebuilt = false;    ///< The last commit() rebuilt everything (an object left the sphere, or too many dead slots).
+  bool last_commit_rebuilt = false;    ///< The last commit() rebuilt everything (an object left the sphere, too many dead slots, or edits of over a third of the triangles).
 };
 
 /// An exact BeamField over a Scene's objects. Queries are const and thread-safe; edits are not (see
@@ -129,8 +129,9 @@ class BeamField {
   void move(ObjectId id, const Transform& transform);
   /// Applies the staged edits: in every direction, the tiles the old and new triangles of the edited
   /// objects touch are rebuilt, the rest is left as it is (the paper's delete and re-insert).
-  /// Rebuilds everything instead when an object leaves the bounding sphere or dead triangle slots
-  /// outnumber live ones. Parallel over directions. Afterwards queries answer exactly as a fresh
+  /// Rebuilds everything instead when an object leaves the bounding sphere, dead triangle slots
+  /// outnumber live ones, or the edits touch more than a third of the live triangles (a rebuild is
+  /// then the faster). Parallel over directions. Afterwards queries answer exactly as a fresh
   /// build over the edited scene.
   void commit();
   /// True when edits are staged and not committed.
