@@ -131,8 +131,8 @@ class BeamField {
   /// objects touch are rebuilt, the rest is left as it is (the paper's delete and re-insert).
   /// Rebuilds everything instead when an object leaves the bounding sphere, dead triangle slots
   /// outnumber live ones, or the edits touch more than a third of the live triangles (a rebuild is
-  /// then the faster). Parallel over directions. Afterwards queries answer exactly as a fresh
-  /// build over the edited scene.
+  /// then the faster; scenes under about a thousand triangles excepted). Parallel over directions.
+  /// Afterwards queries answer exactly as a fresh build over the edited scene.
   void commit();
   /// True when edits are staged and not committed.
   bool has_staged_edits() const;

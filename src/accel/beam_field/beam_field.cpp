@@ -360,9 +360,10 @@ void BeamField::commit() {
   // Dead slots outnumbering live ones are reclaimed by a rebuild, as is an object that left the
   // sphere the tiles cover. An in-place update costs about three builds' worth per triangle edited
   // (the bunny moved whole: 5.1 s against a 1.7 s build; one of 25 cows: 0.21 s against 2.0 s),
-  // so edits of more than a third of the live triangles rebuild instead.
+  // so edits of more than a third of the live triangles rebuild instead; below about a thousand
+  // triangles either takes well under a millisecond, and small scenes keep updating in place.
   rebuild_all = rebuild_all || l.triangles.size() > 2 * l.live_slots + 1024 ||
-                3 * std::max(edits.add.size(), edits.old_corners.size()) > l.live_slots;
+                3 * std::max(edits.add.size(), edits.old_corners.size()) > l.live_slots + 1024;
   if (rebuild_all) {
     beam::rebuild(l);
   } else {
