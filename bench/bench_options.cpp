@@ -1,14 +1,18 @@
 #include "bench_options.hpp"
 
 #include <algorithm>
+#include <map>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
 #include "bench_accel.hpp"
+#include "cli_support.hpp"
 #include "visfield/core/direction_lines.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/spec.hpp"
+#include "visfield/registry/render_scene.hpp"
 
 namespace vf::bench {
 
@@ -62,36 +66,29 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
                      joined(bench_accel_names()) + " (required)");
   app.add_option("--count", count, "Exact number of rays (default: one image's worth)")
       ->check(CLI::Range(std::int64_t{1}, kMaxRayCount));
-  app.add_option("--threads", options.threads, "Worker threads for every structure, 0 = all hardware threads")
-      ->check(CLI::Range(0, kMaxThreads));
-  std::string max_memory;
-  app.add_option("--max-memory", max_memory,
-                 "Refuse builds and ray sets estimated to need more, e.g. 4G (default: the available memory)")
-      ->check(CLI::Validator(
-          [](std::string& value) {
-            return parse_byte_size(value) ? std::string() : "expected " + std::string(kByteSizeSyntax) + ", got " + value;
-          },
-          "SIZE"));
+  cli::add_resource_options(app, options.threads);
   app.add_flag("--json", options.json, "Print a JSON document instead of the table");
   app.add_option("--width", options.width, "Image width in pixels (default: the scene camera's)")
       ->check(CLI::Range(1, 32768));
   app.add_option("--height", options.height, "Image height in pixels (default: the scene camera's)")
       ->check(CLI::Range(1, 32768));
-  app.add_option("--ao-rays", options.ao_rays, "AO rays per primary hit")->check(CLI::Range(1, 1024));
-  std::string ao_directions = "random";
-  app.add_option("--ao-directions", ao_directions,
-                 "AO ray directions: random (--ao-rays per hit), or 33|129|513|2049|8193: one ray along each line of that "
-                 "octahedral set (VLF-RT's AO; beam:dirs= of the same count traces them on its fast path)")
-      ->check(CLI::IsMember({"random", "33", "129", "513", "2049", "8193"}));
+  // The render settings the ray sets share with visfield render, declared once (render_setting_specs()).
+  std::map<std::string, std::string, std::less<>> settings;
+  for (const RenderSettingSpec& spec : render_setting_specs())
+    if (std::string_view key = spec.param.key;
+        key == "ao_rays" || key == "ao_directions" || key == "max_distance" || key == "seed" || key == "integrator")
+      cli::add_param_option(app, spec.param, settings[std::string(key)]);
+  settings.at("ao_rays") = std::to_string(options.ao_rays);  // fewer than a render's: each hit's rays are one workload's
+  app.get_option("--ao-rays")->default_str(settings.at("ao_rays"));
+  settings.at("integrator") = options.integrator;
+  app.get_option("--integrator")->default_str(options.integrator)->description("(--walk) " +
+                                                                              app.get_option("--integrator")->get_description());
   std::string ray_order = "pixel";
   app.add_option("--ray-order", ray_order,
                  "pixel: each pixel's rays together (as visfield render traces them for most structures); line: AO rays "
                  "along the lines (--ao-directions N) grouped by line, pixel order within each (the VLF-RT workload as "
                  "a stream per line), handed to every structure in that order")
       ->check(CLI::IsMember({"pixel", "line"}));
-  app.add_option("--max-distance", options.max_distance,
-                 "AO ray length in scene units (default unlimited, as visfield render)");
-  app.add_option("--seed", options.seed, "Seed of the AO, shadow and random rays");
   app.add_option("--reps", options.reps, "Timed repetitions (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--warmup", options.warmup, "Untimed runs before the timed ones")->check(CLI::Range(0, 100));
   app.add_option("--dynamic", options.dynamic_frames,
@@ -108,8 +105,6 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
                  "--accel structure in turn (objects moved in place where the structure can, else rebuilt), timing each "
                  "frame's update and render (the VLF-RT paper's Figure 6); --rays is not needed")
       ->check(CLI::Range(2, 1000000));
-  app.add_option("--integrator", options.integrator, "What --walk renders")
-      ->check(CLI::IsMember({"raycast", "whitted", "ao", "softshadow", "glossy", "path"}));
   app.add_option("--walk-csv", options.walk_csv_dir, "--walk: folder to write one CSV of frame times per structure in");
   app.add_option("--walk-plot", options.walk_plot, "--walk: the plot (.svg) of every structure's frame times");
   app.add_option("--device", options.device,
@@ -127,10 +122,14 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     throw UsageError(error.what());
   }
 
-  if (!max_memory.empty()) {
-    const double bytes = *parse_byte_size(max_memory);
-    set_memory_limit(bytes, "--max-memory " + format_bytes(bytes));
-  }
+  std::string written;
+  for (const auto& [key, value] : settings) written += (written.empty() ? "" : ",") + key + "=" + value;
+  const RenderSettings shared = with_render_settings({}, written, "visfield-bench");
+  options.ao_rays = shared.ao_rays;
+  options.psf_level = shared.psf_level;
+  options.max_distance = shared.max_distance;
+  options.seed = shared.seed;
+  options.integrator = settings.at("integrator");
   check_device(options);
   if (options.walk_frames > 0) {
     if (accel_list.empty()) throw UsageError("--accel is required");
@@ -142,8 +141,6 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
   if (kind_name.empty()) throw UsageError("--rays is required");
   if (accel_list.empty()) throw UsageError("--accel is required");
   options.kind = *parse_ray_kind(kind_name);
-  for (int level = DirectionLines::kMinLevel; level <= DirectionLines::kMaxLevel; ++level)
-    if (ao_directions == std::to_string(DirectionLines::count(level))) options.psf_level = level;
   options.accels = split_spec_list(accel_list);
   options.line_major = ray_order == "line";
   if (options.line_major && (options.kind != RayKind::ao || options.psf_level == 0))
@@ -153,8 +150,6 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     if (options.dynamic_frames == 0) throw UsageError("--move-object: only with --dynamic");
     options.move_object = static_cast<std::uint32_t>(move_object);
   }
-  if (!(options.max_distance > 0.0f))
-    throw UsageError("--max-distance: must be positive, got " + app["--max-distance"]->as<std::string>());
   check_accel_specs(options.accels);
   return options;
 }

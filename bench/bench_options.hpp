@@ -25,11 +25,11 @@ struct BenchOptions {
   RayKind kind = RayKind::primary;   ///< --rays.
   std::vector<std::string> accels;   ///< --accel specs, in the order given, no duplicates.
   std::optional<std::size_t> count;  ///< --count: exact number of rays; absent = one image's worth.
-  int threads = 0;                   ///< --threads: worker threads, 0 = all hardware threads.
+  int threads = 0;                   ///< --threads: worker threads, 0 = all hardware threads (cli::add_resource_options).
   bool json = false;                 ///< --json: print a JSON document instead of the table.
   int width = 0;                     ///< --width: image width in pixels; 0 = the scene camera's.
   int height = 0;                    ///< --height: image height in pixels; 0 = the scene camera's.
-  int ao_rays = 4;                   ///< --ao-rays: AO rays per primary hit.
+  int ao_rays = 4;                   ///< --ao-rays: AO rays per primary hit (the render setting ao_rays; 4 by default here).
   int psf_level = 0;                 ///< --ao-directions: 0 = random; L = one AO ray per line of the level-L set.
   bool line_major = false;           ///< --ray-order line: AO rays along the lines grouped by line (pixel order within one).
   float max_distance = std::numeric_limits<float>::infinity();  ///< --max-distance: AO ray length (as visfield render).
@@ -47,8 +47,6 @@ struct BenchOptions {
 
 /// Largest --count accepted (the rays alone would take 32 GB).
 inline constexpr std::int64_t kMaxRayCount = 1'000'000'000;
-/// Largest --threads accepted.
-inline constexpr int kMaxThreads = 1024;
 
 /// Parses the command line. Returns nothing when --help was asked for (the help text then went to
 /// `help_out`). Throws UsageError on a missing, malformed or out-of-range value, an unknown --accel

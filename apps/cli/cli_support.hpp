@@ -1,6 +1,7 @@
 #pragma once
-/// \file Pieces every visfield subcommand shares: the scene argument, --threads, structure options,
-/// loading with timing and warnings, and the printing of a built structure.
+/// \file Pieces every visfield subcommand and visfield-bench share: the scene argument, --threads and
+/// --max-memory, structure and parameter options, loading with timing and warnings, and the printing
+/// of a built structure.
 
 #include <cstdint>
 #include <iosfwd>
