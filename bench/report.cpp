@@ -6,12 +6,6 @@
 
 namespace vf::bench {
 
-std::string formatted(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
-
 std::string with_separators(std::size_t value) {
   const std::string digits = std::to_string(value);
   std::string out;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "agreement.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/render/ray_kind.hpp"
 
 namespace vf::bench {
@@ -61,8 +62,6 @@ struct BenchReport {
   std::vector<ResultRow> rows;                                  ///< In --accel order.
 };
 
-/// `value` printed with a printf `format` for one double, e.g. formatted("%.2f", x).
-std::string formatted(const char* format, double value);
 /// 12345678 -> "12,345,678".
 std::string with_separators(std::size_t value);
 /// `text` right-aligned in `width` columns (never cut).

@@ -8,6 +8,7 @@
 #include "select_cli_support.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/io/scene_file.hpp"
 #include "visfield/registry/planning.hpp"
 
@@ -26,12 +27,6 @@ struct SelectCommandOptions {
   std::uint64_t seed = 1;
   int threads = 0;
 };
-
-std::string cell(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 
 int run_select(const SelectCommandOptions& o) {
   PlanRequest request;
@@ -57,17 +52,17 @@ int run_select(const SelectCommandOptions& o) {
             << " in its meshes, " << profile.objects << " objects)\n"
             << "calibration:  " << (o.calibration.empty() ? "built in" : o.calibration) << " (" << calibration.machine.cpu_model
             << ", " << calibration.machine.threads << " threads)\n"
-            << "workload:     " << cell("%.0f", request.rays) << " " << ray_kind_name(request.kind) << " rays, "
-            << cell("%.0f", request.updates) << " updates, error <= " << cell("%g", request.max_error) << ", memory limit "
+            << "workload:     " << formatted("%.0f", request.rays) << " " << ray_kind_name(request.kind) << " rays, "
+            << formatted("%.0f", request.updates) << " updates, error <= " << formatted("%g", request.max_error) << ", memory limit "
             << memory.source << ", " << limit.threads() << " threads\n";
   const double sample_us = profile.grid_sample_us[plan_kind_index(request.kind)];
   if (sample_us > 0.0)
-    std::cout << "grid sample:  " << cell("%.4f", sample_us) << " us per ray (" << sample_rays << " rays), built in "
-              << cell("%.3f", profile.grid_build_ms) << " ms; AO rays occluded " << cell("%.3f", profile.ao_occluded) << "\n";
+    std::cout << "grid sample:  " << formatted("%.4f", sample_us) << " us per ray (" << sample_rays << " rays), built in "
+              << formatted("%.3f", profile.grid_build_ms) << " ms; AO rays occluded " << formatted("%.3f", profile.ao_occluded) << "\n";
   else
     std::cout << "grid sample:  none (the scene is too large to flatten for it)\n";
   if (profile.field_probe_rms >= 0.0)
-    std::cout << "field probe:  " << kFieldProbe << " RMS " << cell("%.3f", profile.field_probe_rms) << " (0-255)\n";
+    std::cout << "field probe:  " << kFieldProbe << " RMS " << formatted("%.3f", profile.field_probe_rms) << " (0-255)\n";
   std::cout << "\ncandidate                               build ms     us/ray  update ms     total ms       memory  error  \n";
   for (std::size_t i = 0; i < plan.rows.size(); ++i) {
     const PlanRow& r = plan.rows[i];

@@ -12,6 +12,7 @@
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/field/field_params.hpp"
 #include "visfield/render/progress.hpp"
 #include "visfield/select/calibration.hpp"
@@ -278,13 +279,6 @@ constexpr ParamSpec kAutoParams[] = {
     {"calibration", ParamType::text, "", "calibration file from `visfield calibrate` (default: built in)"},
 };
 
-// `value` as %g writes it.
-std::string number_text(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 // The planner's request of an auto spec; the calibration is loaded (and checked against this machine)
 // when the spec names one.
 PlanRequest auto_request(const ParamValues& p, const BuildContext& context) {
@@ -313,7 +307,7 @@ BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const B
   const std::string& chosen = plan.rows[plan.chosen].spec;
   BuiltStructure built = build_structure(chosen, geometry, context, "auto -> ");
   built.resolved = "auto:kind=" + p.text("kind") + ",rays=" + std::to_string(static_cast<std::uint64_t>(request.rays)) +
-                   (request.max_error > 0.0 ? ",error=" + number_text(request.max_error) : "") +
+                   (request.max_error > 0.0 ? ",error=" + formatted("%g", request.max_error) : "") +
                    (request.updates > 0.0 ? ",updates=" + std::to_string(p.whole("updates")) : "") +
                    (p.has("calibration") ? ",calibration=" + p.text("calibration") : "") + " -> " + built.resolved;
   return built;

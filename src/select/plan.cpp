@@ -8,6 +8,7 @@
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/statistics.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/select/calibration.hpp"
 
 namespace vf {
@@ -98,12 +99,6 @@ std::array<double, 4> least_squares(const std::vector<std::array<double, 4>>& x,
   std::array<double, 4> beta{};
   for (int i = 0; i < 4; ++i) beta[i] = a[i][i] != 0.0 ? a[i][4] / a[i][i] : 0.0;
   return beta;
-}
-
-std::string format_number(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
 }
 
 // The log RMS a field error measurement counts as (an RMS of 0 would have no logarithm).
@@ -287,9 +282,9 @@ Plan make_plan(const PlanModel& model, const SceneProfile& profile, const PlanRe
     else if (c.approximate() && profile.field_probe_rms < 0.0)
       row.excluded = "the scene was not probed with a field";
     else if (c.approximate() && row.error > request.max_error)
-      row.excluded = "predicted RMS " + format_number("%.2f", row.error) + " > error " + format_number("%g", request.max_error);
+      row.excluded = "predicted RMS " + formatted("%.2f", row.error) + " > error " + formatted("%g", request.max_error);
     else if (row.bytes > request.max_memory)
-      row.excluded = "needs " + format_number("%.3g", row.bytes / (1024.0 * 1024.0)) + " MiB, over the memory limit";
+      row.excluded = "needs " + formatted("%.3g", row.bytes / (1024.0 * 1024.0)) + " MiB, over the memory limit";
     if (row.excluded.empty() && (plan.chosen == std::numeric_limits<std::size_t>::max() || row.total_ms < plan.rows[plan.chosen].total_ms))
       plan.chosen = plan.rows.size();
     plan.rows.push_back(std::move(row));
@@ -302,12 +297,12 @@ Plan make_plan(const PlanModel& model, const SceneProfile& profile, const PlanRe
     if (i != plan.chosen && plan.rows[i].excluded.empty() &&
         (runner == std::numeric_limits<std::size_t>::max() || plan.rows[i].total_ms < plan.rows[runner].total_ms))
       runner = i;
-  plan.reason = "lowest predicted total, " + format_number("%.4g", win.total_ms) + " ms (build " + format_number("%.4g", win.build_ms) +
-                " + rays " + format_number("%.4g", request.rays * win.ray_us / 1000.0) + " + updates " +
-                format_number("%.4g", request.updates * win.update_ms) + ")";
+  plan.reason = "lowest predicted total, " + formatted("%.4g", win.total_ms) + " ms (build " + formatted("%.4g", win.build_ms) +
+                " + rays " + formatted("%.4g", request.rays * win.ray_us / 1000.0) + " + updates " +
+                formatted("%.4g", request.updates * win.update_ms) + ")";
   if (runner != std::numeric_limits<std::size_t>::max())
-    plan.reason += "; next " + plan.rows[runner].spec + " at " + format_number("%.4g", plan.rows[runner].total_ms) + " ms (" +
-                   format_number("%.2f", plan.rows[runner].total_ms / std::max(win.total_ms, 1e-12)) + "x)";
+    plan.reason += "; next " + plan.rows[runner].spec + " at " + formatted("%.4g", plan.rows[runner].total_ms) + " ms (" +
+                   formatted("%.2f", plan.rows[runner].total_ms / std::max(win.total_ms, 1e-12)) + "x)";
   return plan;
 }
 

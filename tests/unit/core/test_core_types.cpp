@@ -9,6 +9,7 @@
 #include "visfield/core/sampling.hpp"
 #include "visfield/core/statistics.hpp"
 #include "visfield/core/stopwatch.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf {
@@ -131,6 +132,13 @@ TEST(Sampling, CosineHemisphereHasMeanCosineTwoThirds) {
     sum += d.z;
   }
   EXPECT_NEAR(sum / n, 2.0 / 3.0, 0.005);
+}
+
+TEST(Text, FormattedPrintsOneDoubleAsThePatternSays) {
+  EXPECT_EQ(formatted("%.2f", 3.14159), "3.14");
+  EXPECT_EQ(formatted("%g", 1e9), "1e+09");
+  EXPECT_EQ(formatted("approx: %.1f%% differ", 12.345), "approx: 12.3% differ");
+  EXPECT_EQ(formatted("%.3f", -0.0005), "-0.001");
 }
 
 TEST(Memory, RequestsBeyondTheAvailableMemoryAreRefusedWithTheEstimate) {
