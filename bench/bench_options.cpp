@@ -8,7 +8,6 @@
 
 #include "bench_accel.hpp"
 #include "cli_support.hpp"
-#include "visfield/core/direction_lines.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/spec.hpp"
@@ -78,7 +77,7 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
     if (std::string_view key = spec.param.key;
         key == "ao_rays" || key == "ao_directions" || key == "max_distance" || key == "seed" || key == "integrator")
       cli::add_param_option(app, spec.param, settings[std::string(key)]);
-  settings.at("ao_rays") = std::to_string(options.ao_rays);  // fewer than a render's: each hit's rays are one workload's
+  settings.at("ao_rays") = std::to_string(options.ao_rays);  // 4 per hit by default, as the bench always had
   app.get_option("--ao-rays")->default_str(settings.at("ao_rays"));
   settings.at("integrator") = options.integrator;
   app.get_option("--integrator")->default_str(options.integrator)->description("(--walk) " +
