@@ -8,13 +8,15 @@
 #   device    nvidia-smi, the driver, the kernels' registers and stack frames (cuobjdump)
 #   tests     test_cuda with VISFIELD_REQUIRE_CUDA=1 (no device: fail, not skip), every kernel kind
 #             against the CPU bit for bit on >= 10M rays; test_gpu (the device code on the host)
-#   memcheck  a subset of test_cuda under compute-sanitizer memcheck, a tenth of the rays
+#   sanitizers  a subset of test_cuda under compute-sanitizer memcheck (a tenth of the rays), then
+#             racecheck, initcheck and synccheck (a fiftieth)
 #   bench     visfield-bench --device cuda: AO on bunny, sponza and conference, fields and exact BVH, GPU vs CPU
 #   figures   the GPU paper's Figures 5, 3 and 7 (visfield-experiments --device cuda --figure gpu5, gpu3,
-#             gpu7), an AO render of igea
+#             gpu7), an AO render of igea; the same render through the exact GPU BVH, and both against
+#             the CPU renderer's images of the same settings (visfield compare)
 #   ncu       Nsight Compute on the AO kernel's two launches (fields, then the exact BVH), when a minute is left
 # Writes to $OUT (else gpu-bundle/out), at most 8 files: summary.md (the one-screen table, also
-# printed last), device.txt, tests.log, memcheck.log, bench.log, figures.log, igea-ao.png, ncu.log.
+# printed last), device.txt, tests.log, sanitizers.log, bench.log, figures.log, igea-ao.png, ncu.log.
 # Without a GPU it checks that every program loads from the bundle alone, says so in one line and
 # exits 0; a program that does not load is an error (exit 1).
 set -uo pipefail
@@ -107,10 +109,16 @@ echo "run.sh: $device, driver $driver, $(date -u +%Y-%m-%d), budget ${budget}s"
 VISFIELD_REQUIRE_CUDA=1 step tests 200 "$out/tests.log" "$bin/test_cuda"
 step gpu-unit 60 "$out/tests.log" "$bin/test_gpu"
 
-# 3. compute-sanitizer memcheck on a subset at a tenth of the rays (memcheck slows kernels ~100x).
-VISFIELD_REQUIRE_CUDA=1 VISFIELD_TEST_SCALE=0.1 step memcheck 120 "$out/memcheck.log" \
-  compute-sanitizer --tool memcheck --leak-check full --error-exitcode 99 "$bin/test_cuda" \
-  --gtest_filter='Cuda.EmptyInputs*:Cuda.ExactBvhBatch*:Cuda.FieldBatch*:Cuda.AoKernels*:Cuda.SoftShadowAndGlossy*'
+# 3. compute-sanitizer on a subset: memcheck at a tenth of the rays (it slows kernels ~100x), then
+#    racecheck (shared-memory hazards), initcheck (reads of memory nothing wrote) and synccheck
+#    (barriers and warp intrinsics such as the counts' __match_any_sync) at a fiftieth.
+subset='Cuda.EmptyInputs*:Cuda.ExactBvhBatch*:Cuda.FieldBatch*:Cuda.AoKernels*:Cuda.SoftShadowAndGlossy*'
+VISFIELD_REQUIRE_CUDA=1 VISFIELD_TEST_SCALE=0.1 step memcheck 120 "$out/sanitizers.log" \
+  compute-sanitizer --tool memcheck --leak-check full --error-exitcode 99 "$bin/test_cuda" --gtest_filter="$subset"
+for tool in racecheck initcheck synccheck; do
+  VISFIELD_REQUIRE_CUDA=1 VISFIELD_TEST_SCALE=0.02 step "$tool" 90 "$out/sanitizers.log" \
+    compute-sanitizer --tool "$tool" --error-exitcode 99 "$bin/test_cuda" --gtest_filter="$subset"
+done
 
 # 4. The benchmark: AO from the camera's hits of a 1024x1024 view, 64 rays a hit, on the GPU beside
 #    the CPU (all cores), fields 4226 x 32^2 (the default) and the exact GPU BVH.
@@ -125,13 +133,25 @@ step gpu3 90 "$out/figures.log" "$bin/visfield-experiments" --device cuda --figu
 step gpu7 90 "$out/figures.log" "$bin/visfield-experiments" --device cuda --figure gpu7 --scene "$models/bun_zipper.ply" --threads "$threads"
 step render 60 "$out/figures.log" "$bin/visfield" render "$models/igea-triangles.ply" --device cuda --occluders field --ao-rays 121 \
   --width 512 --height 512 --out "$out/igea-ao.png" --no-progress
+# The device's renders against the CPU renderer's, same settings, through fields and through the exact
+# BVH. The CPU makes its AO rays with libm's sines, the device with the lookups' polynomials, so
+# the images differ by a few ulps of direction, not by a different estimator (EXR: no 8-bit rounding).
+images=${TMPDIR:-/tmp}/visfield-images
+mkdir -p "$images"
+for occluder in field exact; do
+  for where in cuda cpu; do
+    step "render-$occluder-$where" 60 "$out/figures.log" "$bin/visfield" render "$models/igea-triangles.ply" --device "$where" \
+      --occluders "$occluder" --ao-rays 121 --width 512 --height 512 --threads "$threads" --out "$images/igea-$occluder-$where.exr" --no-progress
+  done
+  step "compare-$occluder" 30 "$out/figures.log" "$bin/visfield" compare "$images/igea-$occluder-cuda.exr" "$images/igea-$occluder-cpu.exr"
+done
 
 # 6. What bounds the AO kernel over fields and over the exact BVH: one launch of each through Nsight
 #    Compute, if a minute is left.
 if command -v ncu >/dev/null && ((budget - (SECONDS - start) >= 60)); then
-  step ncu 60 "$out/ncu.log" ncu --clock-control none --kernel-name regex:^ao_kernel --launch-count 2 \
+  step ncu 90 "$out/ncu.log" ncu --clock-control none --kernel-name regex:^ao_kernel --launch-count 2 \
     --section SpeedOfLight --section ComputeWorkloadAnalysis --section MemoryWorkloadAnalysis --section Occupancy \
-    --section LaunchStats --section WarpStateStats \
+    --section LaunchStats --section WarpStateStats --section InstructionStats \
     "$bin/visfield-bench" --device cuda --scene "$models/bun_zipper.ply" --rays ao --ao-rays 64 --width 512 --height 512 \
     --accel bvh,field --threads "$threads" --warmup 0 --reps 1
 fi
@@ -153,7 +173,13 @@ passed=$(grep -m1 -oE '^\[  PASSED  \] [0-9]+' <<<"$cuda_log" | grep -oE '[0-9]+
 failed=$(grep -m1 -oE '^\[  FAILED  \] [0-9]+ tests?,' <<<"$cuda_log" | grep -oE '[0-9]+')
 skipped=$(grep -m1 -oE '^\[  SKIPPED \] [0-9]+ tests?,' <<<"$cuda_log" | grep -oE '[0-9]+')
 tests_line="${passed:-0} passed, ${failed:-0} failed, ${skipped:-0} skipped"
-memcheck=$(grep -m1 'ERROR SUMMARY' "$out/memcheck.log" 2>/dev/null | sed 's/^=* *//')
+summary_of() {  # summary_of TOOL: the sanitizer's closing count for its step
+  sed -n "/^## $1 (/,/^## $1:/p" "$out/sanitizers.log" 2>/dev/null | grep -E -m1 'ERROR SUMMARY|RACECHECK SUMMARY' | sed 's/^=* *//'
+}
+rms_of() {  # rms_of OCCLUDER: visfield compare's RMS (0-255) of the device's render against the CPU's
+  sed -n "/^## compare-$1 (/,/^## compare-$1:/p" "$out/figures.log" 2>/dev/null | awk '$1 == "rms:" {print $2; exit}'
+}
+deep=$(grep -m1 '^nested shells: stack bound' "$out/tests.log" 2>/dev/null | sed 's/^nested shells: //')
 frame=$(column "$out/figures.log" '| fields, kernel |' 3)
 summary=$(
   cat <<EOF
@@ -168,7 +194,9 @@ $(cat "$here/BUILD" | head -1); $threads CPU threads; $((SECONDS - start)) s of 
 | rays compared bit for bit: fields inter / intra (closest and any each) | $(rays fields-inter) / $(rays fields-intra) | >= 10M each, 0 differ |
 | rays compared bit for bit: AO kernel, fields / BVH | $(rays ao-kernel-fields) / $(rays ao-kernel-bvh) | >= 10M each, 0 differ |
 | test_gpu (device code on the host) | ${status[gpu-unit]:-not run} | ok |
-| compute-sanitizer memcheck, subset | ${status[memcheck]:-not run}: ${memcheck:-no summary} | 0 errors |
+| compute-sanitizer memcheck, subset | ${status[memcheck]:-not run}: $(summary_of memcheck) | 0 errors |
+| racecheck / initcheck / synccheck, subset | $(for t in racecheck initcheck synccheck; do printf '%s: %s; ' "${status[$t]:-not run}" "$(summary_of $t)"; done) | 0 each |
+| the largest stack capacity, 80 nested shells | ${deep:-not run} | 449, 0 differ |
 | field AO, device rays, bunny 4226 x 32^2 (G rays/s) | $(column "$out/bench.log" '| fields: ' 4) | >= 20 |
 | field AO through 3D textures, bunny (G rays/s) | $(column "$out/bench.log" '| fields in 3D textures: ' 4) | (measured) |
 | exact GPU BVH AO, bunny (G rays/s) | $(column "$out/bench.log" '| exact GPU BVH: ' 4) | >= 1.5 |
@@ -178,9 +206,10 @@ $(cat "$here/BUILD" | head -1); $threads CPU threads; $((SECONDS - start)) s of 
 | Figure 5: igea 16642 x 64^2, 121 rays, 512x512 (ms a frame) | ${frame:-?} | <= 5 |
 | Figures 3 and 7: GPU RMS against the CPU's | gpu3 $(apart gpu3), gpu7 $(apart gpu7) | within 1% |
 | AO render of igea on the device | ${status[render]:-not run}: igea-ao.png | |
+| igea render, device against CPU renderer (RMS 0-255): fields / exact BVH | $(rms_of field) / $(rms_of exact) | ulps of direction |
 | ncu, field AO kernel | ${status[ncu]:-not run}: ncu.log | |
 
-Steps (s): $(for s in kernels tests gpu-unit memcheck bench-bun_zipper bench-sponza bench-conference gpu5 gpu3 gpu7 render ncu; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
+Steps (s): $(for s in kernels tests gpu-unit memcheck racecheck initcheck synccheck bench-bun_zipper bench-sponza bench-conference gpu5 gpu3 gpu7 render render-field-cuda render-field-cpu render-exact-cuda render-exact-cpu ncu; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
 EOF
 )
 echo "$summary" >"$out/summary.md"

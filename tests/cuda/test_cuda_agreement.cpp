@@ -8,12 +8,14 @@
 // under compute-sanitizer memcheck at a hundredth of the rays.
 
 #include <cstdint>
+#include <cstdio>
 #include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "cuda/gpu_fixtures.hpp"
+#include "differential/test_scenes.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
@@ -25,6 +27,7 @@
 #include "visfield/cuda/field_textures.hpp"
 #include "visfield/cuda/kernels.hpp"
 #include "visfield/field/field_scene.hpp"
+#include "visfield/gpu/bvh_traversal.hpp"
 #include "visfield/gpu/gpu_bvh.hpp"
 #include "visfield/gpu/packed_scene.hpp"
 
@@ -149,11 +152,15 @@ TEST(Cuda, ExactBvhBatchEqualsTheCpuBitForBit) {
   VF_REQUIRE_CUDA_DEVICE();
   std::vector<std::pair<std::string, TriangleSet>> sets;
   sets.emplace_back("soup", flatten(make_builtin_scene("soup", {.seed = 3, .size = 200000})));
+  // A tree whose stack bound passes 128: the kernels' largest stack capacity runs.
+  sets.emplace_back("nested shells", set_from_triangles(nested_shells(80, 24)));
   for (const char* model : {"bun_zipper.ply", "sponza.obj", "conference.obj"})
     if (const std::optional<Scene> scene = shared_model(model)) sets.emplace_back(model, flatten(*scene));
   for (const auto& [name, set] : sets) {
     const gpu::GpuBvh layout = gpu::GpuBvh::build(set);
     const cuda::DeviceBvh device = cuda::DeviceBvh::upload(layout);
+    if (name == "nested shells") EXPECT_EQ(gpu::stack_capacity_for(layout.stack_bound()), gpu::kStackCapacities[3]) << layout.stack_bound();
+    std::printf("%s: stack bound %u, kernel stack capacity %d\n", name.c_str(), layout.stack_bound(), gpu::stack_capacity_for(layout.stack_bound()));
     const Bvh cpu = Bvh::build(set);
     const std::vector<Ray> rays = mixed_rays(set, 99, scaled_count(3'000'000));
     const std::vector<Hit> expected = cpu_hits(cpu, rays);

@@ -3,6 +3,7 @@
 /// coplanar sets, duplicates, a shared-edge height field.
 
 #include <array>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -81,6 +82,21 @@ inline std::vector<Triangle> random_soup(std::uint64_t seed, std::size_t count, 
     if (!is_degenerate_triangle(t[0], t[1], t[2])) out.push_back(t);
   }
   return out;
+}
+
+/// `levels` shells of `per_level` random triangles about the origin, every second level half the
+/// size of the one before: a deep, narrow BVH (40 levels bound a GPU traversal stack near 100
+/// entries, 80 past 128, so the kernels' largest stack capacity runs).
+inline std::vector<Triangle> nested_shells(int levels, std::size_t per_level) {
+  std::vector<Triangle> shells;
+  for (int level = 0; level < levels; ++level) {
+    const float r = std::ldexp(1.0f, -level / 2);
+    // Made at unit size and scaled: made at their own size, the deep levels' corners would round
+    // together in the unit cube.
+    for (const Triangle& t : random_soup(100 + static_cast<std::uint64_t>(level), per_level, 0.05f * std::max(r, 0x1p-8f), 0.1f * std::max(r, 0x1p-8f)))
+      shells.push_back({t[0] * r, t[1] * r, t[2] * r});
+  }
+  return shells;
 }
 
 /// `count` random triangles all in the plane through `origin` spanned by e1, e2 (exactly in it when

@@ -196,17 +196,11 @@ TEST(GpuBvh, StackBoundIsTheLayoutsAndTheKernelsCapacityHoldsIt) {
     std::string name;
     std::vector<Triangle> triangles;
   };
-  // Nested shells of halving size make a deep, narrow tree: a bound past the smallest capacity.
-  std::vector<Triangle> shells;
-  for (int level = 0; level < 40; ++level) {
-    const float r = std::ldexp(1.0f, -level / 2);
-    for (const Triangle& t : random_soup(100 + static_cast<std::uint64_t>(level), 24, 0.05f * r, 0.1f * r))
-      shells.push_back({t[0] * r, t[1] * r, t[2] * r});
-  }
   const std::vector<Case> cases = {{"one triangle", {{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}},
                                    {"fine soup", random_soup(4, 20000, 0.0005f, 0.02f)},
                                    {"mixed scales", random_soup(5, 5000, 1e-4f, 0.5f)},
-                                   {"nested shells", shells}};
+                                   {"nested shells", nested_shells(40, 24)},
+                                   {"deeper nested shells", nested_shells(80, 24)}};
   std::vector<int> capacities_seen;
   for (const Case& c : cases) {
     const TriangleSet set = set_from_triangles(c.triangles);
@@ -225,10 +219,12 @@ TEST(GpuBvh, StackBoundIsTheLayoutsAndTheKernelsCapacityHoldsIt) {
       expect_capacity_suffices<gpu::kStackCapacities[1]>(bvh, rays, c.name);
     else if (capacity == gpu::kStackCapacities[2])
       expect_capacity_suffices<gpu::kStackCapacities[2]>(bvh, rays, c.name);
+    else
+      expect_capacity_suffices<gpu::kStackCapacities[3]>(bvh, rays, c.name);
     std::printf("%s: %zu triangles, depth %d, stack bound %u, capacity %d\n", c.name.c_str(), set.size(), bvh.stats().max_depth, bound,
                 capacity);
   }
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < 4; ++k)
     EXPECT_NE(std::find(capacities_seen.begin(), capacities_seen.end(), gpu::kStackCapacities[k]), capacities_seen.end())
         << "no case exercised capacity " << gpu::kStackCapacities[k];
   EXPECT_EQ(gpu::GpuBvh::build(TriangleSet{}).stack_bound(), 0u);
