@@ -33,7 +33,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
-    const Ray ray = gpu::ao_ray(points[i], p.seed, i, k, p.max_distance);
+    const Ray ray = detail::ao_ray_of(points, i, k, p);
     detail::add_vote(unoccluded, i, !detail::occluded_texture<Capacity>(view, textures, stacks, ray));
   }
 }

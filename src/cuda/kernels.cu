@@ -18,7 +18,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
-    const Ray ray = gpu::ao_ray(points[i], p.seed, i, k, p.max_distance);
+    const Ray ray = detail::ao_ray_of(points, i, k, p);
     detail::add_vote(unoccluded, i, !gpu::occluded<Capacity>(view, ray));
   }
 }
@@ -48,7 +48,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
     detail::divide(idx, rays, i, k);
     const GlossyPoint& p = points[i];
     const gpu::GlossySample s = gpu::glossy_ray(p.frame, p.wo, p.alpha, seed, i, k);
-    hits[idx] = s.valid ? gpu::intersect<Capacity>(view, s.ray) : Hit{};
+    detail::store_hit(hits + idx, s.valid ? gpu::intersect<Capacity>(view, s.ray) : Hit{});
     weights[idx] = s.valid ? s.weight : 0.0f;
   }
 }

@@ -11,8 +11,10 @@
 #include <type_traits>
 
 #include "visfield/cuda/device.hpp"
+#include "visfield/cuda/kernels.hpp"
 #include "visfield/gpu/bvh_traversal.hpp"
 #include "visfield/gpu/field_scene_view.hpp"
+#include "visfield/gpu/ray_generation.hpp"
 
 namespace vf::cuda::detail {
 
@@ -99,6 +101,23 @@ __device__ inline void divide(std::size_t n, std::size_t d, std::size_t& q, std:
     q = n / d;
     r = n - q * d;
   }
+}
+
+/// AO ray k of point i as `p` asks for it: keyed by (seed, i, k), or continuing p.streams[i].
+__device__ inline Ray ao_ray_of(const gpu::SurfaceFrame* points, std::size_t i, std::size_t k, const AoParams& p) {
+  return p.streams != nullptr ? gpu::ao_ray(points[i], p.streams[i], k, p.max_distance) : gpu::ao_ray(points[i], p.seed, i, k, p.max_distance);
+}
+
+/// *out = h with every byte stored, Hit's two padding bytes too: a member-wise store leaves them
+/// unwritten, and copying the array back then reads memory nothing wrote (compute-sanitizer's
+/// initcheck reports it).
+__device__ inline void store_hit(Hit* out, const Hit& h) {
+  static_assert(sizeof(Hit) % sizeof(std::uint32_t) == 0 && alignof(Hit) >= alignof(std::uint32_t), "Hit is stored in words");
+  std::uint32_t words[sizeof(Hit) / sizeof(std::uint32_t)];
+  memcpy(words, &h, sizeof(Hit));
+  std::uint32_t* to = reinterpret_cast<std::uint32_t*>(out);
+#pragma unroll
+  for (std::size_t w = 0; w < sizeof(Hit) / sizeof(std::uint32_t); ++w) to[w] = words[w];
 }
 
 /// counts[key] += 1 for every thread of the warp here with `yes` set, one atomic per group of

@@ -1,6 +1,9 @@
 #include "visfield/cuda/render_ao.hpp"
 
+#include <cstddef>
 #include <span>
+#include <utility>
+#include <vector>
 
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
@@ -12,12 +15,14 @@
 namespace vf::cuda {
 
 std::vector<gpu::SurfaceFrame> camera_surface_frames(const SceneQueries& queries, const Scene& scene, const Camera& camera, int spp,
-                                                     std::uint64_t seed, std::vector<std::int64_t>& slot_point) {
+                                                     std::uint64_t seed, std::vector<std::int64_t>& slot_point,
+                                                     std::vector<Rng>* streams) {
   const PinholeCamera pinhole(camera);
   const SurfaceSpawner spawner(scene);
   const std::size_t width = static_cast<std::size_t>(pinhole.width()), samples = static_cast<std::size_t>(spp);
   const std::size_t slots = width * static_cast<std::size_t>(pinhole.height()) * samples;
   std::vector<gpu::SurfaceFrame> frames(slots);
+  std::vector<Rng> generators(streams ? slots : 0, Rng(0));
   std::vector<std::uint8_t> hit(slots, 0);
   vf::parallel_for(0, pinhole.height(), [&](int y) {
     for (int x = 0; x < pinhole.width(); ++x) {
@@ -29,6 +34,7 @@ std::vector<gpu::SurfaceFrame> camera_surface_frames(const SceneQueries& queries
         if (!h) continue;
         const std::size_t slot = pixel * samples + static_cast<std::size_t>(s);
         frames[slot] = surface_frame(spawner.surface_point(primary, h));
+        if (streams) generators[slot] = rng;
         hit[slot] = 1;
       }
     }
@@ -38,9 +44,14 @@ std::vector<gpu::SurfaceFrame> camera_surface_frames(const SceneQueries& queries
   for (std::size_t k = 0; k < slots; ++k) {
     if (!hit[k]) continue;
     frames[next] = frames[k];
+    if (streams) generators[next] = generators[k];
     slot_point[k] = static_cast<std::int64_t>(next++);
   }
   frames.resize(next);
+  if (streams) {
+    generators.erase(generators.begin() + static_cast<std::ptrdiff_t>(next), generators.end());
+    *streams = std::move(generators);
+  }
   return frames;
 }
 
@@ -51,10 +62,12 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
   if ((occluder.fields == nullptr) == (occluder.exact == nullptr)) throw Error("ao on the GPU: give fields or an exact BVH");
   const Stopwatch watch;
   std::vector<std::int64_t> slot_point;
-  const std::vector<gpu::SurfaceFrame> frames = camera_surface_frames(queries, scene, camera, o.spp, o.seed, slot_point);
+  std::vector<Rng> streams;
+  const std::vector<gpu::SurfaceFrame> frames = camera_surface_frames(queries, scene, camera, o.spp, o.seed, slot_point, &streams);
   const auto d_frames = DeviceArray<gpu::SurfaceFrame>::from(std::span<const gpu::SurfaceFrame>(frames));
+  const auto d_streams = DeviceArray<Rng>::from(std::span<const Rng>(streams));
   DeviceArray<std::uint32_t> d_open(frames.size());
-  const AoParams params{o.ao_rays, o.seed, o.max_distance};
+  const AoParams params{o.ao_rays, o.seed, o.max_distance, d_streams.data()};
   if (occluder.fields)
     ambient_occlusion(*occluder.fields, d_frames.data(), frames.size(), params, d_open.data());
   else

@@ -26,10 +26,13 @@
 #include "visfield/cuda/device_scene.hpp"
 #include "visfield/cuda/field_textures.hpp"
 #include "visfield/cuda/kernels.hpp"
+#include "visfield/cuda/render_ao.hpp"
 #include "visfield/field/field_scene.hpp"
 #include "visfield/gpu/bvh_traversal.hpp"
 #include "visfield/gpu/gpu_bvh.hpp"
 #include "visfield/gpu/packed_scene.hpp"
+#include "visfield/render/ao.hpp"
+#include "visfield/render/compare.hpp"
 
 namespace vf::test {
 namespace {
@@ -159,7 +162,9 @@ TEST(Cuda, ExactBvhBatchEqualsTheCpuBitForBit) {
   for (const auto& [name, set] : sets) {
     const gpu::GpuBvh layout = gpu::GpuBvh::build(set);
     const cuda::DeviceBvh device = cuda::DeviceBvh::upload(layout);
-    if (name == "nested shells") EXPECT_EQ(gpu::stack_capacity_for(layout.stack_bound()), gpu::kStackCapacities[3]) << layout.stack_bound();
+    if (name == "nested shells") {
+      EXPECT_EQ(gpu::stack_capacity_for(layout.stack_bound()), gpu::kStackCapacities[3]) << layout.stack_bound();
+    }
     std::printf("%s: stack bound %u, kernel stack capacity %d\n", name.c_str(), layout.stack_bound(), gpu::stack_capacity_for(layout.stack_bound()));
     const Bvh cpu = Bvh::build(set);
     const std::vector<Ray> rays = mixed_rays(set, 99, scaled_count(3'000'000));
@@ -231,6 +236,41 @@ TEST(Cuda, AoKernelsCountAsTheCpuOnTheSameRays) {
   cuda::DeviceArray<std::uint32_t> d_open(points.size());
   cuda::ambient_occlusion(device_fields, textures, d_points.data(), points.size(), {}, d_open.data());
   EXPECT_EQ(count_differences(d_open.to_host(), gpu_ao(device_fields, points, {})), 0u) << "textures";
+}
+
+// `visfield render --device cuda` against the CPU renderer: each sample's AO rays continue its
+// generator as render_ao's do, and the device answers them with the CPU's bits, so the images are
+// equal pixel for pixel, through fields and through the exact BVH, one sample a pixel or several.
+TEST(Cuda, DeviceAoRenderIsTheCpuRenderersImage) {
+  VF_REQUIRE_CUDA_DEVICE();
+  Scene scene = make_builtin_scene("cornell", {.size = 4000});
+  if (std::optional<Scene> bunny = shared_model("bun_zipper.ply")) scene = on_ground(*bunny);
+  const TriangleSet set = flatten(scene);
+  const Bvh bvh = Bvh::build(set);
+  const field::FieldScene fields = field::FieldScene::build(scene, {});
+  const cuda::DeviceFieldScene device_fields = cuda::DeviceFieldScene::upload(gpu::PackedFieldScene::pack(scene, fields));
+  const cuda::DeviceBvh device_bvh = cuda::DeviceBvh::upload(gpu::GpuBvh::build(set));
+  const Camera camera = scene.camera_or_default(192, 144);
+  for (const int spp : {1, 3}) {
+    AoOptions options;
+    options.spp = spp;
+    options.ao_rays = 37;
+    options.seed = 11;
+    options.progress = false;
+    const QueriesOver<Bvh, Bvh> exact(bvh, bvh);
+    const QueriesOver<Bvh, field::FieldScene> through_fields(bvh, fields);
+    const Image cpu_exact = render_ao(exact, scene, camera, options), cpu_fields = render_ao(through_fields, scene, camera, options);
+    const Image gpu_exact = cuda::render_ao(exact, scene, camera, options, {.exact = &device_bvh});
+    const Image gpu_fields = cuda::render_ao(exact, scene, camera, options, {.fields = &device_fields});
+    std::size_t differ_exact = 0, differ_fields = 0;
+    for (std::size_t i = 0; i < cpu_exact.pixels.size(); ++i) {
+      differ_exact += gpu_exact.pixels[i] == cpu_exact.pixels[i] ? 0 : 1;
+      differ_fields += gpu_fields.pixels[i] == cpu_fields.pixels[i] ? 0 : 1;
+    }
+    EXPECT_EQ(differ_exact, 0u) << spp << " samples a pixel, exact";
+    EXPECT_EQ(differ_fields, 0u) << spp << " samples a pixel, fields";
+    EXPECT_GT(compare_images(cpu_fields, cpu_exact).rms, 0.0) << "the fields did answer";
+  }
 }
 
 TEST(Cuda, SoftShadowAndGlossyKernelsAnswerAsTheCpuOnTheSameRays) {

@@ -19,10 +19,13 @@ struct AoParams {
   int rays_per_point = 64;  ///< >= 1.
   std::uint64_t seed = 1;
   float max_distance = std::numeric_limits<float>::infinity();
+  /// A device array of one generator a point, or null: when set, point i's rays continue
+  /// streams[i] (gpu::ao_ray's stream form, as the CPU renderer draws them) and `seed` is unused.
+  const Rng* streams = nullptr;
 };
 
-/// unoccluded[i] = how many of point i's AO rays gpu::ao_ray(points[i], seed, i, k, max_distance),
-/// k < rays_per_point, the scene's fields (and exact part) leave unoccluded. Inter-object AO when the
+/// unoccluded[i] = how many of point i's AO rays gpu::ao_ray(points[i], seed, i, k, max_distance)
+/// (or, with streams, gpu::ao_ray(points[i], streams[i], k, max_distance)), k < rays_per_point, the scene's fields (and exact part) leave unoccluded. Inter-object AO when the
 /// points lie outside the objects' spheres, intra-object (the GPU paper's d1-vs-d2 test) inside.
 void ambient_occlusion(const DeviceFieldScene& scene, const gpu::SurfaceFrame* points, std::size_t n, const AoParams& params,
                        std::uint32_t* unoccluded);

@@ -1,9 +1,10 @@
 #pragma once
 /// \file `visfield render --device cuda`: the ambient-occlusion image with its AO rays generated and
 /// traced on the GPU. Camera rays and the surface points they reach are the CPU renderer's
-/// (SceneQueries::intersect_camera, SurfaceSpawner); the AO rays are gpu::ao_ray's, keyed by
-/// (seed, point, ray), so the image agrees with render_ao's statistically, not bit for bit (another
-/// keying of the random numbers, and polynomial sines).
+/// (SceneQueries::intersect_camera, SurfaceSpawner), and each sample's AO rays continue its
+/// generator as the CPU renderer's do (gpu::ao_ray's stream form): the same random numbers, so the
+/// image is render_ao's up to the directions' rounding (polynomial sines on the device, libm's on
+/// the CPU), which flips the rare ray that grazes an occluder.
 
 #include <cstdint>
 #include <vector>
@@ -31,9 +32,11 @@ inline gpu::SurfaceFrame surface_frame(const SurfacePoint& p) { return {p.positi
 
 /// Camera-sample surface frames of `camera`'s view: per pixel sample (Rng(seed, pixel, s) draws the
 /// jitter, as render_ao) the frame of its hit, compacted in pixel-sample order; `slot_point[k]` is
-/// the index of sample k's frame or −1 for a miss. Parallel over rows.
+/// the index of sample k's frame or −1 for a miss; `streams` (optional) gets each frame's generator
+/// as the jitter left it, where render_ao draws that sample's AO rays from. Parallel over rows.
 std::vector<gpu::SurfaceFrame> camera_surface_frames(const SceneQueries& queries, const Scene& scene, const Camera& camera, int spp,
-                                                     std::uint64_t seed, std::vector<std::int64_t>& slot_point);
+                                                     std::uint64_t seed, std::vector<std::int64_t>& slot_point,
+                                                     std::vector<Rng>* streams = nullptr);
 
 /// The AO image with `options.ao_rays` device-generated rays a hit through `occluder`; a miss is
 /// kAoBackground, a hit the fraction of its rays left unoccluded. `stats` (optional) gets the rays

@@ -28,14 +28,27 @@ VF_HOST_DEVICE inline Vec3f to_world(const SurfaceFrame& f, const Vec3f& local) 
   return f.tangent * local.x + f.bitangent * local.y + f.normal * local.z;
 }
 
-/// AO ray `sample` of surface point `point`: two numbers from Rng(seed, point, sample), a
-/// cosine-weighted direction about the normal (unit to rounding), t in [0, max_distance].
-VF_HOST_DEVICE inline Ray ao_ray(const SurfaceFrame& f, unsigned long long seed, unsigned long long point, unsigned long long sample,
-                                 float max_distance) {
-  Rng rng(seed, point, sample);
+/// The AO ray from `f` for the next two numbers of `rng`: a cosine-weighted direction about the
+/// normal (unit to rounding), t in [0, max_distance].
+VF_HOST_DEVICE inline Ray ao_ray(const SurfaceFrame& f, Rng& rng, float max_distance) {
   const float s = rng.uniform();
   const float t = rng.uniform();
   return Ray{f.position, to_world(f, cosine_hemisphere(s, t)), 0.0f, max_distance};
+}
+
+/// AO ray `sample` of surface point `point`: its numbers from Rng(seed, point, sample).
+VF_HOST_DEVICE inline Ray ao_ray(const SurfaceFrame& f, unsigned long long seed, unsigned long long point, unsigned long long sample,
+                                 float max_distance) {
+  Rng rng(seed, point, sample);
+  return ao_ray(f, rng, max_distance);
+}
+
+/// AO ray `sample` of a point whose rays continue `stream`: numbers 2·sample and 2·sample + 1 of it
+/// (a jump ahead, O(log sample)), the rays the CPU renderer draws one after another from a pixel
+/// sample's generator (render's ao_rays()), up to the sines' rounding.
+VF_HOST_DEVICE inline Ray ao_ray(const SurfaceFrame& f, const Rng& stream, unsigned long long sample, float max_distance) {
+  Rng rng = stream.advanced(2 * sample);
+  return ao_ray(f, rng, max_distance);
 }
 
 /// A sphere light as the shadow kernels read it.

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -12,6 +13,7 @@
 #include "visfield/gpu/ray_generation.hpp"
 #include "visfield/render/bsdf.hpp"
 #include "visfield/render/lights.hpp"
+#include "visfield/render/sample_rays.hpp"
 
 namespace vf::test {
 namespace {
@@ -84,6 +86,30 @@ TEST(RayGeneration, AoRaysDependOnTheirKeysOnly) {
   const Vec3f local = cosine_hemisphere(s, t);
   expect_near(a.dir, f.tangent * local.x + f.bitangent * local.y + f.normal * local.z, kTolerance);
   for (int k = 0; k < 10000; ++k) ASSERT_GE(dot(gpu::ao_ray(f, 1, 9, k, 1.0f).dir, f.normal), 0.0f);
+}
+
+// What lets `visfield render --device cuda` draw the CPU renderer's AO rays: ray k continuing a
+// pixel sample's generator is the k-th ray render's ao_rays() draws from it, bit for bit.
+TEST(RayGeneration, AoRaysContinuingAStreamAreTheCpuRenderersBitForBit) {
+  for (const std::size_t count : {1u, 5u, 64u, 121u}) {
+    const gpu::SurfaceFrame f = frame_at({0.5f, -2.0f, 1.0f}, {-0.4f, 0.1f, 1.0f});
+    const SurfacePoint point{f.position, f.normal, f.tangent, f.bitangent, f.position, true};
+    Rng rng(5, 777 + count, 2);
+    rng.uniform();  // the camera sample's jitter draws first
+    rng.uniform();
+    const Rng stream = rng;
+    std::vector<Ray> cpu(count);
+    ao_rays(point, rng, 3.0f, count, cpu.data());
+    for (std::size_t k = 0; k < count; ++k) {
+      const Ray gpu_ray = gpu::ao_ray(f, stream, k, 3.0f);
+      ASSERT_EQ(gpu_ray.org, cpu[k].org) << k;
+      ASSERT_EQ(gpu_ray.dir, cpu[k].dir) << count << " rays, ray " << k;
+      ASSERT_EQ(gpu_ray.tmin, cpu[k].tmin);
+      ASSERT_EQ(gpu_ray.tmax, cpu[k].tmax);
+    }
+    // ao_rays leaves the generator where the next sample's numbers start.
+    EXPECT_EQ(rng.state(), stream.advanced(2 * count).state());
+  }
 }
 
 TEST(RayGeneration, ConeRaysAreTheSoftShadowIntegratorsToRounding) {
