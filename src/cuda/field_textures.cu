@@ -25,7 +25,7 @@ gpu::Texture3DLimits texture_limits() {
   return {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), static_cast<std::uint32_t>(depth)};
 }
 
-template <int Capacity>
+template <int Capacity, bool kStreams>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     ao_texture_kernel(gpu::FieldSceneView view, const unsigned long long* textures, const unsigned int* stacks,
                                   const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
@@ -33,7 +33,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
-    const Ray ray = detail::ao_ray_of(points, i, k, p);
+    const Ray ray = detail::ao_ray_of<kStreams>(points, i, k, p);
     detail::add_vote(unoccluded, i, !detail::occluded_texture<Capacity>(view, textures, stacks, ray));
   }
 }
@@ -129,9 +129,11 @@ void ambient_occlusion(const DeviceFieldScene& scene, const FieldTextures& textu
   const gpu::FieldSceneView view = scene.view();
   const auto* objects = reinterpret_cast<const unsigned long long*>(textures.device_objects());
   detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
-    detail::launch_and_finish("ambient occlusion kernel (textures)", [&] {
-      ao_texture_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, objects, textures.device_stacks(),
-                                                                                             points, n, p, unoccluded);
+    detail::with_ao_keying(p, [&](auto streams) {
+      detail::launch_and_finish("ambient occlusion kernel (textures)", [&] {
+        ao_texture_kernel<capacity.value, streams.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(
+            view, objects, textures.device_stacks(), points, n, p, unoccluded);
+      });
     });
   });
 }

@@ -11,14 +11,14 @@
 namespace vf::cuda {
 namespace {
 
-template <int Capacity, class View>
+template <int Capacity, bool kStreams, class View>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     ao_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
   const std::size_t rays = static_cast<std::size_t>(p.rays_per_point), total = n * rays;
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
-    const Ray ray = detail::ao_ray_of(points, i, k, p);
+    const Ray ray = detail::ao_ray_of<kStreams>(points, i, k, p);
     detail::add_vote(unoccluded, i, !gpu::occluded<Capacity>(view, ray));
   }
 }
@@ -60,8 +60,10 @@ void launch_ao(const View& view, const gpu::SurfaceFrame* points, std::size_t n,
   check(cudaMemset(unoccluded, 0, n * sizeof(std::uint32_t)), "cudaMemset");
   const std::size_t total = n * static_cast<std::size_t>(p.rays_per_point);
   detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
-    detail::launch_and_finish("ambient occlusion kernel", [&] {
-      ao_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, p, unoccluded);
+    detail::with_ao_keying(p, [&](auto streams) {
+      detail::launch_and_finish("ambient occlusion kernel", [&] {
+        ao_kernel<capacity.value, streams.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, p, unoccluded);
+      });
     });
   });
 }

@@ -61,13 +61,16 @@ std::vector<std::uint8_t> cpu_occluded(const S& s, std::span<const Ray> rays) {
   return o;
 }
 
-/// Per point, how many of its AO rays (generated on the host by the kernels' header) `s` leaves open.
+/// Per point, how many of its AO rays (generated on the host by the kernels' header, keyed, or
+/// continuing `streams` when given) `s` leaves open.
 template <class S>
-std::vector<std::uint32_t> cpu_ao(const S& s, const std::vector<gpu::SurfaceFrame>& points, const cuda::AoParams& p) {
+std::vector<std::uint32_t> cpu_ao(const S& s, const std::vector<gpu::SurfaceFrame>& points, const cuda::AoParams& p,
+                                  const std::vector<Rng>& streams = {}) {
   const std::size_t k = static_cast<std::size_t>(p.rays_per_point);
   std::vector<Ray> rays(points.size() * k);
   vf::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
-    for (std::size_t j = 0; j < k; ++j) rays[i * k + j] = gpu::ao_ray(points[i], p.seed, i, j, p.max_distance);
+    for (std::size_t j = 0; j < k; ++j)
+      rays[i * k + j] = streams.empty() ? gpu::ao_ray(points[i], p.seed, i, j, p.max_distance) : gpu::ao_ray(points[i], streams[i], j, p.max_distance);
   });
   const std::vector<std::uint8_t> o = cpu_occluded(s, rays);
   std::vector<std::uint32_t> open(points.size(), 0);
@@ -230,12 +233,23 @@ TEST(Cuda, AoKernelsCountAsTheCpuOnTheSameRays) {
     report_rays("ao-kernel-fields", points.size() * static_cast<std::size_t>(p.rays_per_point));
     report_rays("ao-kernel-bvh", points.size() * static_cast<std::size_t>(p.rays_per_point));
   }
-  // The texture variant reads the same cells.
+  // Rays continuing a generator a point (the device render's keying), through every kernel.
+  std::vector<Rng> streams;
+  for (std::size_t i = 0; i < points.size(); ++i) streams.push_back(Rng(5, i, i % 3).advanced(i % 5));
+  const auto d_streams = cuda::DeviceArray<Rng>::from(std::span<const Rng>(streams));
+  const cuda::AoParams continued{33, 0, 0.2f, d_streams.data()};
+  EXPECT_EQ(count_differences(gpu_ao(device_fields, points, continued), cpu_ao(fields, points, continued, streams)), 0u) << "fields, streams";
+  EXPECT_EQ(count_differences(gpu_ao(device_bvh, points, continued), cpu_ao(bvh, points, continued, streams)), 0u) << "exact, streams";
+  report_rays("ao-kernel-fields", points.size() * 33);
+  report_rays("ao-kernel-bvh", points.size() * 33);
+  // The texture variant reads the same cells, keyed or continuing streams.
   const cuda::FieldTextures textures = cuda::FieldTextures::create(packed);
   const auto d_points = cuda::DeviceArray<gpu::SurfaceFrame>::from(std::span<const gpu::SurfaceFrame>(points));
   cuda::DeviceArray<std::uint32_t> d_open(points.size());
-  cuda::ambient_occlusion(device_fields, textures, d_points.data(), points.size(), {}, d_open.data());
-  EXPECT_EQ(count_differences(d_open.to_host(), gpu_ao(device_fields, points, {})), 0u) << "textures";
+  for (const cuda::AoParams& p : {cuda::AoParams{}, continued}) {
+    cuda::ambient_occlusion(device_fields, textures, d_points.data(), points.size(), p, d_open.data());
+    EXPECT_EQ(count_differences(d_open.to_host(), gpu_ao(device_fields, points, p)), 0u) << "textures" << (p.streams ? ", streams" : "");
+  }
 }
 
 // `visfield render --device cuda` against the CPU renderer: each sample's AO rays continue its
