@@ -17,7 +17,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
 }
 
 template <int Capacity, class View>
-__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kIntersectBlocks<View>)
     intersect_kernel(View view, const Ray* rays, std::size_t n, Hit* out) {
   for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) detail::store_hit(out + i, gpu::intersect<Capacity>(view, rays[i]));
 }

@@ -22,6 +22,17 @@ inline constexpr int kBlockThreads = 256;
 /// Blocks an SM should hold at once: with 256 threads, 4 blocks cap a thread at 64 registers
 /// (50% occupancy on sm_90) where the traversal kernels would otherwise take 66-72 and hold 3.
 inline constexpr int kMinBlocksPerSm = 4;
+/// The same for the closest-hit batch kernel over `View`. Over fields, capped at 64 registers, it
+/// spilled (1.4 local-memory requests a ray) and at 80 (3 blocks) ran 8-20% faster on an H100; over
+/// the exact BVH it ran 3-7% slower so, and keeps 4. A measurement build may force one count for both
+/// (CMake VISFIELD_CUDA_CLOSEST_BLOCKS).
+#ifdef VISFIELD_CUDA_CLOSEST_BLOCKS
+template <class View>
+inline constexpr int kIntersectBlocks = VISFIELD_CUDA_CLOSEST_BLOCKS;
+#else
+template <class View>
+inline constexpr int kIntersectBlocks = std::is_same_v<View, gpu::FieldSceneView> ? 3 : kMinBlocksPerSm;
+#endif
 
 /// Blocks for `n` threads, at most 2^20 (the grid-stride loop does the rest).
 inline unsigned int blocks_for(std::size_t n) {
