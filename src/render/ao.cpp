@@ -159,7 +159,6 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
     const std::size_t samples = static_cast<std::size_t>(tile.x1 - tile.x0) * static_cast<std::size_t>(tile.y1 - tile.y0) *
                                 static_cast<std::size_t>(opt.spp);
     render_detail::OcclusionBatch batch(queries, samples);
-    std::vector<Ray> own_rays(lines ? 0 : static_cast<std::size_t>(opt.ao_rays));  // one sample's AO rays
     std::vector<float> total(samples, 0.0f);  // the weight of each sample's AO rays; < 0 for a miss
     std::size_t slot = 0;
     for (int y = tile.y0; y < tile.y1; ++y) {
@@ -185,8 +184,12 @@ Image render_ao(const SceneQueries& queries, const Scene& scene, const Camera& c
               batch.add(Ray{point.position, c > 0.0f ? w : -w, 0.0f, opt.max_distance}, slot, Vec3f{std::fabs(c)});
             }
           } else {
-            ao_rays(point, rng, opt.max_distance, own_rays.size(), own_rays.data());
-            batch.add(own_rays, slot, Vec3f{1.0f});
+            // Made where the batch holds them; in parts of at most its capacity, each continuing rng.
+            const auto count = static_cast<std::size_t>(opt.ao_rays);
+            for (std::size_t first = 0; first < count; first += render_detail::OcclusionBatch::kCapacity) {
+              const std::size_t take = std::min(count - first, render_detail::OcclusionBatch::kCapacity);
+              ao_rays(point, rng, opt.max_distance, take, batch.append(take, slot, Vec3f{1.0f}).data());
+            }
             total[slot] = static_cast<float>(opt.ao_rays);
             rays.ao += static_cast<std::uint64_t>(opt.ao_rays);
           }
