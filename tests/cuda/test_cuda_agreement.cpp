@@ -5,7 +5,7 @@
 // the texture variant equals the buffer; empty inputs are no-ops; kernel_ms() times launches alone.
 // At VISFIELD_TEST_SCALE 1 with the shared models, each kernel kind compares at least 10M rays (the
 // "rays compared" lines); gpu-bundle/run.sh runs them with VISFIELD_REQUIRE_CUDA=1, then a subset
-// under compute-sanitizer memcheck at a hundredth of the rays.
+// under compute-sanitizer (memcheck at a tenth of the rays, the other tools at less).
 
 #include <cstdint>
 #include <cstdio>

@@ -25,8 +25,9 @@ struct AoParams {
 };
 
 /// unoccluded[i] = how many of point i's AO rays gpu::ao_ray(points[i], seed, i, k, max_distance)
-/// (or, with streams, gpu::ao_ray(points[i], streams[i], k, max_distance)), k < rays_per_point, the scene's fields (and exact part) leave unoccluded. Inter-object AO when the
-/// points lie outside the objects' spheres, intra-object (the GPU paper's d1-vs-d2 test) inside.
+/// (with streams: gpu::ao_ray(points[i], streams[i], k, max_distance)), k < rays_per_point, the
+/// scene's fields (and exact part) leave unoccluded. Inter-object AO when the points lie outside the
+/// objects' spheres, intra-object (the GPU paper's d1-vs-d2 test) inside.
 void ambient_occlusion(const DeviceFieldScene& scene, const gpu::SurfaceFrame* points, std::size_t n, const AoParams& params,
                        std::uint32_t* unoccluded);
 /// The same rays through the exact BVH: the reference.

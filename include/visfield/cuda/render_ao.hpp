@@ -2,9 +2,8 @@
 /// \file `visfield render --device cuda`: the ambient-occlusion image with its AO rays generated and
 /// traced on the GPU. Camera rays and the surface points they reach are the CPU renderer's
 /// (SceneQueries::intersect_camera, SurfaceSpawner), and each sample's AO rays continue its
-/// generator as the CPU renderer's do (gpu::ao_ray's stream form): the same random numbers, so the
-/// image is render_ao's up to the directions' rounding (polynomial sines on the device, libm's on
-/// the CPU), which flips the rare ray that grazes an occluder.
+/// generator as the CPU renderer's do (gpu::ao_ray's stream form): the same rays, answered with the
+/// CPU's bits, so the image is render_ao's pixel for pixel.
 
 #include <cstdint>
 #include <vector>

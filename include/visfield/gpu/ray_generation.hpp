@@ -5,9 +5,10 @@
 /// uniform in the cone a sphere light subtends (render/lights.cpp's SphereCone), and glossy
 /// reflection rays (GGX by its normal distribution, render/bsdf.cpp's sample_specular). Random
 /// numbers come from the project's Rng keyed by (seed, point, sample), so a ray depends on nothing
-/// but its keys. Directions are drawn with core/sampling.hpp's maps and polynomial sines, as the CPU
-/// renderers draw theirs; the frames and normalisations are written apart, so a ray equals the CPU
-/// renderers' to a few ulps, and the images agree statistically.
+/// but its keys, or, for AO rays, continue a given generator as the CPU renderer draws them.
+/// Directions are drawn with core/sampling.hpp's maps and polynomial sines, as the CPU renderers
+/// draw theirs: an AO ray is the renderer's bit for bit; cone and GGX rays, whose frames and
+/// normalisations are written apart, equal the renderers' to a few ulps.
 
 #include "visfield/core/host_device.hpp"
 #include "visfield/core/orthonormal_basis.hpp"
@@ -44,8 +45,8 @@ VF_HOST_DEVICE inline Ray ao_ray(const SurfaceFrame& f, unsigned long long seed,
 }
 
 /// AO ray `sample` of a point whose rays continue `stream`: numbers 2·sample and 2·sample + 1 of it
-/// (a jump ahead, O(log sample)), the rays the CPU renderer draws one after another from a pixel
-/// sample's generator (render's ao_rays()), up to the sines' rounding.
+/// (a jump ahead, O(log sample)), bit for bit the ray the CPU renderer draws `sample`-th from a pixel
+/// sample's generator (render's ao_rays()).
 VF_HOST_DEVICE inline Ray ao_ray(const SurfaceFrame& f, const Rng& stream, unsigned long long sample, float max_distance) {
   Rng rng = stream.advanced(2 * sample);
   return ao_ray(f, rng, max_distance);

@@ -1,7 +1,7 @@
 // The kernels' ray generation on the host: the polynomial sines and cosines against libm, and AO,
 // soft-shadow and glossy rays against the CPU renderers' own sampling (core/sampling.hpp,
-// SphereCone, Bsdf::sample_specular) drawing the same numbers: equal to a few ulps (libm's sin and
-// cos are not the polynomials), deterministic in their keys.
+// SphereCone, Bsdf::sample_specular) drawing the same numbers: AO rays continuing a generator bit
+// for bit, the others to a few ulps (their frames are written apart), deterministic in their keys.
 
 #include <cmath>
 #include <numbers>
