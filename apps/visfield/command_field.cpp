@@ -11,6 +11,7 @@
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/field/field_file.hpp"
 #include "visfield/field/field_params.hpp"
 #include "visfield/io/atomic_file.hpp"
@@ -44,8 +45,15 @@ void size_for_target_rms(const FieldBuildOptions& o, const Scene& scene,
                 " has no field error model (run visfield calibrate without --no-plan)");
   SceneGeometry geometry(scene);
   const SceneProfile profile = profile_for_plan(geometry, {}, true);
-  const std::size_t pick = field_for_target_rms(model, profile, o.target_rms);
   char line[256];
+  double measured_rms = -1.0;
+  const std::size_t pick = field_for_target_rms(model, profile, o.target_rms, [&](std::size_t candidate) {
+    measured_rms = field_error_rms(plan_candidates()[candidate].spec, geometry);
+    std::snprintf(line, sizeof line, "measured %s: RMS %.2f (the error model can neither rule it out for %g nor vouch for it)\n",
+                  std::string(plan_candidates()[candidate].spec).c_str(), measured_rms, o.target_rms);
+    std::cout << line;
+    return measured_rms;
+  });
   if (pick >= plan_candidates().size()) {
     int finest_positions = 0, finest_directions = 0;
     double finest = std::numeric_limits<double>::infinity();
@@ -60,11 +68,14 @@ void size_for_target_rms(const FieldBuildOptions& o, const Scene& scene,
   const PlanCandidate& c = plan_candidates()[pick];
   table["positions"] = std::to_string(c.positions);
   table["directions"] = std::to_string(c.directions);
-  std::snprintf(line, sizeof line,
-                "sized for RMS <= %g: positions=%d, directions=%d (expected RMS %.2f, 90%% bound %.2f; probe %s RMS %.2f, AO rays occluded %.3f)\n",
-                o.target_rms, c.positions, c.directions, model.predict(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms),
-                model.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms), std::string(kFieldProbe).c_str(),
-                profile.field_probe_rms, profile.ao_occluded);
+  const double bound = model.bound(c.positions, c.directions, profile.ao_occluded, profile.field_probe_rms);
+  const std::string why = bound <= o.target_rms ? "expected RMS " + formatted("%.2f", model.predict(c.positions, c.directions, profile.ao_occluded,
+                                                                                                  profile.field_probe_rms)) +
+                                                      ", 90% bound " + formatted("%.2f", bound)
+                                                : "measured RMS " + formatted("%.2f", measured_rms);
+  std::snprintf(line, sizeof line, "sized for RMS <= %g: positions=%d, directions=%d (%s; probe %s RMS %.2f, AO rays occluded %.3f)\n",
+                o.target_rms, c.positions, c.directions, why.c_str(), std::string(kFieldProbe).c_str(), profile.field_probe_rms,
+                profile.ao_occluded);
   std::cout << line;
 }
 

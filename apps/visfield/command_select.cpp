@@ -61,6 +61,8 @@ int run_select(const SelectCommandOptions& o) {
               << formatted("%.3f", profile.grid_build_ms) << " ms; AO rays occluded " << formatted("%.3f", profile.ao_occluded) << "\n";
   else
     std::cout << "grid sample:  none (the scene is too large to flatten for it)\n";
+  std::cout << "BVH sample:   " << formatted("%.4f", profile.bvh_sample_us[plan_kind_index(request.kind)]) << " us per ray (the same rays, "
+            << "two levels: each mesh once), built in " << formatted("%.3f", profile.bvh_build_ms) << " ms\n";
   if (profile.field_probe_rms >= 0.0)
     std::cout << "field probe:  " << kFieldProbe << " RMS " << formatted("%.3f", profile.field_probe_rms) << " (0-255)\n";
   std::cout << "\ncandidate                               build ms     us/ray  update ms     total ms       memory  error  \n";
@@ -69,7 +71,7 @@ int run_select(const SelectCommandOptions& o) {
     char line[256];
     std::snprintf(line, sizeof line, "%s %-36s %9.4g %10.4g %10.4g %12.6g %12s %6.2f  %s\n", i == plan.chosen ? "*" : " ",
                   r.spec.c_str(), r.build_ms, r.ray_us, r.update_ms, r.total_ms, format_bytes(r.bytes).c_str(), r.error,
-                  r.excluded.empty() ? "" : ("(" + r.excluded + ")").c_str());
+                  r.excluded.empty() ? (r.error_measured ? "(RMS measured)" : "") : ("(" + r.excluded + ")").c_str());
     std::cout << line;
   }
   std::cout << "\ndecision:     " << plan.rows[plan.chosen].spec << "\nwhy:          " << plan.reason << "\n";

@@ -110,7 +110,8 @@ void bind_structures(py::module_& m) {
         for (const PlanRow& r : plan.rows) {
           py::dict row;
           row["spec"] = r.spec, row["build_ms"] = r.build_ms, row["ray_us"] = r.ray_us, row["update_ms"] = r.update_ms;
-          row["total_ms"] = r.total_ms, row["bytes"] = r.bytes, row["error"] = r.error, row["excluded"] = r.excluded;
+          row["total_ms"] = r.total_ms, row["bytes"] = r.bytes, row["error"] = r.error, row["error_measured"] = r.error_measured;
+          row["excluded"] = r.excluded;
           rows.append(row);
         }
         py::dict out;
@@ -121,7 +122,7 @@ void bind_structures(py::module_& m) {
       py::arg("calibration") = py::none(),
       "The planner's table for a workload of `rays` rays of `kind` (ao, shadow, camera, random, path), `updates` object moves and "
       "an AO image RMS `error` (0-255; 0 = exact structures only), as `visfield select` prints it: {'chosen': spec, 'reason': "
-      "text, 'rows': [{spec, build_ms, ray_us, update_ms, total_ms, bytes, error, excluded}, ...]}. build(scene, "
+      "text, 'rows': [{spec, build_ms, ray_us, update_ms, total_ms, bytes, error, error_measured, excluded}, ...]}. build(scene, "
       "'auto:rays=R,kind=K,error=E,updates=U') builds the chosen one. ValueError on a bad request; visfield.Error when "
       "no structure fits (the memory limit).");
 

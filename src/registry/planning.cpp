@@ -19,8 +19,6 @@
 namespace vf {
 namespace {
 
-// Timed passes of a ray set through a candidate (after one untimed pass); their median counts.
-constexpr int kTimedPasses = 3;
 // Brute force traces at most this many triangle tests' worth of rays per set (its cost per ray is
 // exactly proportional to N, so a few hundred rays measure it).
 constexpr double kBruteTests = 5e7;
@@ -29,24 +27,9 @@ constexpr double kRepeatBuildsBelowMs = 1000.0;
 // Timed moves of an object (alternately there and back), median; one when it is slower than a second.
 constexpr int kTimedUpdates = 6;
 
-// Microseconds per query of `queries` through `structure`, each role as one batch on the threads in force.
+// Microseconds per query of `queries` through `structure` (batch_passes_query_us).
 double batch_query_us(const AnyStructure& structure, const QuerySet& queries) {
-  if (queries.size() == 0) return -1.0;
-  std::vector<Hit> hits(queries.closest.size());
-  std::vector<std::uint8_t> occluded(queries.shadow.size());
-  std::vector<double> times;
-  for (int pass = 0; pass <= kTimedPasses; ++pass) {
-    const double ms = time_ms([&] {
-      std::visit(
-          [&](const auto& s) {
-            if (!queries.closest.empty()) intersect_batch(s, std::span<const Ray>(queries.closest), std::span<Hit>(hits));
-            if (!queries.shadow.empty()) occluded_batch(s, std::span<const Ray>(queries.shadow), std::span<std::uint8_t>(occluded));
-          },
-          structure);
-    });
-    if (pass > 0) times.push_back(ms);
-  }
-  return median(std::move(times)) * 1000.0 / static_cast<double>(queries.size());
+  return std::visit([&](const auto& s) { return batch_passes_query_us(s, queries); }, structure);
 }
 
 std::vector<std::uint8_t> occlusion_answers(const AnyStructure& structure, std::span<const Ray> rays) {
@@ -103,8 +86,10 @@ double field_error_rms(std::string_view spec, SceneGeometry& geometry) {
 }
 
 Plan plan_structures(SceneGeometry& geometry, const SceneProfile& profile, const Calibration& calibration, const PlanRequest& request) {
-  return make_plan(calibration.plan, profile, request, threads_in_force(),
-                   [&](std::string_view spec) { return estimate_structure_bytes(spec, geometry, "plan "); });
+  Plan plan = make_plan(calibration.plan, profile, request, threads_in_force(),
+                        [&](std::string_view spec) { return estimate_structure_bytes(spec, geometry, "plan "); });
+  while (plan.to_measure != kNoRow) settle_plan(plan, field_error_rms(plan.rows[plan.to_measure].spec, geometry), request);
+  return plan;
 }
 
 double ao_image_rms(std::span<const std::uint8_t> occluded, std::span<const std::uint8_t> reference, int rays_per_pixel) {
@@ -138,7 +123,7 @@ PlanMeasurement measure_plan(const NamedScene& named, const CalibrationOptions& 
   const Bvh& bvh = std::get<Bvh>(reference.structure);
   std::array<QuerySet, kPlanKinds> queries;
   for (std::size_t k = 0; k < kPlanKinds; ++k)
-    queries[k] = make_queries(kRayKinds[k], bvh, scene, named.triangles, options.rays, options.seed, options.path_bounces);
+    queries[k] = make_queries(kRayKinds[k], bvh, scene, named.triangles.bounds, options.rays, options.seed, options.path_bounces);
   const std::vector<Ray> error_set = error_rays(reference.structure, scene, 1);
   const std::vector<std::uint8_t> exact = occlusion_answers(reference.structure, error_set);
 

@@ -56,7 +56,7 @@ SceneMeasurement measure_scene(const NamedScene& named, const CalibrationOptions
   // The decision algorithm's sample, right after the grid build as the planner's profile takes it (the
   // build leaves the grid in cache, and so would an application's).
   for (RayKind kind : kCalibratedKinds) {
-    const SampleTiming sample = time_sample(kind, grid.structure, named.scene, triangles, options.sample_rays,
+    const SampleTiming sample = time_sample(kind, grid.structure, named.scene, triangles.bounds, options.sample_rays,
                                             options.seed + 1, options.path_bounces, threads);
     m.rays[calibrated_kind_index(kind)].sample_count = sample.count;
     m.rays[calibrated_kind_index(kind)].grid_sample_us = sample.query_us;
@@ -68,7 +68,7 @@ SceneMeasurement measure_scene(const NamedScene& named, const CalibrationOptions
   for (RayKind kind : kCalibratedKinds) {
     RayTimings& t = m.rays[calibrated_kind_index(kind)];
     // The kd-tree generates the path rays (it is the faster tracer); any exact structure gives the same rays.
-    const QuerySet queries = make_queries(kind, tree.structure, named.scene, triangles, options.rays, options.seed,
+    const QuerySet queries = make_queries(kind, tree.structure, named.scene, triangles.bounds, options.rays, options.seed,
                                           options.path_bounces);
     t.ray_count = queries.size();
     t.grid_us = large_set_query_us(grid.structure, queries, threads);

@@ -17,7 +17,7 @@ namespace {
 using ordered = nlohmann::ordered_json;  // written in the order a reader expects: format and version first
 
 constexpr const char* kFormat = "visfield-calibration";
-constexpr int kVersion = 2;
+constexpr int kVersion = 3;
 constexpr std::uint64_t kMaxUint64 = std::numeric_limits<std::uint64_t>::max();
 using json::JsonField;
 using json::NumberRange;
@@ -86,14 +86,16 @@ ordered profile_to_json(const SceneProfile& p) {
                  {"mesh_log2_sum", p.mesh_log2_sum},
                  {"grid_build_ms", p.grid_build_ms},
                  {"grid_sample_us", per_kind_to_json(p.grid_sample_us)},
+                 {"bvh_build_ms", p.bvh_build_ms},
+                 {"bvh_sample_us", per_kind_to_json(p.bvh_sample_us)},
                  {"ao_occluded", p.ao_occluded},
                  {"field_probe_rms", p.field_probe_rms},
                  {"threads", p.threads}};
 }
 
 SceneProfile profile_from_json(const JsonField& j) {
-  j.require_object({"triangles", "unique_triangles", "objects", "mesh_log2_sum", "grid_build_ms", "grid_sample_us", "ao_occluded",
-                    "field_probe_rms", "threads"});
+  j.require_object({"triangles", "unique_triangles", "objects", "mesh_log2_sum", "grid_build_ms", "grid_sample_us", "bvh_build_ms",
+                    "bvh_sample_us", "ao_occluded", "field_probe_rms", "threads"});
   SceneProfile p;
   p.triangles = j.member("triangles").as_uint64(0, kMaxUint64);
   p.unique_triangles = j.member("unique_triangles").as_uint64(0, kMaxUint64);
@@ -101,6 +103,8 @@ SceneProfile profile_from_json(const JsonField& j) {
   p.mesh_log2_sum = j.member("mesh_log2_sum").as_double(NumberRange::non_negative());
   p.grid_build_ms = j.member("grid_build_ms").as_double(NumberRange::non_negative());
   p.grid_sample_us = per_kind_from_json(j.member("grid_sample_us"), NumberRange::non_negative());
+  p.bvh_build_ms = j.member("bvh_build_ms").as_double(NumberRange::non_negative());
+  p.bvh_sample_us = per_kind_from_json(j.member("bvh_sample_us"), NumberRange::non_negative());
   p.ao_occluded = j.member("ao_occluded").as_double(NumberRange::closed(0.0, 1.0));
   p.field_probe_rms = j.member("field_probe_rms").as_double(NumberRange::closed(-1.0, 255.0));
   p.threads = j.member("threads").as_int(1, 1 << 20);
@@ -174,9 +178,10 @@ PlanModel plan_model_from_json(const JsonField& j) {
   }
   const JsonField e = j.member("field_error");
   e.require_object({"coefficients", "sigma", "samples"});
-  const std::vector<JsonField> coefficients = e.member("coefficients").elements(4);
-  if (coefficients.size() != 4) e.member("coefficients").fail_expected("an array of 4 numbers");
-  for (std::size_t i = 0; i < 4; ++i) model.field_error.coefficients[i] = coefficients[i].as_double();
+  const std::vector<JsonField> coefficients = e.member("coefficients").elements(kErrorFeatures);
+  if (coefficients.size() != kErrorFeatures)
+    e.member("coefficients").fail_expected("an array of " + std::to_string(kErrorFeatures) + " numbers");
+  for (std::size_t i = 0; i < kErrorFeatures; ++i) model.field_error.coefficients[i] = coefficients[i].as_double();
   model.field_error.sigma = e.member("sigma").as_double(NumberRange::non_negative());
   model.field_error.samples = e.member("samples").as_uint64(0, kMaxUint64);
   return model;

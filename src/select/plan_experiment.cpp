@@ -47,15 +47,24 @@ std::vector<PlanOutcome> plan_leave_one_out(std::span<const SceneMeasurement> sc
     const PlanModel model = model_without(scenes, planned, s, threads);
     PlanRequest r = request;
     r.max_memory = std::numeric_limits<double>::max();  // only candidates the scene measured
-    const Plan plan = make_plan(model, measured.profile, r, measured.profile.threads, [&](std::string_view spec) {
+    Plan plan = make_plan(model, measured.profile, r, measured.profile.threads, [&](std::string_view spec) {
       const CandidateMeasurement* m = measured.find(spec);
       return m ? static_cast<double>(m->memory_bytes) : std::numeric_limits<double>::infinity();
     });
     PlanOutcome o;
     o.scene = scenes[s].name;
+    double spent_measuring_ms = 0.0;
+    while (plan.to_measure != kNoRow) {
+      // What the planner's measurements would find: each field's measured RMS; a field that fails cost its build.
+      const CandidateMeasurement& field = *measured.find(plan.rows[plan.to_measure].spec);
+      ++o.measured;
+      if (field.ao_rms <= request.max_error) ++o.measured_kept;
+      else spent_measuring_ms += field.build_ms;
+      settle_plan(plan, field.ao_rms, r);
+    }
     o.chosen = plan.rows[plan.chosen].spec;
     const CandidateMeasurement& chosen = *measured.find(o.chosen);
-    o.chosen_ms = measured_total_ms(chosen, request.kind, request.rays, request.updates);
+    o.chosen_ms = measured_total_ms(chosen, request.kind, request.rays, request.updates) + spent_measuring_ms;
     o.error_kept = chosen.ao_rms <= request.max_error;
     o.best_ms = std::numeric_limits<double>::infinity();
     for (const CandidateMeasurement& m : measured.candidates) {
@@ -85,7 +94,12 @@ std::vector<TargetRmsOutcome> target_rms_leave_one_out(std::span<const SceneMeas
       if (plan_candidates()[plan_candidate_index(m.spec)].approximate() && m.ao_rms <= target &&
           (o.smallest_bytes == 0.0 || static_cast<double>(m.memory_bytes) < o.smallest_bytes))
         o.smallest_bytes = static_cast<double>(m.memory_bytes);
-    const std::size_t pick = field_for_target_rms(model.field_error, measured.profile, target);
+    // What measuring a field would find: its measured RMS (a field the scene did not measure fails).
+    const std::size_t pick = field_for_target_rms(model.field_error, measured.profile, target, [&](std::size_t candidate) {
+      ++o.measured;
+      const CandidateMeasurement* m = measured.find(plan_candidates()[candidate].spec);
+      return m ? m->ao_rms : std::numeric_limits<double>::infinity();
+    });
     if (pick < plan_candidates().size()) {
       if (const CandidateMeasurement* m = measured.find(plan_candidates()[pick].spec)) {
         o.chosen = m->spec;

@@ -174,15 +174,18 @@ void write_planner(std::ostringstream& md, const Calibration& c) {
   md << "\n## The planner: every structure, every ray kind, an error tolerance\n\n"
      << "For each scene, the planner (`auto:rays=R,kind=K,error=E`, `visfield select`) is fitted on every *other* scene"
      << " (leave-one-out) and picks among " << plan_candidates().size() << " candidates from the scene's profile alone (counts, grid"
-     << " build and sample, AO occlusion and, when E > 0, the error of the probe field). It is right when its pick is the candidate with the lowest measured total build + R t_R"
+     << " build and sample, the same sample through a two-level BVH, AO occlusion and, when E > 0, the error of the probe field). It is right when its pick is the candidate with the lowest measured total build + R t_R"
      << " among those allowed (exact ones; fields too when their *measured* AO RMS is ≤ E > 0). Regret = measured total of"
-     << " the pick / the lowest. Each cell: right / scenes, then the worst regret. Fields answer AO and shadow rays only.\n\n"
+     << " the pick / the lowest. Each cell: right / scenes, then the worst regret. Fields answer AO and shadow rays only."
+     << " When a field would beat the pick by more than its build and the error model can neither rule it out (its fit × exp(−2.5 σ)"
+     << " ≤ E) nor vouch for it (its 90% bound > E), the planner measures its RMS (as it measures the probe's: build it, render the"
+     << " error image) and takes it if it meets E; then the next such field, against the new pick.\n\n"
      << "| kind | E |";
   for (double r : kPlanRays) md << " R = " << scientific(r) << " |";
   md << "\n|---|--:|";
   for (std::size_t i = 0; i < std::size(kPlanRays); ++i) md << "--:|";
   md << "\n";
-  std::size_t right = 0, total = 0, error_missed = 0, close = 0;
+  std::size_t right = 0, total = 0, error_missed = 0, close = 0, measured = 0, measured_kept = 0;
   std::vector<double> regrets;
   for (RayKind kind : kRayKinds) {
     for (double e : kPlanErrors) {
@@ -200,6 +203,8 @@ void write_planner(std::ostringstream& md, const Calibration& c) {
           cell_right += o.right() ? 1 : 0;
           close += o.error_kept && o.regret() <= kCloseRegret ? 1 : 0;
           error_missed += o.error_kept ? 0 : 1;
+          measured += static_cast<std::size_t>(o.measured);
+          measured_kept += static_cast<std::size_t>(o.measured_kept);
           worst = std::max(worst, o.regret());
           regrets.push_back(o.regret());
         }
@@ -217,7 +222,8 @@ void write_planner(std::ostringstream& md, const Calibration& c) {
      << " (" << percent(close, total) << "); regret median "
      << fixed(median_regret, 3) << ", 90th percentile " << fixed(regrets.empty() ? 1.0 : regrets[regrets.size() * 9 / 10], 2)
      << ", worst " << fixed(regrets.empty() ? 1.0 : regrets.back(), 2) << "; picks whose measured error exceeded E: "
-     << error_missed << ".\n\n";
+     << error_missed << ". Fields measured because the model could not vouch for them: " << measured << ", of which " << measured_kept
+     << " met E and were chosen (the others count their build in the regret).\n\n";
 
   // One workload in full, to show what is picked and why it loses where it does.
   PlanRequest shown;
@@ -232,22 +238,26 @@ void write_planner(std::ostringstream& md, const Calibration& c) {
 
   const FieldErrorModel& f = c.plan.field_error;
   md << "\n## Fields sized from a target error (`visfield field build --target-rms E`)\n\n"
-     << "Error model over all scenes: log RMS = log RMS_probe + " << fixed(f.coefficients[0], 3) << " + " << fixed(f.coefficients[1], 3)
-     << " log(positions / 1090) + " << fixed(f.coefficients[2], 3) << " log(directions / 16) + " << fixed(f.coefficients[3], 3)
-     << " log(AO occluded + 0.01), residual σ (1.4826 × their median absolute deviation) = " << fixed(f.sigma, 3) << " over " << f.samples << " fields, RMS_probe the"
+     << "Error model over all scenes, with p = log(positions / 1090), d = log(directions / 16) and o = log(AO occluded + 0.01):"
+     << " log RMS = log RMS_probe + " << fixed(f.coefficients[0], 3) << " p + " << fixed(f.coefficients[1], 3) << " d + "
+     << fixed(f.coefficients[2], 3) << " p d + " << fixed(f.coefficients[3], 3) << " d o + " << fixed(f.coefficients[4], 3)
+     << " p o, residual σ (1.4826 × their median absolute deviation) = " << fixed(f.sigma, 3) << " over " << f.samples << " fields, RMS_probe the"
      << " measured RMS of `" << kFieldProbe << "` on the scene (the smallest field: the planner builds it to profile a scene"
-     << " when E > 0); a field is picked when exp(1.2816 σ) × the fit (its 90% bound) is ≤ E. RMS: the AO image (128 × 128,"
+     << " when E > 0; its own RMS is known, not predicted). Fields are tried smallest first: one is picked when exp(1.2816 σ) × the fit"
+     << " (its 90% bound) is ≤ E, or when its measured RMS is (measured when the fit × exp(−2.5 σ) is ≤ E) (`field build --target-rms` builds it and measures"
+     << " its error image, as for the probe). RMS: the AO image (128 × 128,"
      << " the scene's camera, 32 AO rays of unlimited length per pixel that sees the scene) against the exact one with the same"
      << " rays, 0-255. Leave-one-out: the model is fitted without the scene it sizes. A refusal (no field is expected to"
      << " meet E) is right when no measured field meets E. Size: the pick's bytes / the smallest measured field that"
      << " meets E.\n\n"
-     << "| E | fields picked | picks that meet E | refusals | refusals where a field meets E | size ratio median | worst |\n"
-     << "|--:|--:|--:|--:|--:|--:|--:|\n";
+     << "| E | fields picked | picks that meet E | refusals | refusals where a field meets E | size ratio median | worst | fields measured |\n"
+     << "|--:|--:|--:|--:|--:|--:|--:|--:|\n";
   for (double e : {1.0, 3.0, 8.0}) {
     const std::vector<TargetRmsOutcome> outcomes = target_rms_leave_one_out(c.scenes, e, threads);
-    std::size_t met = 0, picks = 0, wrong_refusals = 0;
+    std::size_t met = 0, picks = 0, wrong_refusals = 0, measured = 0;
     std::vector<double> ratios;
     for (const TargetRmsOutcome& o : outcomes) {
+      measured += static_cast<std::size_t>(o.measured);
       picks += o.chosen.empty() ? 0 : 1;
       met += !o.chosen.empty() && o.met() ? 1 : 0;
       wrong_refusals += o.chosen.empty() && !o.met() ? 1 : 0;
@@ -256,7 +266,7 @@ void write_planner(std::ostringstream& md, const Calibration& c) {
     std::sort(ratios.begin(), ratios.end());
     md << "| " << fixed(e, 0) << " | " << picks << "/" << outcomes.size() << " | " << met << "/" << picks << " | " << outcomes.size() - picks
        << " | " << wrong_refusals << " | " << (ratios.empty() ? "n/a" : fixed(ratios[ratios.size() / 2], 2)) << " | "
-       << (ratios.empty() ? "n/a" : fixed(ratios.back(), 2)) << " |\n";
+       << (ratios.empty() ? "n/a" : fixed(ratios.back(), 2)) << " | " << measured << " |\n";
   }
   md << "\n| scene | AO occluded | probe RMS | E = 1 | E = 3 | E = 8 |\n|---|--:|--:|---|---|---|\n";
   const std::vector<TargetRmsOutcome> one = target_rms_leave_one_out(c.scenes, 1.0, threads);

@@ -13,14 +13,16 @@
 
 namespace vf {
 
-/// The profile of `geometry`'s scene with grid samples of `kinds` (profile_scene; the scene is
+/// The profile of `geometry`'s scene with grid and BVH samples of `kinds` (profile_scene; the scene is
 /// flattened unless it holds over kProfileFlattenLimit triangles) and, with `probe_fields`, the RMS of
 /// the AO image through kFieldProbe (field_error_rms). `sample_rays` in 5..1e6.
 SceneProfile profile_for_plan(SceneGeometry& geometry, std::span<const RayKind> kinds, bool probe_fields,
                               std::size_t sample_rays = kProfileSampleRays, std::uint64_t seed = 1);
 
 /// make_plan for `geometry` with `calibration.plan` and each candidate's build estimate from the
-/// registry, on the threads in force. Throws vf::Error on a bad request or when nothing qualifies.
+/// registry, on the threads in force; a field the plan wants measured (Plan::to_measure) is built and
+/// its RMS measured (field_error_rms) to settle the plan. Throws vf::Error on a bad request or when
+/// nothing qualifies.
 Plan plan_structures(SceneGeometry& geometry, const SceneProfile& profile, const Calibration& calibration,
                      const PlanRequest& request);
 

@@ -72,9 +72,11 @@ struct PlanOutcome {
   std::string scene;             ///< The scene's name.
   std::string chosen;            ///< What the planner picked with the model fitted on the other scenes.
   std::string best;              ///< The measured fastest among the candidates allowed (measured error <= E).
-  double chosen_ms = 0.0;        ///< Measured total of the choice (build + R rays + U updates).
+  double chosen_ms = 0.0;        ///< Measured total of the choice (build + R rays + U updates; + the build of a field measured in vain).
   double best_ms = 0.0;          ///< Measured total of the best.
   bool error_kept = true;        ///< The choice's measured error is within E.
+  int measured = 0;              ///< Fields the plan measured to settle (Plan::to_measure, until none is left).
+  int measured_kept = 0;         ///< Of those, the ones that met E (each became the choice); the others' builds count in chosen_ms.
 
   /// The choice is the best (or as fast, to a part in 1e9) and keeps the error.
   bool right() const { return error_kept && chosen_ms <= best_ms * (1.0 + 1e-9); }
@@ -95,6 +97,7 @@ struct TargetRmsOutcome {
   double chosen_rms = 0.0;        ///< Its measured RMS.
   double chosen_bytes = 0.0;      ///< Its measured memory.
   double smallest_bytes = 0.0;    ///< The smallest measured field that meets E; 0 when none does.
+  int measured = 0;               ///< Fields measured on the way (those the fit admits and the bound does not).
 
   /// The choice meets E (a refusal is right when no measured field meets E).
   bool met() const { return chosen.empty() ? smallest_bytes == 0.0 : chosen_rms <= target; }
@@ -102,8 +105,8 @@ struct TargetRmsOutcome {
   double size_ratio() const { return chosen.empty() || smallest_bytes == 0.0 ? 0.0 : chosen_bytes / smallest_bytes; }
 };
 
-/// field_for_target_rms with the error model fitted on every other scene, for each scene with field
-/// measurements, against that scene's measured fields. Needs two such scenes (throws vf::Error).
+/// field_for_target_rms with the error model fitted on every other scene, measuring with the scene's
+/// measured RMS, for each scene with field measurements, against that scene's measured fields. Needs two such scenes (throws vf::Error).
 std::vector<TargetRmsOutcome> target_rms_leave_one_out(std::span<const SceneMeasurement> scenes, double target, int threads);
 
 }  // namespace vf

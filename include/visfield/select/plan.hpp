@@ -4,7 +4,7 @@
 /// E, the memory limit), it predicts each candidate's build, ray and update time, memory and error
 /// from calibrated constants, and picks the fastest candidate that fits. The cost model: each
 /// candidate's time is a constant per unit of a feature of the scene (N log2 N for a tree's build,
-/// log2 N per ray, the grid's own sampled time per ray, ...); the constants are geometric means of
+/// the grid's and the BVH's own sampled time per ray, ...); the constants are geometric means of
 /// measured / feature over the calibration scenes. Fields add an error model: log RMS linear in
 /// log positions, log directions and log of the scene's sampled AO occlusion.
 
@@ -27,8 +27,8 @@ namespace vf {
 /// Which feature of the scene a candidate's costs grow with.
 enum class CostShape {
   grid,       ///< build ~ the profile's own grid build; per ray ~ a power of the grid's time on the profile's sample rays
-  tree,       ///< build ~ N log2 N; per ray ~ log2 N
-  two_level,  ///< build ~ U log2 U + O log2 O (U unique triangles, O objects); per ray ~ log2 U + log2 O; update ~ O log2 O
+  tree,       ///< build ~ N log2 N; per ray ~ the profile's BVH sample x log2 N / (log2 U + log2 O) (its depth over the sampled tree's)
+  two_level,  ///< build ~ U log2 U + O log2 O (U unique triangles, O objects); per ray ~ the profile's BVH sample; update ~ O log2 O
   beam,       ///< build ~ N log2 N; per ray ~ log2 N; update ~ N / O (one object's triangles)
   brute,      ///< build ~ N; per ray ~ a power of N
   field,      ///< build ~ positions directions^2 (sum of log2 triangles of the meshes); per ray ~ 1 + log2 O
@@ -67,8 +67,10 @@ inline constexpr std::size_t kPlanKinds = kRayKinds.size();
 /// Index of `kind` in kRayKinds.
 std::size_t plan_kind_index(RayKind kind);
 
-/// What the planner knows of a scene: counts, and a few hundred sample rays through a uniform grid
-/// (Hapala et al.'s step: cheap to build, and its time per ray tells how hard the scene is).
+/// What the planner knows of a scene: counts, and sample rays through a uniform grid (Hapala et al.'s
+/// step: cheap to build, and its time per ray tells how hard the scene is for a grid) and the same rays
+/// through a two-level BVH (each mesh once: cheap for many copies, and its time per ray tells how hard
+/// the scene and the ray kind are for every tree).
 struct SceneProfile {
   std::uint64_t triangles = 0;         ///< N, triangles over every object (as flattened).
   std::uint64_t unique_triangles = 0;  ///< U, triangles of the meshes objects use, each mesh once.
@@ -76,6 +78,8 @@ struct SceneProfile {
   double mesh_log2_sum = 0.0;          ///< Sum over the meshes objects use of log2 max(triangles, 2).
   double grid_build_ms = 0.0;          ///< The profile's grid build; 0 = no grid (the scene was too large to flatten).
   std::array<double, kPlanKinds> grid_sample_us{};  ///< Per kind: the grid's microseconds per sample ray; 0 = not sampled.
+  double bvh_build_ms = 0.0;           ///< The profile's two-level BVH build (each mesh once, then the objects).
+  std::array<double, kPlanKinds> bvh_sample_us{};   ///< Per kind: the two-level BVH's microseconds per sample ray (the same rays); 0 = not sampled.
   double ao_occluded = 0.0;            ///< Fraction of the sampled AO rays that are occluded (how enclosed the scene is).
   double field_probe_rms = -1.0;       ///< RMS (0-255) of the AO image through kFieldProbe against the exact one; < 0 = not probed.
   int threads = 1;                     ///< Threads the sample times are for.
@@ -88,10 +92,11 @@ struct SceneProfile {
 /// (the flattening alone would cost more than most structures' builds).
 inline constexpr std::uint64_t kProfileFlattenLimit = 16'000'000;
 
-/// The profile of `scene`: counts; with `triangles` (its flattening; nullptr for a scene too large to
-/// flatten), a uniform grid built over them and `sample_rays` rays of each of `kinds` (and of ao, for
-/// the occluded fraction) traced through it one batch at a time (sample_query_us, drawn with `seed`,
-/// path rays with `path_bounces` bounces). Cost: one grid build plus the samples.
+/// The profile of `scene`: counts; a two-level BVH and `sample_rays` rays of each of `kinds` (and of ao,
+/// for the occluded fraction) drawn through it with `seed` (path rays with `path_bounces` bounces) and
+/// timed through it as the calibration times its candidates (batch_passes_query_us, with 9 timed
+/// passes); with `triangles` (its flattening; nullptr for a scene too large to flatten), a uniform grid
+/// built over them and the same rays timed through it. Cost: the two builds plus the samples.
 SceneProfile profile_scene(const Scene& scene, const TriangleSet* triangles, std::span<const RayKind> kinds,
                            std::size_t sample_rays, std::uint64_t seed, int path_bounces);
 
@@ -114,19 +119,31 @@ struct CandidateConstants {
   bool operator==(const CandidateConstants&) const = default;
 };
 
-/// The fields' error model: log(RMS) = log(probe) + c0 + c1 log(positions / 1090) + c2 log(directions /
-/// 16) + c3 log(ao_occluded + 0.01), RMS of the AO image on the 0-255 scale against the exact one with
-/// the same rays, `probe` that of kFieldProbe on the same scene (SceneProfile::field_probe_rms).
+/// Positional samples of kFieldProbe.
+inline constexpr int kFieldProbePositions = 1090;
+/// N of kFieldProbe's N x N direction tables.
+inline constexpr int kFieldProbeDirections = 16;
+/// Features of the fields' error model.
+inline constexpr std::size_t kErrorFeatures = 5;
+
+/// The fields' error model: with p = log(positions / 1090), d = log(directions / 16) and o =
+/// log(ao_occluded + 0.01), log(RMS) = log(probe) + c0 p + c1 d + c2 p d + c3 d o + c4 p o, RMS of the
+/// AO image on the 0-255 scale against the exact one with the same rays, `probe` that of kFieldProbe on
+/// the same scene (SceneProfile::field_probe_rms): the probe's own RMS is measured, the others' predicted.
 struct FieldErrorModel {
-  std::array<double, 4> coefficients{};  ///< c0..c3.
+  std::array<double, kErrorFeatures> coefficients{};  ///< c0..c4.
   double sigma = 0.0;                    ///< Spread of the fit's residuals in log RMS: 1.4826 x their median absolute deviation.
   std::size_t samples = 0;               ///< Measurements fitted (0: no model; fields are never planned).
 
   /// The fit's RMS for a field of `positions` x `directions`^2 on a scene whose AO rays are
   /// `ao_occluded` and whose probe measured `probe_rms`.
   double predict(int positions, int directions, double ao_occluded, double probe_rms) const;
-  /// The RMS the fit says is not exceeded nine times in ten: predict() times exp(1.2816 sigma).
+  /// The RMS the fit says is not exceeded nine times in ten: predict() times exp(1.2816 sigma) (the
+  /// probe's measured RMS for the probe itself).
   double bound(int positions, int directions, double ao_occluded, double probe_rms) const;
+  /// The lowest RMS the fit does not rule out: predict() times exp(-2.5 sigma) (an RMS within it less
+  /// than once in 160 times; the probe's measured RMS for the probe itself).
+  double optimistic(int positions, int directions, double ao_occluded, double probe_rms) const;
 
   /// Field-by-field equality (exact, doubles included).
   bool operator==(const FieldErrorModel&) const = default;
@@ -196,15 +213,23 @@ struct PlanRow {
   double update_ms = 0.0;    ///< Predicted time of one update (in place, or a rebuild).
   double total_ms = 0.0;     ///< build + R rays + U updates.
   double bytes = 0.0;        ///< Peak bytes of its build (the registry's estimate).
-  double error = 0.0;        ///< Predicted RMS bound (fields; 0 for exact candidates).
+  double error = 0.0;        ///< Predicted RMS bound, or the measured RMS (fields; 0 for exact candidates).
+  bool error_measured = false;  ///< `error` is the field's measured RMS (the probe's, or a settled plan's).
+  bool measurable = false;   ///< A field out on its bound alone that the fit cannot rule out (FieldErrorModel::optimistic <= the error).
   std::string excluded;      ///< Why it cannot be chosen; empty when it can.
 };
 
 /// The candidates weighed and the choice.
+inline constexpr std::size_t kNoRow = std::numeric_limits<std::size_t>::max();
+
 struct Plan {
-  std::vector<PlanRow> rows;                                    ///< Every candidate, table order.
-  std::size_t chosen = std::numeric_limits<std::size_t>::max(); ///< Index in rows of the winner.
-  std::string reason;                                           ///< Why it won, one line.
+  std::vector<PlanRow> rows;     ///< Every candidate, table order.
+  std::size_t chosen = kNoRow;   ///< Index in rows of the winner.
+  /// A measurable field (its 90% bound is over the error, its optimistic RMS is not: the model cannot
+  /// tell) predicted faster than the choice by more than its build, the fastest such:
+  /// measuring its RMS settles it (settle_plan). kNoRow when none.
+  std::size_t to_measure = kNoRow;
+  std::string reason;            ///< Why it won, one line.
 };
 
 /// Predicts every candidate for `profile` and `request` with `model` (per-ray times rescaled from
@@ -214,10 +239,19 @@ struct Plan {
 Plan make_plan(const PlanModel& model, const SceneProfile& profile, const PlanRequest& request, int threads,
                const std::function<double(std::string_view spec)>& bytes_of);
 
+/// Settles plan.to_measure with its measured AO image RMS `measured_rms` (the probe's measure: the AO
+/// image against the exact one): within request.max_error it becomes the choice, else it is excluded
+/// with its measurement; to_measure becomes the next field worth measuring against the (new) choice,
+/// and the reason is rewritten. Nothing when to_measure is kNoRow.
+void settle_plan(Plan& plan, double measured_rms, const PlanRequest& request);
+
 /// The smallest field (positions x directions^2 cells) of the candidates whose error bound for a scene
-/// with `profile` (probed) is at most `target_rms`: its index in plan_candidates(); npos when none is
-/// or the scene was not probed.
-std::size_t field_for_target_rms(const FieldErrorModel& model, const SceneProfile& profile, double target_rms);
+/// with `profile` (probed) is at most `target_rms`, or, given `measure` (the measured RMS of candidate
+/// i), a smaller one whose measured RMS is within it: fields are tried smallest first, measuring those
+/// whose optimistic RMS is within `target_rms` and whose bound is not. Its index in
+/// plan_candidates(); npos when none is, or the scene was not probed.
+std::size_t field_for_target_rms(const FieldErrorModel& model, const SceneProfile& profile, double target_rms,
+                                 const std::function<double(std::size_t candidate)>& measure = {});
 
 /// Measured total of candidate `m` for R rays of `kind` and U updates: build + R t_R + U t_U
 /// (t_U = a rebuild when it is not updatable); +infinity when it did not measure `kind`.

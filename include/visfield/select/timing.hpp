@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "visfield/accel/batch.hpp"
 #include "visfield/accel/query.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/statistics.hpp"
@@ -94,6 +95,30 @@ double median_batch_query_us(const A& accel, const QuerySet& queries, std::size_
 template <Accelerator A>
 double large_set_query_us(const A& accel, const QuerySet& queries, int threads) {
   return median_batch_query_us(accel, queries, queries.size() / kTimingBatchQueries + 1, threads);
+}
+
+/// Timed passes of a large ray set through a structure (after one untimed pass): their median counts.
+inline constexpr int kTimedPasses = 3;
+
+/// Per-query time in microseconds of `queries` through `accel` as batches on the threads in force
+/// (intersect_batch for the closest-hit queries, occluded_batch for the others): one untimed pass, then
+/// `passes` (>= 1) timed passes, the median. How the planner's candidates are measured, and its
+/// profile's samples with them (a few thousand rays want more passes: each is a fraction of a
+/// millisecond). -1 for an empty set.
+template <class A>
+double batch_passes_query_us(const A& accel, const QuerySet& queries, int passes = kTimedPasses) {
+  if (queries.size() == 0) return -1.0;
+  std::vector<Hit> hits(queries.closest.size());
+  std::vector<std::uint8_t> occluded(queries.shadow.size());
+  std::vector<double> times;
+  for (int pass = 0; pass <= std::max(passes, 1); ++pass) {
+    const double ms = time_ms([&] {
+      if (!queries.closest.empty()) intersect_batch(accel, std::span<const Ray>(queries.closest), std::span<Hit>(hits));
+      if (!queries.shadow.empty()) occluded_batch(accel, std::span<const Ray>(queries.shadow), std::span<std::uint8_t>(occluded));
+    });
+    if (pass > 0) times.push_back(ms);
+  }
+  return median(std::move(times)) * 1000.0 / static_cast<double>(queries.size());
 }
 
 /// Batches of the decision algorithm's sample: one untimed, four timed (S = 500 gives batches of 100).

@@ -30,17 +30,17 @@ NamedScene load_named_scene(const std::string& spec);
 /// make_ray_set scales it to the count asked for.
 inline constexpr int kWorkloadImageSide = 256;
 
-/// `count` queries of `kind` over `scene` (whose flattened triangles are `triangles`): random rays
-/// (make_random_rays over the triangles' bounds, closest-hit queries), path-tracing rays traced
+/// `count` queries of `kind` over `scene` (whose triangles lie in `bounds`): random rays
+/// (make_random_rays over `bounds`, closest-hit queries), path-tracing rays traced
 /// through `accel` (make_path_rays with `path_bounces` bounces), or the camera's primary rays
 /// (closest hit), AO rays (4 per hit, unlimited length) or shadow rays (both occlusion queries) of
 /// make_ray_set, the primary hits found through `accel`; the camera is the scene's, else the default
 /// framing. Deterministic in `seed`; throws vf::Error when the camera sees nothing.
 template <Accelerator A>
-QuerySet make_queries(RayKind kind, const A& accel, const Scene& scene, const TriangleSet& triangles, std::size_t count,
+QuerySet make_queries(RayKind kind, const A& accel, const Scene& scene, const Bounds3f& bounds, std::size_t count,
                       std::uint64_t seed, int path_bounces) {
   switch (kind) {
-    case RayKind::random: return QuerySet{make_random_rays(triangles.bounds, count, seed), {}};
+    case RayKind::random: return QuerySet{make_random_rays(bounds, count, seed), {}};
     case RayKind::path: return make_path_rays(accel, scene, count, PathRayOptions{path_bounces, seed});
     default: break;
   }
@@ -63,9 +63,9 @@ struct SampleTiming {
 /// Step 2 of the decision algorithm: `count` queries of `kind` drawn with `seed` (path rays traced
 /// through `accel` itself), timed through `accel` by sample_query_us.
 template <Accelerator A>
-SampleTiming time_sample(RayKind kind, const A& accel, const Scene& scene, const TriangleSet& triangles, std::size_t count,
+SampleTiming time_sample(RayKind kind, const A& accel, const Scene& scene, const Bounds3f& bounds, std::size_t count,
                          std::uint64_t seed, int path_bounces, int threads) {
-  const QuerySet sample = make_queries(kind, accel, scene, triangles, count, seed, path_bounces);
+  const QuerySet sample = make_queries(kind, accel, scene, bounds, count, seed, path_bounces);
   return {sample.size(), sample_query_us(accel, sample, threads)};
 }
 

@@ -50,7 +50,7 @@ inline PlanModel synthetic_plan_model(int threads = 2) {
     if (plan_candidates()[i].shape == CostShape::brute) c.ray_exponent.fill(1.25);  // caches give out as N grows
     model.constants.push_back(c);
   }
-  model.field_error.coefficients = {0.25, 0.125, -0.5, -0.25};
+  model.field_error.coefficients = {0.125, -0.5, 0.0625, -0.25, 0.03125};
   model.field_error.samples = 9;
   return model;
 }
@@ -65,6 +65,8 @@ inline SceneProfile synthetic_profile(std::uint64_t n, std::uint64_t objects, do
   p.mesh_log2_sum = std::log2(static_cast<double>(n));
   p.grid_build_ms = 1e-3 * static_cast<double>(p.triangles);
   for (std::size_t k = 0; k < kPlanKinds; ++k) p.grid_sample_us[k] = 0.05 * static_cast<double>(k + 1);
+  p.bvh_build_ms = 1e-4 * static_cast<double>(n);
+  for (std::size_t k = 0; k < kPlanKinds; ++k) p.bvh_sample_us[k] = 0.02 * static_cast<double>(k + 1);
   p.ao_occluded = ao_occluded;
   p.field_probe_rms = 2.0;
   p.threads = threads;

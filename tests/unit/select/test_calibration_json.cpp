@@ -42,7 +42,7 @@ TEST(CalibrationJson, RoundTripsEveryFieldExactly) {
   // The format tag and version lead the document.
   EXPECT_EQ(text.find("\"format\""), text.find('"'));
   EXPECT_NE(text.find("\"visfield-calibration\""), std::string::npos);
-  EXPECT_NE(text.find("\"version\": 2"), std::string::npos);
+  EXPECT_NE(text.find("\"version\": 3"), std::string::npos);
 }
 
 TEST(CalibrationJson, SavesAtomicallyAndLoadsBack) {
@@ -94,7 +94,7 @@ TEST(CalibrationJson, RejectsMalformedJson) {
 TEST(CalibrationJson, RejectsWrongFormatOrVersion) {
   expect_edit_error([](json& d) { d["format"] = "visfield-scene"; }, "format: expected \"visfield-calibration\"");
   expect_edit_error([](json& d) { d.erase("format"); }, "top level: missing required key \"format\"");
-  expect_edit_error([](json& d) { d["version"] = 1; }, "version: unsupported version 1 (this build reads version 2; run visfield calibrate again)");
+  expect_edit_error([](json& d) { d["version"] = 1; }, "version: unsupported version 1 (this build reads version 3; run visfield calibrate again)");
   expect_edit_error([](json& d) { d["version"] = "1"; }, "version: unsupported version \"1\"");
   expect_edit_error([](json& d) { d.erase("version"); }, "top level: missing required key \"version\"");
 }
@@ -163,7 +163,7 @@ TEST(CalibrationJson, LoadNamesAMissingFileOrAFolder) {
     EXPECT_NE(std::string(e.what()).find("nope.json"), std::string::npos);
   }
   EXPECT_THROW(load_calibration(dir), Error);
-  std::ofstream(dir / "bad.json") << "{\"format\": \"visfield-calibration\", \"version\": 2}";
+  std::ofstream(dir / "bad.json") << "{\"format\": \"visfield-calibration\", \"version\": 3}";
   try {
     load_calibration(dir / "bad.json");
     ADD_FAILURE();

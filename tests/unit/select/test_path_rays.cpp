@@ -103,11 +103,11 @@ TEST(PathRays, RefuseBadBounceCounts) {
 TEST(Queries, RandomKindIsTheRandomRaySetAndPathKindThePathSet) {
   const Fixture f;
   const BruteForce brute = BruteForce::build(f.triangles);
-  const QuerySet random = make_queries(RayKind::random, brute, f.scene, f.triangles, 250, 4, 2);
+  const QuerySet random = make_queries(RayKind::random, brute, f.scene, f.triangles.bounds, 250, 4, 2);
   EXPECT_EQ(random.closest.size(), 250u);
   EXPECT_TRUE(random.shadow.empty());
   EXPECT_TRUE(same_rays(random.closest, make_random_rays(f.triangles.bounds, 250, 4), 250));
-  const QuerySet path = make_queries(RayKind::path, brute, f.scene, f.triangles, 250, 4, 1);
+  const QuerySet path = make_queries(RayKind::path, brute, f.scene, f.triangles.bounds, 250, 4, 1);
   const QuerySet expected = make_path_rays(brute, f.scene, 250, {.max_bounces = 1, .seed = 4});
   EXPECT_TRUE(same_rays(path.closest, expected.closest, expected.closest.size()));
   EXPECT_EQ(path.shadow.size(), expected.shadow.size());

@@ -63,7 +63,14 @@ TEST(Plan, FeaturesFollowTheirShapes) {
   EXPECT_DOUBLE_EQ(build_feature(at("grid:levels=1"), p), p.grid_build_ms);  // the profile built this very grid
   EXPECT_DOUBLE_EQ(build_feature(at("bvh:levels=1"), p), 8192.0 * 13.0);
   EXPECT_DOUBLE_EQ(build_feature(at("bvh:levels=2"), p), 1024.0 * 10.0 + 8.0 * 3.0);
-  EXPECT_DOUBLE_EQ(ray_feature(at("bvh:levels=2"), p, RayKind::ao), 10.0 + 3.0);
+  // Trees per ray: the profile's two-level BVH sample, scaled for flattened trees by their depth over
+  // its depth (log2 8192 = 13 levels against log2 1024 + log2 8 = 13: equal here).
+  const double bvh_ao = p.bvh_sample_us[plan_kind_index(RayKind::ao)];
+  EXPECT_DOUBLE_EQ(ray_feature(at("bvh:levels=2"), p, RayKind::ao), bvh_ao);
+  EXPECT_DOUBLE_EQ(ray_feature(at("bvh:levels=1"), p, RayKind::ao), bvh_ao * 13.0 / 13.0);
+  const SceneProfile one = test::synthetic_profile(1024, 1, 0.5);
+  EXPECT_DOUBLE_EQ(ray_feature(at("kdtree:levels=1"), one, RayKind::ao), bvh_ao * 10.0 / 11.0);  // log2 1 counts as 1
+  EXPECT_DOUBLE_EQ(ray_feature(at("beam"), p, RayKind::ao), 13.0);
   EXPECT_DOUBLE_EQ(ray_feature(at("brute:levels=1"), p, RayKind::ao), 8192.0);
   EXPECT_DOUBLE_EQ(ray_feature(at("grid:levels=1"), p, RayKind::random), p.grid_sample_us[plan_kind_index(RayKind::random)]);
   EXPECT_DOUBLE_EQ(build_feature(at("field:positions=4226,directions=32"), p), 4226.0 * 32 * 32 * 10.0);
@@ -75,27 +82,33 @@ TEST(Plan, FeaturesFollowTheirShapes) {
 
 TEST(Plan, ExcludesByKindErrorAndMemoryAndSaysWhy) {
   const PlanModel model = test::synthetic_plan_model();
-  SceneProfile profile = test::synthetic_profile(5000, 1, 0.1);
-  profile.grid_sample_us.fill(100.0);  // a slow grid: per ray, fields are the cheapest
+  SceneProfile profile = test::synthetic_profile(5000, 1, 0.5);  // at 50% occluded, more directions lower the fit
+  profile.grid_sample_us.fill(100.0);  // slow exact structures: per ray, fields are the cheapest
+  profile.bvh_sample_us.fill(100.0);
   PlanRequest request;
   request.kind = RayKind::random;
   request.max_error = 255;
   const Plan random = make_plan(model, profile, request, 2, some_bytes);
   EXPECT_EQ(row_of(random, "field:positions=1090,directions=16").excluded, "answers occlusion (ao, shadow) rays only");
+  SceneProfile unsampled = profile;
+  unsampled.bvh_sample_us.fill(0.0);
+  EXPECT_EQ(row_of(make_plan(model, unsampled, request, 2, some_bytes), "kdtree:levels=1").excluded,
+            "no BVH sample of random rays in the profile");
   SceneProfile unprobed = profile;
   unprobed.field_probe_rms = -1;
   request.kind = RayKind::shadow;
   EXPECT_EQ(row_of(make_plan(model, unprobed, request, 2, some_bytes), "field:positions=1090,directions=16").excluded,
             "the scene was not probed with a field");
 
-  // AO with a tight error: fields whose 90% bound exceeds it are out, with the bound in the reason.
+  // AO with a tight error: fields whose 90% bound exceeds it are out, with the bound in the reason (the
+  // probe with its measured RMS).
   request.kind = RayKind::ao;
   request.rays = 1e12;  // rays dominate: the cheapest per ray wins among those allowed
-  const double bound_small = model.field_error.bound(1090, 16, 0.1, 2.0), bound_large = model.field_error.bound(1090, 64, 0.1, 2.0);
+  const double bound_small = model.field_error.bound(1090, 16, 0.5, 2.0), bound_large = model.field_error.bound(1090, 64, 0.5, 2.0);
   ASSERT_GT(bound_small, bound_large);
   request.max_error = (bound_small + bound_large) / 2;
   const Plan tight = make_plan(model, profile, request, 2, some_bytes);
-  EXPECT_EQ(row_of(tight, "field:positions=1090,directions=16").excluded.rfind("predicted RMS ", 0), 0u);
+  EXPECT_EQ(row_of(tight, "field:positions=1090,directions=16").excluded.rfind("measured RMS ", 0), 0u);
   EXPECT_EQ(row_of(tight, "field:positions=1090,directions=64").excluded, "");
   EXPECT_EQ(tight.rows[tight.chosen].spec.rfind("field:", 0), 0u) << tight.rows[tight.chosen].spec;
 
@@ -107,6 +120,82 @@ TEST(Plan, ExcludesByKindErrorAndMemoryAndSaysWhy) {
   EXPECT_NE(row_of(small, "bvh:levels=1").excluded.find("over the memory limit"), std::string::npos);
   request.max_memory = 500;
   EXPECT_THROW(make_plan(model, profile, request, 2, some_bytes), Error);
+}
+
+TEST(Plan, TheProbesErrorIsItsMeasurement) {
+  const PlanModel model = test::synthetic_plan_model();
+  const SceneProfile profile = test::synthetic_profile(5000, 1, 0.5);
+  PlanRequest request;
+  request.kind = RayKind::ao;
+  request.max_error = 255;
+  const PlanRow& probe = row_of(make_plan(model, profile, request, 2, some_bytes), kFieldProbe);
+  EXPECT_TRUE(probe.error_measured);
+  EXPECT_EQ(probe.error, profile.field_probe_rms);
+  EXPECT_EQ(model.field_error.bound(1090, 16, 0.5, 3.25), 3.25);
+  EXPECT_FALSE(row_of(make_plan(model, profile, request, 2, some_bytes), "field:positions=1090,directions=32").error_measured);
+}
+
+TEST(Plan, MeasuresAFieldItsModelCannotVouchForAndSettlesOnTheMeasurement) {
+  PlanModel model = test::synthetic_plan_model();
+  model.field_error.sigma = 0.5;  // bounds 1.9x the fit
+  for (std::size_t i = 0; i < plan_candidates().size(); ++i)
+    if (plan_candidates()[i].approximate()) model.constants[i].build_ms = 1e-9;  // cheap fields: worth a build
+  SceneProfile profile = test::synthetic_profile(5000, 1, 0.5);  // at 50% occluded, more directions lower the fit
+  profile.grid_sample_us.fill(100.0);
+  profile.bvh_sample_us.fill(100.0);  // slow exact structures: a field wins a large budget
+  PlanRequest request;
+  request.kind = RayKind::ao;
+  request.rays = 1e9;
+  const double fit = model.field_error.predict(1090, 64, 0.5, profile.field_probe_rms);
+  request.max_error = 1.2 * fit;  // within the fit of the 64 directions, not within its bound (nor the probe's RMS)
+  ASSERT_LT(request.max_error, profile.field_probe_rms);
+  const Plan plan = make_plan(model, profile, request, 2, some_bytes);
+  ASSERT_NE(plan.to_measure, kNoRow);
+  const PlanRow& field = plan.rows[plan.to_measure];
+  EXPECT_EQ(field.excluded.rfind("predicted RMS ", 0), 0u) << field.excluded;
+  const PlanCandidate& candidate = plan_candidates()[plan.to_measure];
+  EXPECT_LE(model.field_error.optimistic(candidate.positions, candidate.directions, 0.5, profile.field_probe_rms), request.max_error);
+  EXPECT_GT(model.field_error.bound(candidate.positions, candidate.directions, 0.5, profile.field_probe_rms), request.max_error);
+  EXPECT_LT(field.total_ms + field.build_ms, plan.rows[plan.chosen].total_ms);  // worth a build lost in vain
+  EXPECT_NE(plan.reason.find("if its RMS"), std::string::npos) << plan.reason;
+
+  Plan kept = plan;
+  settle_plan(kept, 0.99 * request.max_error, request);
+  EXPECT_EQ(kept.chosen, plan.to_measure);
+  EXPECT_EQ(kept.to_measure, kNoRow);
+  EXPECT_TRUE(kept.rows[kept.chosen].excluded.empty());
+  EXPECT_TRUE(kept.rows[kept.chosen].error_measured);
+  EXPECT_EQ(kept.rows[kept.chosen].error, 0.99 * request.max_error);
+  EXPECT_NE(kept.reason.find("its RMS measured"), std::string::npos) << kept.reason;
+
+  // Every field measured over the error: each is out with its measurement, the next one is weighed,
+  // and the choice stays.
+  Plan refused = plan;
+  std::size_t measured = 0;
+  while (refused.to_measure != kNoRow) {
+    const std::size_t field_row = refused.to_measure;
+    settle_plan(refused, 1.01 * request.max_error, request);
+    ++measured;
+    EXPECT_EQ(refused.chosen, plan.chosen);
+    EXPECT_NE(refused.to_measure, field_row);
+    EXPECT_EQ(refused.rows[field_row].excluded.rfind("measured RMS ", 0), 0u) << refused.rows[field_row].excluded;
+    ASSERT_LE(measured, plan_candidates().size());
+  }
+  EXPECT_GE(measured, 1u);
+  settle_plan(refused, 0.0, request);  // nothing left to settle
+  EXPECT_EQ(refused.chosen, plan.chosen);
+
+  // Fields as costly to build as the synthetic model makes them: none saves more than its build.
+  const PlanModel costly = [&] {
+    PlanModel m = test::synthetic_plan_model();
+    m.field_error.sigma = 0.5;
+    return m;
+  }();
+  EXPECT_EQ(make_plan(costly, profile, request, 2, some_bytes).to_measure, kNoRow);
+  // A bound within the error: the field is taken without a measurement.
+  request.rays = 1e9;
+  model.field_error.sigma = 0.0;
+  EXPECT_EQ(make_plan(model, profile, request, 2, some_bytes).to_measure, kNoRow);
 }
 
 TEST(Plan, FewRaysPickACheapBuildAndManyACheapRay) {
@@ -164,8 +253,8 @@ TEST(Plan, FitRecoversTheConstantsAndTheErrorModelOfExactMeasurements) {
       }
     }
   }
-  EXPECT_EQ(fitted.field_error.samples, 4 * 9u);
-  for (int c = 0; c < 4; ++c) EXPECT_NEAR(fitted.field_error.coefficients[c], truth.field_error.coefficients[c], 1e-6) << c;
+  EXPECT_EQ(fitted.field_error.samples, 4 * 8u);  // the probe's rows say nothing: its RMS is measured
+  for (std::size_t c = 0; c < kErrorFeatures; ++c) EXPECT_NEAR(fitted.field_error.coefficients[c], truth.field_error.coefficients[c], 1e-6) << c;
   EXPECT_NEAR(fitted.field_error.sigma, 0.0, 1e-6);
   // Below six field measurements there is no error model.
   std::vector<PlanMeasurement> few{scenes[0]};
@@ -177,7 +266,7 @@ TEST(Plan, FitRecoversTheConstantsAndTheErrorModelOfExactMeasurements) {
 
 TEST(Plan, TheTargetRmsPicksTheSmallestFieldWhoseBoundMeetsIt) {
   const PlanModel model = test::synthetic_plan_model();
-  // bound = exp(1.5) P^0.125 D^-0.5 (occluded + 0.01)^-0.25: fewer positions and more directions lower it.
+  // At 30% occluded, fewer positions and more directions lower the bound (synthetic_plan_model's coefficients).
   const SceneProfile profile = test::synthetic_profile(3000, 1, 0.3);
   const double occluded = profile.ao_occluded, probe = profile.field_probe_rms;
   const std::size_t loosest = field_for_target_rms(model.field_error, profile, 1e6);
@@ -196,6 +285,28 @@ TEST(Plan, TheTargetRmsPicksTheSmallestFieldWhoseBoundMeetsIt) {
   EXPECT_EQ(field_for_target_rms(model.field_error, rough, model.field_error.bound(1090, 64, occluded, probe)), kNone);
   rough.field_probe_rms = -1;  // not probed: no field is sized
   EXPECT_EQ(field_for_target_rms(model.field_error, rough, 1e6), kNone);
+
+  // Measuring: fields the bound refuses and the fit does not rule out are measured, smallest first,
+  // and the first whose measurement meets the target is picked.
+  FieldErrorModel uncertain = model.field_error;
+  uncertain.sigma = 0.5;
+  const double target = uncertain.predict(1090, 64, occluded, probe);
+  ASSERT_GT(uncertain.bound(1090, 64, occluded, probe), target);
+  std::vector<std::string_view> asked;
+  const std::size_t measured = field_for_target_rms(uncertain, profile, target, [&](std::size_t i) {
+    asked.push_back(plan_candidates()[i].spec);
+    return plan_candidates()[i].spec == "field:positions=1090,directions=64" ? target : 2 * target;
+  });
+  ASSERT_LT(measured, plan_candidates().size());
+  EXPECT_EQ(plan_candidates()[measured].spec, "field:positions=1090,directions=64");
+  ASSERT_GE(asked.size(), 2u);  // smaller fields not ruled out were measured first (the probe is measured already)
+  const auto cells = [](std::string_view spec) {
+    const PlanCandidate& c = plan_candidates()[plan_candidate_index(spec)];
+    return static_cast<double>(c.positions) * c.directions * c.directions;
+  };
+  for (std::size_t i = 1; i < asked.size(); ++i) EXPECT_LT(cells(asked[i - 1]), cells(asked[i])) << asked[i];
+  EXPECT_EQ(asked.back(), "field:positions=1090,directions=64");
+  EXPECT_NE(field_for_target_rms(uncertain, profile, target), measured);  // bounds alone cannot admit it
 }
 
 TEST(Plan, LeaveOneOutIsRightWhenEverySceneFollowsTheModel) {

@@ -73,13 +73,15 @@ TEST_F(SelectCli, CalibrateMeasuresEveryStructureForThePlannerAndSelectUsesIt) {
   for (const SceneMeasurement& s : c.scenes) {
     ASSERT_EQ(s.plan.candidates.size(), plan_candidates().size()) << s.name;
     EXPECT_GT(s.plan.profile.grid_sample_us[plan_kind_index(RayKind::path)], 0.0) << s.name;
+    for (RayKind kind : kRayKinds) EXPECT_GT(s.plan.profile.bvh_sample_us[plan_kind_index(kind)], 0.0) << s.name;
+    EXPECT_GT(s.plan.profile.bvh_build_ms, 0.0) << s.name;
     EXPECT_GT(s.plan.find("beam")->update_ms, 0.0) << s.name;  // BeamField moves objects in place: a move was timed
     EXPECT_GT(s.plan.find("bvh:levels=2")->update_ms, 0.0) << s.name;  // and so does the two-level BVH
     EXPECT_LT(s.plan.find("bvh:levels=1")->update_ms, 0.0) << s.name;  // a flattened BVH rebuilds
     EXPECT_LT(s.plan.find("field:positions=1090,directions=16")->ray_us[plan_kind_index(RayKind::random)], 0.0);
     EXPECT_GT(s.plan.find("field:positions=1090,directions=16")->ao_rms, 0.0) << s.name;
   }
-  EXPECT_EQ(c.plan.field_error.samples, 18u);
+  EXPECT_EQ(c.plan.field_error.samples, 16u);  // two scenes x the eight fields other than the probe (whose RMS is measured)
   EXPECT_GT(c.plan.constants[plan_candidate_index("kdtree:levels=1")].ray_us[plan_kind_index(RayKind::ao)], 0.0);
 
   const auto select = visfield("select builtin:sphere:size=2000 --rays 1e6 --kind random --calibration plan.json --threads 2");
@@ -134,8 +136,8 @@ TEST_F(SelectCli, FieldBuildSizesAFieldFromATargetError) {
 }
 
 TEST_F(SelectCli, SelectRefusesBadInputWithOneLine) {
-  std::ofstream(dir_ / "bad.json") << "{\"format\": \"visfield-calibration\", \"version\": 3}";
-  expect_clean_failure("select builtin:boxes --rays 100 --calibration bad.json", "bad.json: version: unsupported version 3");
+  std::ofstream(dir_ / "bad.json") << "{\"format\": \"visfield-calibration\", \"version\": 4}";
+  expect_clean_failure("select builtin:boxes --rays 100 --calibration bad.json", "bad.json: version: unsupported version 4");
   expect_clean_failure("select builtin:boxes --rays 100 --calibration missing.json", "missing.json");
   expect_clean_failure("select builtin:boxes --rays 100 --kind diffuse", "--kind", 2);
   expect_clean_failure("select builtin:boxes", "--rays", 2);

@@ -36,7 +36,7 @@ TEST(Timing, TraceQueriesAnswersEveryQuery) {
   const Scene scene = make_builtin_scene("cornell", {.size = 100});
   const TriangleSet triangles = flatten(scene);
   const BruteForce brute = BruteForce::build(triangles);
-  const QuerySet q = make_queries(RayKind::path, brute, scene, triangles, 600, 1, 2);
+  const QuerySet q = make_queries(RayKind::path, brute, scene, triangles.bounds, 600, 1, 2);
   std::uint64_t expected = 0;
   for (const Ray& ray : q.closest) {
     const Hit hit = brute.intersect(ray);
