@@ -237,7 +237,7 @@ std::vector<Row> catalogue() {
       // Calibration files.
       {"CalibrationOfAnotherVersion", {{"cal.json", R"({"format": "visfield-calibration", "version": 99})"}},
        "select builtin:cornell --rays 1e6 --calibration cal.json", 1,
-       "cal.json: version: unsupported version 99 (this build reads version 2; run visfield calibrate again)"},
+       "cal.json: version: unsupported version 99 (this build reads version 3; run visfield calibrate again)"},
       {"CalibrationOfAnotherMachine", {{"cal.json", calibration_of_another_machine()}},
        "select builtin:cornell --rays 1e6 --calibration cal.json", 1,
        "cal.json: measured on Another CPU with 2 threads, but this is …: its timings do not apply (run visfield calibrate "
