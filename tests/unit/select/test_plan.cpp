@@ -123,16 +123,19 @@ TEST(Plan, ExcludesByKindErrorAndMemoryAndSaysWhy) {
 }
 
 TEST(Plan, TheProbesErrorIsItsMeasurement) {
-  const PlanModel model = test::synthetic_plan_model();
   const SceneProfile profile = test::synthetic_profile(5000, 1, 0.5);
-  PlanRequest request;
-  request.kind = RayKind::ao;
-  request.max_error = 255;
-  const PlanRow& probe = row_of(make_plan(model, profile, request, 2, some_bytes), kFieldProbe);
-  EXPECT_TRUE(probe.error_measured);
-  EXPECT_EQ(probe.error, profile.field_probe_rms);
-  EXPECT_EQ(model.field_error.bound(1090, 16, 0.5, 3.25), 3.25);
-  EXPECT_FALSE(row_of(make_plan(model, profile, request, 2, some_bytes), "field:positions=1090,directions=32").error_measured);
+  PlanRequest any_error;
+  any_error.kind = RayKind::ao;
+  any_error.max_error = 255;
+  const Plan plan = make_plan(test::synthetic_plan_model(), profile, any_error, 2, some_bytes);
+  EXPECT_TRUE(row_of(plan, kFieldProbe).error_measured);
+  EXPECT_EQ(row_of(plan, kFieldProbe).error, profile.field_probe_rms);
+  EXPECT_FALSE(row_of(plan, "field:positions=1090,directions=32").error_measured);
+  FieldErrorModel spread = test::synthetic_plan_model().field_error;
+  spread.sigma = 0.5;
+  EXPECT_EQ(spread.bound(1090, 16, 0.5, 3.25), 3.25);
+  EXPECT_EQ(spread.optimistic(1090, 16, 0.5, 3.25), 3.25);
+  EXPECT_GT(spread.bound(1090, 32, 0.5, 3.25), spread.predict(1090, 32, 0.5, 3.25));
 }
 
 TEST(Plan, MeasuresAFieldItsModelCannotVouchForAndSettlesOnTheMeasurement) {
