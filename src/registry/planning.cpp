@@ -79,16 +79,26 @@ SceneProfile profile_for_plan(SceneGeometry& geometry, std::span<const RayKind> 
 }
 
 double field_error_rms(std::string_view spec, SceneGeometry& geometry) {
-  const BuiltStructure exact = build_structure("bvh", geometry, {}, "plan ");
-  const std::vector<Ray> rays = error_rays(exact.structure, geometry.scene(), 1);
-  const BuiltStructure field = build_structure(spec, geometry, {}, "plan ");
-  return ao_image_rms(occlusion_answers(field.structure, rays), occlusion_answers(exact.structure, rays), kErrorAoRays);
+  return field_error_rms(build_structure(spec, geometry, {}, "plan ").structure, geometry);
 }
 
-Plan plan_structures(SceneGeometry& geometry, const SceneProfile& profile, const Calibration& calibration, const PlanRequest& request) {
+double field_error_rms(const AnyStructure& field, SceneGeometry& geometry) {
+  const BuiltStructure exact = build_structure("bvh", geometry, {}, "plan ");
+  const std::vector<Ray> rays = error_rays(exact.structure, geometry.scene(), 1);
+  return ao_image_rms(occlusion_answers(field, rays), occlusion_answers(exact.structure, rays), kErrorAoRays);
+}
+
+Plan plan_structures(SceneGeometry& geometry, const SceneProfile& profile, const Calibration& calibration, const PlanRequest& request,
+                     std::optional<BuiltStructure>* measured_choice) {
   Plan plan = make_plan(calibration.plan, profile, request, threads_in_force(),
                         [&](std::string_view spec) { return estimate_structure_bytes(spec, geometry, "plan "); });
-  while (plan.to_measure != kNoRow) settle_plan(plan, field_error_rms(plan.rows[plan.to_measure].spec, geometry), request);
+  while (plan.to_measure != kNoRow) {
+    const std::size_t row = plan.to_measure;
+    BuiltStructure field = build_structure(plan.rows[row].spec, geometry, {}, "plan ");
+    settle_plan(plan, field_error_rms(field.structure, geometry), request);
+    // The choice moves only to a field measured within the error: the last one kept is the choice.
+    if (measured_choice && plan.chosen == row) *measured_choice = std::move(field);
+  }
   return plan;
 }
 

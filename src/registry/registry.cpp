@@ -303,9 +303,10 @@ BuiltStructure build_auto(const ParamValues& p, SceneGeometry& geometry, const B
   const Calibration calibration = auto_calibration(p);
   const RayKind kinds[] = {request.kind};
   const SceneProfile profile = profile_for_plan(geometry, kinds, request.max_error > 0.0 && is_occlusion_kind(request.kind));
-  const Plan plan = plan_structures(geometry, profile, calibration, request);
+  std::optional<BuiltStructure> measured;  // a field the plan built to measure its error, when it won
+  const Plan plan = plan_structures(geometry, profile, calibration, request, &measured);
   const std::string& chosen = plan.rows[plan.chosen].spec;
-  BuiltStructure built = build_structure(chosen, geometry, context, "auto -> ");
+  BuiltStructure built = measured ? std::move(*measured) : build_structure(chosen, geometry, context, "auto -> ");
   built.resolved = "auto:kind=" + p.text("kind") + ",rays=" + std::to_string(static_cast<std::uint64_t>(request.rays)) +
                    (request.max_error > 0.0 ? ",error=" + formatted("%g", request.max_error) : "") +
                    (request.updates > 0.0 ? ",updates=" + std::to_string(p.whole("updates")) : "") +

@@ -68,8 +68,13 @@ bool is_probe(int positions, int directions) { return positions == kFieldProbePo
 // caches that stop holding the triangles) rather than proportional to it.
 bool power_law(const PlanCandidate& c) { return c.shape == CostShape::grid || c.shape == CostShape::brute; }
 
+// The largest power of a feature the cost model fits (fit_power).
+constexpr double kMostExponent = 4.0;
+
 // Coefficient and exponent of t = c f^e by least squares on (log f, log t); e = 1 (the geometric mean)
-// when the features do not spread.
+// when the features do not spread. e is kept in [0, kMostExponent]: the grid's time follows its
+// sample's with a power near 1 and brute force's N with one just over 1, while a fit over two scenes
+// whose samples nearly agree can swing far off (-8.5 with two small scenes timed under ASan).
 std::pair<double, double> fit_power(const std::vector<double>& f, const std::vector<double>& t) {
   double mf = 0.0, mt = 0.0;
   for (std::size_t i = 0; i < f.size(); ++i) mf += std::log(f[i]), mt += std::log(t[i]);
@@ -79,7 +84,7 @@ std::pair<double, double> fit_power(const std::vector<double>& f, const std::vec
     sff += (std::log(f[i]) - mf) * (std::log(f[i]) - mf);
     sft += (std::log(f[i]) - mf) * (std::log(t[i]) - mt);
   }
-  const double e = sff > 1e-6 ? sft / sff : 1.0;
+  const double e = sff > 1e-6 ? std::clamp(sft / sff, 0.0, kMostExponent) : 1.0;
   return {std::exp(mt - e * mf), e};
 }
 

@@ -3,9 +3,11 @@
 /// with the registry's memory estimates, and the calibration's measurement of every candidate.
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string_view>
 
+#include "visfield/registry/registry.hpp"
 #include "visfield/registry/scene_geometry.hpp"
 #include "visfield/select/calibration.hpp"
 #include "visfield/select/plan.hpp"
@@ -21,10 +23,11 @@ SceneProfile profile_for_plan(SceneGeometry& geometry, std::span<const RayKind> 
 
 /// make_plan for `geometry` with `calibration.plan` and each candidate's build estimate from the
 /// registry, on the threads in force; a field the plan wants measured (Plan::to_measure) is built and
-/// its RMS measured (field_error_rms) to settle the plan. Throws vf::Error on a bad request or when
-/// nothing qualifies.
+/// its RMS measured (field_error_rms) to settle the plan, and when `measured_choice` is given and a
+/// measured field becomes the choice, that build is kept there (so the caller need not build it
+/// again). Throws vf::Error on a bad request or when nothing qualifies.
 Plan plan_structures(SceneGeometry& geometry, const SceneProfile& profile, const Calibration& calibration,
-                     const PlanRequest& request);
+                     const PlanRequest& request, std::optional<BuiltStructure>* measured_choice = nullptr);
 
 /// AO rays per hit pixel of the image a field's error is measured on.
 inline constexpr int kErrorAoRays = 32;
@@ -35,6 +38,8 @@ inline constexpr int kErrorImageSide = 128;
 /// against the exact one, on `geometry`'s scene. Cost: a field build, a BVH build and the image's rays
 /// through both.
 double field_error_rms(std::string_view spec, SceneGeometry& geometry);
+/// The same for a field built already.
+double field_error_rms(const AnyStructure& field, SceneGeometry& geometry);
 
 /// RMS on the 0-255 scale between two AO images given as answers to the same AO rays, `rays_per_pixel`
 /// consecutive rays for each pixel that sees the scene (make_ray_set's order): pixel value = 255 x the

@@ -6,6 +6,7 @@
 #include "differential/test_scenes.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/registry/planning.hpp"
 #include "visfield/registry/registry.hpp"
 #include "visfield/scenes/builtin.hpp"
 
@@ -193,6 +194,35 @@ TEST(Registry, AutoBuildsWhatThePlannerPicks) {
   EXPECT_FALSE(std::holds_alternative<field::FieldScene>(exact.structure)) << exact.resolved;
   EXPECT_NE(build_error("auto:calibration=missing.json", small_scene()).find("missing.json"), std::string::npos);
   EXPECT_NE(build_error("auto:error=300", small_scene()).find("error=300"), std::string::npos);
+}
+
+TEST(Registry, APlanMeasuresFieldsItsModelCannotVouchForAndHandsTheChosenOneOver) {
+  SceneGeometry geometry(small_scene());
+  const RayKind kinds[] = {RayKind::ao};
+  const SceneProfile profile = profile_for_plan(geometry, kinds, true);
+  ASSERT_GT(profile.field_probe_rms, 0.0);
+  Calibration loose = builtin_calibration();
+  loose.plan.field_error.sigma = 3.0;  // every bound far over the error, nothing ruled out: every field is measured
+  PlanRequest request;
+  request.kind = RayKind::ao;
+  request.rays = 1e12;
+  request.max_error = 0.999 * profile.field_probe_rms;  // the probe, measured, is out
+  std::optional<BuiltStructure> kept;
+  const Plan plan = plan_structures(geometry, profile, loose, request, &kept);
+  EXPECT_EQ(plan.to_measure, kNoRow);
+  const PlanRow& chosen = plan.rows[plan.chosen];
+  ASSERT_EQ(chosen.spec.rfind("field:", 0), 0u) << chosen.spec << ": " << plan.reason;  // finer fields beat the probe here
+  EXPECT_TRUE(chosen.error_measured);
+  EXPECT_LE(chosen.error, request.max_error);
+  EXPECT_NEAR(chosen.error, field_error_rms(chosen.spec, geometry), 0.0);  // the measurement is the probe's measure
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_TRUE(std::holds_alternative<field::FieldScene>(kept->structure));
+  EXPECT_EQ(kept->resolved.rfind(chosen.spec, 0), 0u) << kept->resolved;
+  // Without a field to measure, nothing is handed over.
+  std::optional<BuiltStructure> none;
+  request.max_error = 0.0;
+  plan_structures(geometry, profile, loose, request, &none);
+  EXPECT_FALSE(none.has_value());
 }
 
 TEST(Registry, BatchQueriesMatchSingleQueries) {

@@ -265,6 +265,20 @@ TEST(Plan, FitRecoversTheConstantsAndTheErrorModelOfExactMeasurements) {
   const std::size_t first[] = {0};
   EXPECT_EQ(fit_plan_model(few, first, 2).field_error.samples, 0u);
   EXPECT_THROW(fit_plan_model(scenes, {}, 2), Error);
+
+  // Two scenes whose grid samples nearly agree and whose measured times do not: the grid's power is
+  // kept within [0, 4] (a calibration under ASan fitted -8.5 and wrote a file it could not read back).
+  std::vector<PlanMeasurement> two{scenes[0], scenes[1]};
+  two[1].profile.grid_sample_us = two[0].profile.grid_sample_us;
+  for (std::size_t k = 0; k < kPlanKinds; ++k) two[1].profile.grid_sample_us[k] *= 1.001;
+  const std::size_t grid = plan_candidate_index("grid:levels=1");
+  for (double& t : two[1].candidates[grid].ray_us) t *= 0.5;
+  const std::size_t both[] = {0, 1};
+  const PlanModel swung = fit_plan_model(two, both, 2);
+  for (std::size_t k = 0; k < kPlanKinds; ++k) {
+    EXPECT_GE(swung.constants[grid].ray_exponent[k], 0.0) << k;
+    EXPECT_LE(swung.constants[grid].ray_exponent[k], 4.0) << k;
+  }
 }
 
 TEST(Plan, TheTargetRmsPicksTheSmallestFieldWhoseBoundMeetsIt) {
