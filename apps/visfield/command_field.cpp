@@ -5,6 +5,7 @@
 #include <map>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -47,8 +48,10 @@ void size_for_target_rms(const FieldBuildOptions& o, const Scene& scene,
   const SceneProfile profile = profile_for_plan(geometry, {}, true);
   char line[256];
   double measured_rms = -1.0;
+  std::optional<FieldErrorImage> image;  // made at the first measurement, for all of them
   const std::size_t pick = field_for_target_rms(model, profile, o.target_rms, [&](std::size_t candidate) {
-    measured_rms = field_error_rms(plan_candidates()[candidate].spec, geometry);
+    if (!image) image.emplace(geometry);
+    measured_rms = image->rms(build_structure(plan_candidates()[candidate].spec, geometry, {}, "--target-rms ").structure);
     std::snprintf(line, sizeof line, "measured %s: RMS %.2f (the error model can neither rule it out for %g nor vouch for it)\n",
                   std::string(plan_candidates()[candidate].spec).c_str(), measured_rms, o.target_rms);
     std::cout << line;

@@ -78,24 +78,29 @@ SceneProfile profile_for_plan(SceneGeometry& geometry, std::span<const RayKind> 
   return profile;
 }
 
-double field_error_rms(std::string_view spec, SceneGeometry& geometry) {
-  return field_error_rms(build_structure(spec, geometry, {}, "plan ").structure, geometry);
-}
+FieldErrorImage::FieldErrorImage(const AnyStructure& exact, const Scene& scene)
+    : rays_(error_rays(exact, scene, 1)), exact_(occlusion_answers(exact, rays_)) {}
 
-double field_error_rms(const AnyStructure& field, SceneGeometry& geometry) {
-  const BuiltStructure exact = build_structure("bvh", geometry, {}, "plan ");
-  const std::vector<Ray> rays = error_rays(exact.structure, geometry.scene(), 1);
-  return ao_image_rms(occlusion_answers(field, rays), occlusion_answers(exact.structure, rays), kErrorAoRays);
+FieldErrorImage::FieldErrorImage(SceneGeometry& geometry)
+    : FieldErrorImage(build_structure("bvh", geometry, {}, "plan ").structure, geometry.scene()) {}
+
+double FieldErrorImage::rms(const AnyStructure& field) const { return ao_image_rms(occlusion_answers(field, rays_), exact_, kErrorAoRays); }
+
+double field_error_rms(std::string_view spec, SceneGeometry& geometry) {
+  const FieldErrorImage image(geometry);
+  return image.rms(build_structure(spec, geometry, {}, "plan ").structure);
 }
 
 Plan plan_structures(SceneGeometry& geometry, const SceneProfile& profile, const Calibration& calibration, const PlanRequest& request,
                      std::optional<BuiltStructure>* measured_choice) {
   Plan plan = make_plan(calibration.plan, profile, request, threads_in_force(),
                         [&](std::string_view spec) { return estimate_structure_bytes(spec, geometry, "plan "); });
+  std::optional<FieldErrorImage> image;  // made at the first measurement, for all of them
   while (plan.to_measure != kNoRow) {
     const std::size_t row = plan.to_measure;
+    if (!image) image.emplace(geometry);
     BuiltStructure field = build_structure(plan.rows[row].spec, geometry, {}, "plan ");
-    settle_plan(plan, field_error_rms(field.structure, geometry), request);
+    settle_plan(plan, image->rms(field.structure), request);
     // The choice moves only to a field measured within the error: the last one kept is the choice.
     if (measured_choice && plan.chosen == row) *measured_choice = std::move(field);
   }
@@ -134,8 +139,7 @@ PlanMeasurement measure_plan(const NamedScene& named, const CalibrationOptions& 
   std::array<QuerySet, kPlanKinds> queries;
   for (std::size_t k = 0; k < kPlanKinds; ++k)
     queries[k] = make_queries(kRayKinds[k], bvh, scene, named.triangles.bounds, options.rays, options.seed, options.path_bounces);
-  const std::vector<Ray> error_set = error_rays(reference.structure, scene, 1);
-  const std::vector<std::uint8_t> exact = occlusion_answers(reference.structure, error_set);
+  const FieldErrorImage error_image(reference.structure, scene);
 
   for (const PlanCandidate& candidate : plan_candidates()) {
     if (on_candidate) on_candidate(candidate.spec);
@@ -167,7 +171,7 @@ PlanMeasurement measure_plan(const NamedScene& named, const CalibrationOptions& 
         m.ray_us[k] = batch_query_us(built->structure, all);
       }
     }
-    if (candidate.approximate()) m.ao_rms = ao_image_rms(occlusion_answers(built->structure, error_set), exact, kErrorAoRays);
+    if (candidate.approximate()) m.ao_rms = error_image.rms(built->structure);
     if (candidate.spec == kFieldProbe) out.profile.field_probe_rms = m.ao_rms;
     if (candidate.updatable) m.update_ms = update_ms(built->structure, scene);
     out.candidates.push_back(std::move(m));

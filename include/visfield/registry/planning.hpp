@@ -34,12 +34,25 @@ inline constexpr int kErrorAoRays = 32;
 /// Side of that image (the scene's camera, else the default framing).
 inline constexpr int kErrorImageSide = 128;
 
-/// The RMS (0-255) of the AO image (kErrorImageSide, kErrorAoRays, seed 1) through the field `spec`
-/// against the exact one, on `geometry`'s scene. Cost: a field build, a BVH build and the image's rays
-/// through both.
+/// The AO image a field's error is measured on (kErrorImageSide, kErrorAoRays, seed 1, drawn through
+/// an exact structure) with the exact answers: made once, it measures any number of fields.
+class FieldErrorImage {
+ public:
+  /// The image of `scene` drawn through `exact` (an exact structure over it).
+  FieldErrorImage(const AnyStructure& exact, const Scene& scene);
+  /// The image of `geometry`'s scene drawn through a BVH built over it.
+  explicit FieldErrorImage(SceneGeometry& geometry);
+  /// RMS (0-255) of the image through `field` (any structure over the scene) against the exact one.
+  double rms(const AnyStructure& field) const;
+
+ private:
+  std::vector<Ray> rays_;
+  std::vector<std::uint8_t> exact_;
+};
+
+/// FieldErrorImage(geometry).rms of the field `spec`. Cost: a field build, a BVH build and the image's
+/// rays through both.
 double field_error_rms(std::string_view spec, SceneGeometry& geometry);
-/// The same for a field built already.
-double field_error_rms(const AnyStructure& field, SceneGeometry& geometry);
 
 /// RMS on the 0-255 scale between two AO images given as answers to the same AO rays, `rays_per_pixel`
 /// consecutive rays for each pixel that sees the scene (make_ray_set's order): pixel value = 255 x the
