@@ -97,7 +97,7 @@ struct TargetRmsOutcome {
   double chosen_rms = 0.0;        ///< Its measured RMS.
   double chosen_bytes = 0.0;      ///< Its measured memory.
   double smallest_bytes = 0.0;    ///< The smallest measured field that meets E; 0 when none does.
-  int measured = 0;               ///< Fields measured on the way (those the fit admits and the bound does not).
+  int measured = 0;               ///< Fields measured on the way (those the fit cannot rule out and the bound does not admit).
 
   /// The choice meets E (a refusal is right when no measured field meets E).
   bool met() const { return chosen.empty() ? smallest_bytes == 0.0 : chosen_rms <= target; }
