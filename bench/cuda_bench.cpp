@@ -152,6 +152,10 @@ void run_cuda_bench(const BenchOptions& options, std::ostream& out) {
   const field::FieldScene* fields = nullptr;
   std::optional<gpu::PackedFieldScene> packed;
   cuda::DeviceFieldScene d_fields;
+  // Where the fields share a form the kernels are compiled for it; the same queries through the
+  // kernels that read every choice at run time measure what that gains.
+  std::optional<cuda::DeviceFieldScene> d_generic;
+  const std::string generic_name = ", generic kernel";
   for (std::size_t i = 0; i < built.size(); ++i) {
     const AnyStructure* ours = std::get_if<AnyStructure>(&built[i].accel);
     const field::FieldScene* f = ours ? std::get_if<field::FieldScene>(ours) : nullptr;
@@ -161,6 +165,10 @@ void run_cuda_bench(const BenchOptions& options, std::ostream& out) {
       packed.emplace(gpu::PackedFieldScene::pack(scene, *f));
       d_fields = cuda::DeviceFieldScene::upload(*packed);
       rows.push_back(batch_row(built[i].resolved, d_fields, d_rays, closest, plan, cpu[i]));
+      if (packed->form() != gpu::FieldForm::any) {
+        d_generic.emplace(cuda::DeviceFieldScene::upload(*packed, cuda::FieldKernels::generic));
+        rows.push_back(batch_row(built[i].resolved + generic_name, *d_generic, d_rays, closest, plan, cpu[i]));
+      }
     }
   }
 
@@ -190,6 +198,15 @@ void run_cuda_bench(const BenchOptions& options, std::ostream& out) {
     field_ao_row = rows.size();
     rows.push_back(ao_row("fields: " + per_point,
                           [&] { cuda::ambient_occlusion(d_fields, d_points.data(), points.size(), params, d_open.data()); }, *fields));
+    if (d_generic) {
+      // Against the fitted kernel's counts (which the CPU's matched, or the row above says not).
+      const std::vector<std::uint32_t> fitted_open = d_open.to_host();
+      GpuRow row = rows.back();
+      row.query = "fields" + generic_name + ": " + per_point;
+      row.gpu_ms = gpu_median_ms(plan, [&] { cuda::ambient_occlusion(*d_generic, d_points.data(), points.size(), params, d_open.data()); });
+      row.disagreements += count_differences(d_open.to_host(), fitted_open);
+      rows.push_back(row);
+    }
     try {
       const cuda::FieldTextures textures = cuda::FieldTextures::create(*packed);
       rows.push_back(ao_row("fields in 3D textures: " + per_point,

@@ -14,7 +14,9 @@
 #   figures   the GPU paper's Figures 5, 3 and 7 (visfield-experiments --device cuda --figure gpu5, gpu3,
 #             gpu7), an AO render of igea; the same render through the exact GPU BVH, and both against
 #             the CPU renderer's images of the same settings (visfield compare)
-#   ncu       Nsight Compute on the AO kernel's two launches (fields, then the exact BVH), when a minute is left
+#   ncu       Nsight Compute on the AO kernel's three launches (fields through the kernel fitted to their
+#             form, through the generic one, then the exact BVH), when a minute is left
+#   copies    visfield-bench --device cuda on 9 and 1024 copies of the cow, field objects on an exact ground
 # Writes to $OUT (else gpu-bundle/out), at most 8 files: summary.md (the one-screen table, also
 # printed last), device.txt, tests.log, sanitizers.log, bench.log, figures.log, igea-ao.png, ncu.log.
 # Without a GPU it checks that every program loads from the bundle alone, says so in one line and
@@ -151,14 +153,20 @@ done
 # 6. What bounds the AO kernel over fields and over the exact BVH: one launch of each through Nsight
 #    Compute, if a minute is left.
 if command -v ncu >/dev/null && ((budget - (SECONDS - start) >= 60)); then
-  step ncu 90 "$out/ncu.log" ncu --clock-control none --kernel-name regex:^ao_kernel --launch-count 2 \
+  step ncu 90 "$out/ncu.log" ncu --clock-control none --kernel-name regex:^ao_kernel --launch-count 3 \
     --section SpeedOfLight --section ComputeWorkloadAnalysis --section MemoryWorkloadAnalysis --section Occupancy \
     --section LaunchStats --section WarpStateStats --section InstructionStats \
     "$bin/visfield-bench" --device cuda --scene "$models/bun_zipper.ply" --rays ao --ao-rays 64 --width 512 --height 512 \
     --accel bvh,field --threads "$threads" --warmup 0 --reps 1
 fi
 
-# 7. The summary: one screen.
+# 7. Many field objects: every object's sphere is tested per ray on the device (no tree over them yet).
+for n in 9 1024; do
+  step "bench-cows$n" 90 "$out/bench.log" "$bin/visfield-bench" --device cuda --scene "$models/cows$n.json" --rays ao \
+    --ao-rays 16 --width 512 --height 512 --accel bvh,field --threads "$threads" --warmup 1 --reps 3
+done
+
+# 8. The summary: one screen.
 column() {  # column FILE PATTERN N: field N (|-separated, trimmed) of the first line holding PATTERN
   grep -F -- "$2" "$1" 2>/dev/null | head -1 | awk -F'|' -v n="$3" '{gsub(/^ +| +$/, "", $n); print $n}'
 }
@@ -200,6 +208,7 @@ $(cat "$here/BUILD" | head -1); $threads CPU threads; $((SECONDS - start)) s of 
 | racecheck / synccheck / initcheck, subset | $(for t in racecheck synccheck initcheck; do printf '%s: %s; ' "${status[$t]:-not run}" "$(summary_of $t)"; done) | 0 each |
 | the largest stack capacity, 80 nested shells | ${deep:-not run} | 449, 0 differ |
 | field AO, device rays, bunny 4226 x 32^2 (G rays/s) | $(column "$out/bench.log" '| fields: ' 4) | >= 20 |
+| field AO, the generic kernel (every choice read at run time), bunny (G rays/s) | $(column "$out/bench.log" '| fields, generic kernel: ' 4) | (measured) |
 | field AO through 3D textures, bunny (G rays/s) | $(column "$out/bench.log" '| fields in 3D textures: ' 4) | (measured) |
 | exact GPU BVH AO, bunny (G rays/s) | $(column "$out/bench.log" '| exact GPU BVH: ' 4) | >= 1.5 |
 | exact GPU BVH AO, sponza (G rays/s) | $(grep -F '| exact GPU BVH: ' "$out/bench.log" 2>/dev/null | sed -n 2p | awk -F'|' '{gsub(/ /, "", $4); print $4}') | >= 1.5 |
@@ -210,8 +219,9 @@ $(cat "$here/BUILD" | head -1); $threads CPU threads; $((SECONDS - start)) s of 
 | AO render of igea on the device | ${status[render]:-not run}: igea-ao.png | |
 | igea render, device against CPU renderer (RMS 0-255): fields / exact BVH | $(rms_of field) / $(rms_of exact) | 0 |
 | ncu, field AO kernel | ${status[ncu]:-not run}: ncu.log | |
+| field AO, 9 / 1024 cows on a ground (G rays/s) | $(sed -n '/^## bench-cows9 (/,/^## bench-cows9:/p' "$out/bench.log" | grep -m1 -F '| fields: ' | awk -F'|' '{gsub(/ /, "", $4); print $4}') / $(sed -n '/^## bench-cows1024 (/,/^## bench-cows1024:/p' "$out/bench.log" | grep -m1 -F '| fields: ' | awk -F'|' '{gsub(/ /, "", $4); print $4}') | (measured) |
 
-Steps (s): $(for s in kernels tests gpu-unit memcheck racecheck synccheck initcheck bench-bun_zipper bench-sponza bench-conference gpu5 gpu3 gpu7 render render-field-cuda render-field-cpu render-exact-cuda render-exact-cpu ncu; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
+Steps (s): $(for s in kernels tests gpu-unit memcheck racecheck synccheck initcheck bench-bun_zipper bench-sponza bench-conference gpu5 gpu3 gpu7 render render-field-cuda render-field-cpu render-exact-cuda render-exact-cpu ncu bench-cows9 bench-cows1024; do printf '%s %s, ' "$s" "${took[$s]:--}"; done)
 EOF
 )
 echo "$summary" >"$out/summary.md"

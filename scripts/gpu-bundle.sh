@@ -21,7 +21,7 @@ models=$(cd "${1:-../shared/models}" 2>/dev/null && pwd) || { echo "gpu-bundle: 
 build=build-gpu-bundle
 bundle=gpu-bundle
 limit_mib=60
-meshes=(bun_zipper.ply sponza.obj sponza.mtl igea-triangles.ply conference.obj conference.mtl)
+meshes=(bun_zipper.ply sponza.obj sponza.mtl igea-triangles.ply conference.obj conference.mtl cow.obj)
 export PATH="/usr/local/cuda/bin:$PATH"
 command -v nvcc >/dev/null || { echo "gpu-bundle: error: no nvcc (looked in /usr/local/cuda/bin and PATH)" >&2; exit 2; }
 for m in "${meshes[@]}"; do
@@ -54,6 +54,15 @@ for p in "${programs[@]}"; do ldd "$bundle/bin/$p"; done | awk '/=>/ && $3 ~ /^\
     cp -L "$path" "$bundle/lib/$name"
   done
 for m in "${meshes[@]}"; do gzip -9 -c "$models/$m" >"$bundle/models/$m.gz"; done
+# Copies of the cow on an exact ground (scripts/copies-scene.py), the mesh named relative to the scene
+# file: both are unpacked into one folder there.
+copies=$(mktemp -d)
+ln -s "$models/cow.obj" "$copies/cow.obj"
+for n in 9 1024; do
+  /usr/bin/python3 scripts/copies-scene.py "$copies/cow.obj" "$n" 12 "$copies/cows$n.json" --ground -3.64 >/dev/null
+  for f in "cows$n.json" "cows$n-ground.obj"; do gzip -9 -c "$copies/$f" >"$bundle/models/$f.gz"; done
+done
+rm -rf "$copies"
 cp scripts/gpu-bundle-run.sh "$bundle/run.sh"
 chmod +x "$bundle/run.sh"
 {

@@ -10,24 +10,28 @@
 namespace vf::cuda {
 namespace {
 
-template <int Capacity, class View>
+template <int Capacity, gpu::FieldForm Form, class View>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     occluded_kernel(View view, const Ray* rays, std::size_t n, std::uint8_t* out) {
-  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) out[i] = gpu::occluded<Capacity>(view, rays[i]) ? 1 : 0;
+  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step())
+    out[i] = detail::occluded_in<Capacity, Form>(view, rays[i]) ? 1 : 0;
 }
 
-template <int Capacity, class View>
+template <int Capacity, gpu::FieldForm Form, class View>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kIntersectBlocks<View>)
     intersect_kernel(View view, const Ray* rays, std::size_t n, Hit* out) {
-  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step()) detail::store_hit(out + i, gpu::intersect<Capacity>(view, rays[i]));
+  for (std::size_t i = detail::first_index(); i < n; i += detail::index_step())
+    detail::store_hit(out + i, detail::intersect_in<Capacity, Form>(view, rays[i]));
 }
 
 template <class View>
 void launch_occluded(const View& view, const Ray* rays, std::size_t n, std::uint8_t* out) {
   if (n == 0) return;
   detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
-    detail::launch_and_finish("occluded kernel", [&] {
-      occluded_kernel<capacity.value><<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
+    detail::with_field_form(view, [&](auto form) {
+      detail::launch_and_finish("occluded kernel", [&] {
+        occluded_kernel<capacity.value, form.value><<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
+      });
     });
   });
 }
@@ -36,8 +40,10 @@ template <class View>
 void launch_intersect(const View& view, const Ray* rays, std::size_t n, Hit* out) {
   if (n == 0) return;
   detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
-    detail::launch_and_finish("intersect kernel", [&] {
-      intersect_kernel<capacity.value><<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
+    detail::with_field_form(view, [&](auto form) {
+      detail::launch_and_finish("intersect kernel", [&] {
+        intersect_kernel<capacity.value, form.value><<<detail::blocks_for(n), detail::kBlockThreads>>>(view, rays, n, out);
+      });
     });
   });
 }

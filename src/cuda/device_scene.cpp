@@ -20,7 +20,7 @@ gpu::BvhView DeviceBvh::view() const {
                       stack_bound_};
 }
 
-DeviceFieldScene DeviceFieldScene::upload(const gpu::PackedFieldScene& packed) {
+DeviceFieldScene DeviceFieldScene::upload(const gpu::PackedFieldScene& packed, FieldKernels kernels) {
   DeviceFieldScene d;
   d.buffer_ = DeviceBuffer(packed.buffer().size());
   d.buffer_.upload(packed.buffer().data(), packed.buffer().size());
@@ -29,11 +29,12 @@ DeviceFieldScene DeviceFieldScene::upload(const gpu::PackedFieldScene& packed) {
   d.tables_ = DeviceArray<field::FieldTables>::from(std::span<const field::FieldTables>(tables));
   d.objects_ = DeviceArray<gpu::FieldObject>::from(std::span<const gpu::FieldObject>(packed.objects()));
   d.exact_ = DeviceBvh::upload(packed.exact());
+  if (kernels == FieldKernels::fitted) d.form_ = packed.form();
   return d;
 }
 
 gpu::FieldSceneView DeviceFieldScene::view() const {
-  return gpu::FieldSceneView{tables_.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view()};
+  return gpu::FieldSceneView{tables_.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view(), form_};
 }
 
 }  // namespace vf::cuda

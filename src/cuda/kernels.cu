@@ -11,7 +11,7 @@
 namespace vf::cuda {
 namespace {
 
-template <int Capacity, bool kStreams, class View>
+template <int Capacity, bool kStreams, gpu::FieldForm Form, class View>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     ao_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
   const std::size_t rays = static_cast<std::size_t>(p.rays_per_point), total = n * rays;
@@ -19,11 +19,11 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
     std::size_t i, k;
     detail::divide(idx, rays, i, k);
     const Ray ray = detail::ao_ray_of<kStreams>(points, i, k, p);
-    detail::add_vote(unoccluded, i, !gpu::occluded<Capacity>(view, ray));
+    detail::add_vote(unoccluded, i, !detail::occluded_in<Capacity, Form>(view, ray));
   }
 }
 
-template <int Capacity, class View>
+template <int Capacity, gpu::FieldForm Form, class View>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     shadow_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, const gpu::SphereLightData* lights, int light_count,
                               int rays_per_light, std::uint64_t seed, std::uint32_t* visible) {
@@ -34,7 +34,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm
     detail::divide(idx, per_point, i, rest);
     detail::divide(rest, per_light, l, k);
     const Ray ray = gpu::cone_ray(points[i].position, lights[l], seed, i, rest);
-    detail::add_vote(visible, i * static_cast<std::size_t>(light_count) + l, !gpu::occluded<Capacity>(view, ray));
+    detail::add_vote(visible, i * static_cast<std::size_t>(light_count) + l, !detail::occluded_in<Capacity, Form>(view, ray));
   }
 }
 
@@ -61,8 +61,11 @@ void launch_ao(const View& view, const gpu::SurfaceFrame* points, std::size_t n,
   const std::size_t total = n * static_cast<std::size_t>(p.rays_per_point);
   detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
     detail::with_ao_keying(p, [&](auto streams) {
-      detail::launch_and_finish("ambient occlusion kernel", [&] {
-        ao_kernel<capacity.value, streams.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, p, unoccluded);
+      detail::with_field_form(view, [&](auto form) {
+        detail::launch_and_finish("ambient occlusion kernel", [&] {
+          ao_kernel<capacity.value, streams.value, form.value>
+              <<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, p, unoccluded);
+        });
       });
     });
   });
@@ -76,9 +79,11 @@ void launch_shadows(const View& view, const gpu::SurfaceFrame* points, std::size
   if (total == 0) return;  // before the memset: an empty output may be a null pointer
   check(cudaMemset(visible, 0, counts * sizeof(std::uint32_t)), "cudaMemset");
   detail::with_stack_capacity(detail::stack_bound(view), [&](auto capacity) {
-    detail::launch_and_finish("soft shadow kernel", [&] {
-      shadow_kernel<capacity.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(view, points, n, lights, light_count,
-                                                                                         rays_per_light, seed, visible);
+    detail::with_field_form(view, [&](auto form) {
+      detail::launch_and_finish("soft shadow kernel", [&] {
+        shadow_kernel<capacity.value, form.value><<<detail::blocks_for(total), detail::kBlockThreads>>>(
+            view, points, n, lights, light_count, rays_per_light, seed, visible);
+      });
     });
   });
 }

@@ -97,6 +97,38 @@ void with_stack_capacity(unsigned int bound, Run&& run) {
   }
 }
 
+/// Calls run(std::integral_constant<gpu::FieldForm, F>{}) with F the form the kernels are compiled
+/// for: the form every field of `view` has (view.form), FieldForm::any for the exact BVH (no fields).
+template <class Run>
+void with_field_form(const gpu::BvhView&, Run&& run) {
+  run(std::integral_constant<gpu::FieldForm, gpu::FieldForm::any>{});
+}
+template <class Run>
+void with_field_form(const gpu::FieldSceneView& view, Run&& run) {
+  if (view.form == gpu::FieldForm::defaults)
+    run(std::integral_constant<gpu::FieldForm, gpu::FieldForm::defaults>{});
+  else
+    run(std::integral_constant<gpu::FieldForm, gpu::FieldForm::any>{});
+}
+
+/// gpu::occluded and gpu::intersect through either view, the fields read as form `Form`.
+template <int Capacity, gpu::FieldForm Form>
+__device__ inline bool occluded_in(const gpu::BvhView& view, const Ray& ray) {
+  return gpu::occluded<Capacity>(view, ray);
+}
+template <int Capacity, gpu::FieldForm Form>
+__device__ inline bool occluded_in(const gpu::FieldSceneView& view, const Ray& ray) {
+  return gpu::occluded<Capacity, Form>(view, ray);
+}
+template <int Capacity, gpu::FieldForm Form>
+__device__ inline Hit intersect_in(const gpu::BvhView& view, const Ray& ray) {
+  return gpu::intersect<Capacity>(view, ray);
+}
+template <int Capacity, gpu::FieldForm Form>
+__device__ inline Hit intersect_in(const gpu::FieldSceneView& view, const Ray& ray) {
+  return gpu::intersect<Capacity, Form>(view, ray);
+}
+
 /// The grid-stride loop's first index and step.
 __device__ inline std::size_t first_index() { return static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x; }
 __device__ inline std::size_t index_step() { return static_cast<std::size_t>(gridDim.x) * blockDim.x; }

@@ -1,11 +1,21 @@
 #include "visfield/gpu/packed_scene.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf::gpu {
 namespace {
+
+// FieldForm::defaults is ObjectFieldConfig's defaults.
+constexpr field::ObjectFieldConfig kDefaultConfig{};
+static_assert(kDefaultConfig.mapping == field::HemisphereMapping::concentric_malley && kDefaultConfig.storage == field::CellStorage::u8 &&
+                  kDefaultConfig.normals == field::NormalStorage::none &&
+                  kDefaultConfig.direction_lookup == field::DirectionLookup::nearest &&
+                  kDefaultConfig.position_lookup == field::PositionLookup::nearest &&
+                  kDefaultConfig.sample_line == field::SampleLine::through,
+              "FieldForm::defaults (gpu/field_scene_view.hpp) must be ObjectFieldConfig's default choices");
 
 /// Appends `bytes` bytes from `data` to `buffer` at the next kTableAlignment boundary and returns
 /// where they start, or kNoTable when there is nothing to append. `padding` zero bytes follow (the
@@ -67,6 +77,8 @@ PackedFieldScene PackedFieldScene::pack(const Scene& scene, const field::FieldSc
   }
   out.exact_ = GpuBvh::build(exact);
   out.host_tables_ = out.tables_at(out.buffer_.data());
+  const auto is_default = [](const FieldSlot& slot) { return has_form(slot.tables, FieldForm::defaults); };
+  if (!out.slots_.empty() && std::all_of(out.slots_.begin(), out.slots_.end(), is_default)) out.form_ = FieldForm::defaults;
   return out;
 }
 
@@ -78,12 +90,20 @@ std::vector<field::FieldTables> PackedFieldScene::tables_at(const unsigned char*
 }
 
 FieldSceneView PackedFieldScene::view(const std::vector<field::FieldTables>& tables) const {
-  return FieldSceneView{tables.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view()};
+  return FieldSceneView{tables.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view(), form_};
 }
 
-Hit PackedFieldScene::intersect(const Ray& ray) const { return gpu::intersect(view(host_tables_), ray); }
+// The host answers through the queries a device compiles for the same form, so that the unit tests
+// pin those too.
+Hit PackedFieldScene::intersect(const Ray& ray) const {
+  const FieldSceneView v = view(host_tables_);
+  return form_ == FieldForm::defaults ? gpu::intersect<kStackSize, FieldForm::defaults>(v, ray) : gpu::intersect(v, ray);
+}
 
-bool PackedFieldScene::occluded(const Ray& ray) const { return gpu::occluded(view(host_tables_), ray); }
+bool PackedFieldScene::occluded(const Ray& ray) const {
+  const FieldSceneView v = view(host_tables_);
+  return form_ == FieldForm::defaults ? gpu::occluded<kStackSize, FieldForm::defaults>(v, ray) : gpu::occluded(v, ray);
+}
 
 std::size_t PackedFieldScene::device_bytes() const {
   return buffer_.size() + slots_.size() * sizeof(field::FieldTables) + objects_.size() * sizeof(FieldObject) +

@@ -208,6 +208,11 @@ TEST(Cuda, FieldBatchEqualsFieldSceneBitForBit) {
     const std::vector<Ray> rays = mixed_rays(set, 5, scaled_count(5'000'000));
     EXPECT_EQ(count_hit_differences(cuda::intersect(device, rays), cpu_hits(fields, rays)), 0u) << c.name;
     EXPECT_EQ(count_differences(cuda::occluded(device, rays), cpu_occluded(fields, rays)), 0u) << c.name;
+    if (packed.form() != gpu::FieldForm::any) {  // the default fields: the kernels fitted to them above, the generic ones here
+      const cuda::DeviceFieldScene generic = cuda::DeviceFieldScene::upload(packed, cuda::FieldKernels::generic);
+      EXPECT_EQ(count_hit_differences(cuda::intersect(generic, rays), cpu_hits(fields, rays)), 0u) << c.name << ", generic kernels";
+      EXPECT_EQ(count_differences(cuda::occluded(generic, rays), cpu_occluded(fields, rays)), 0u) << c.name << ", generic kernels";
+    }
     const std::size_t intra = intra_object(packed, rays);
     report_rays("fields-intra", 2 * intra);  // closest and any hit, each
     report_rays("fields-inter", 2 * (rays.size() - intra));
@@ -222,13 +227,17 @@ TEST(Cuda, AoKernelsCountAsTheCpuOnTheSameRays) {
   const field::FieldScene fields = field::FieldScene::build(scene, {});
   const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(scene, fields);
   const cuda::DeviceFieldScene device_fields = cuda::DeviceFieldScene::upload(packed);
+  ASSERT_EQ(packed.form(), gpu::FieldForm::defaults);  // the kernels fitted to the default fields
+  const cuda::DeviceFieldScene generic_fields = cuda::DeviceFieldScene::upload(packed, cuda::FieldKernels::generic);
   const gpu::GpuBvh layout = gpu::GpuBvh::build(set);
   const cuda::DeviceBvh device_bvh = cuda::DeviceBvh::upload(layout);
   const Bvh bvh = Bvh::build(set);
   // Points on every surface: the ground's rays are inter-object, the caster's own intra-object.
   const std::vector<gpu::SurfaceFrame> points = surface_frames(set, 17, scaled_count(60'000));
   for (const cuda::AoParams p : {cuda::AoParams{64, 1, std::numeric_limits<float>::infinity()}, cuda::AoParams{121, 7, 0.05f}}) {
-    EXPECT_EQ(count_differences(gpu_ao(device_fields, points, p), cpu_ao(fields, points, p)), 0u) << p.rays_per_point << " fields";
+    const std::vector<std::uint32_t> fitted = gpu_ao(device_fields, points, p);
+    EXPECT_EQ(count_differences(fitted, cpu_ao(fields, points, p)), 0u) << p.rays_per_point << " fields";
+    EXPECT_EQ(count_differences(gpu_ao(generic_fields, points, p), fitted), 0u) << p.rays_per_point << " fields, generic kernel";
     EXPECT_EQ(count_differences(gpu_ao(device_bvh, points, p), cpu_ao(bvh, points, p)), 0u) << p.rays_per_point << " exact";
     report_rays("ao-kernel-fields", points.size() * static_cast<std::size_t>(p.rays_per_point));
     report_rays("ao-kernel-bvh", points.size() * static_cast<std::size_t>(p.rays_per_point));
@@ -314,6 +323,17 @@ TEST(Cuda, SoftShadowAndGlossyKernelsAnswerAsTheCpuOnTheSameRays) {
   cuda::soft_shadows(device, d_points.data(), points.size(), d_lights.data(), static_cast<int>(lights.size()), per_light, seed,
                      d_visible.data());
   EXPECT_EQ(count_differences(d_visible.to_host(), expected), 0u) << "soft shadows";
+  // The same shadow rays through default fields: the kernel fitted to their form.
+  const field::FieldScene plain = field::FieldScene::build(scene, {});
+  const gpu::PackedFieldScene plain_packed = gpu::PackedFieldScene::pack(scene, plain);
+  ASSERT_EQ(plain_packed.form(), gpu::FieldForm::defaults);
+  const cuda::DeviceFieldScene plain_device = cuda::DeviceFieldScene::upload(plain_packed);
+  const std::vector<std::uint8_t> plain_blocked = cpu_occluded(plain, rays);
+  std::vector<std::uint32_t> plain_expected(expected.size(), 0);
+  for (std::size_t r = 0; r < rays.size(); ++r) plain_expected[r / per_light] += plain_blocked[r] ? 0 : 1;
+  cuda::soft_shadows(plain_device, d_points.data(), points.size(), d_lights.data(), static_cast<int>(lights.size()), per_light, seed,
+                     d_visible.data());
+  EXPECT_EQ(count_differences(d_visible.to_host(), plain_expected), 0u) << "soft shadows, default fields";
 
   // Glossy reflections: hits (with the normal field) and weights per ray.
   std::vector<cuda::GlossyPoint> glossy(points.size());

@@ -31,13 +31,19 @@ class DeviceBvh {
   unsigned int stack_bound_ = 0;
 };
 
+/// Which kernels the queries of a DeviceFieldScene run.
+enum class FieldKernels : unsigned char {
+  fitted,   ///< Those compiled for the form every field has (gpu::FieldForm), where they share one; else generic.
+  generic,  ///< Those that read every choice of the tables at run time (what fitting gains is measured against them).
+};
+
 /// A PackedFieldScene in device memory: the packed tables in one cudaMemcpy, their FieldTables
 /// rebased to that copy, the objects and the exact meshes' BVH.
 class DeviceFieldScene {
  public:
   DeviceFieldScene() = default;
-  /// Copies `packed` to the device. Throws vf::Error (no device, no memory).
-  static DeviceFieldScene upload(const gpu::PackedFieldScene& packed);
+  /// Copies `packed` to the device, its queries to run `kernels`. Throws vf::Error (no device, no memory).
+  static DeviceFieldScene upload(const gpu::PackedFieldScene& packed, FieldKernels kernels = FieldKernels::fitted);
   /// Device addresses for the kernels.
   gpu::FieldSceneView view() const;
   /// Device bytes held.
@@ -48,6 +54,7 @@ class DeviceFieldScene {
   DeviceArray<field::FieldTables> tables_;
   DeviceArray<gpu::FieldObject> objects_;
   DeviceBvh exact_;
+  gpu::FieldForm form_ = gpu::FieldForm::any;
 };
 
 }  // namespace vf::cuda

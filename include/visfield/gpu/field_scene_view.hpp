@@ -46,12 +46,44 @@ struct FieldObject {
   float radius;
 };
 
+/// The choices of a field's tables (mapping, storage, normals, lookups, sample line) a query is
+/// compiled for. A kernel for one form folds every switch on them away; on a GPU, where a switch
+/// costs issue slots even when all threads take the same branch, that is what a lookup spends most on.
+enum class FieldForm : unsigned char {
+  any = 0,       ///< Every choice read from the tables at run time.
+  defaults = 1,  ///< ObjectFieldConfig's defaults: concentric Malley, u8, no normals, nearest, nearest, through.
+};
+
+/// Whether tables `t` are of form `form` (every table is of FieldForm::any).
+VF_HOST_DEVICE inline bool has_form(const field::FieldTables& t, FieldForm form) {
+  if (form == FieldForm::any) return true;
+  return t.mapping == field::HemisphereMapping::concentric_malley && t.storage == field::CellStorage::u8 &&
+         t.normals == field::NormalStorage::none && t.direction_lookup == field::DirectionLookup::nearest &&
+         t.position_lookup == field::PositionLookup::nearest && t.sample_line == field::SampleLine::through;
+}
+
+/// `t` with the choices of `Form` as constants (`t` must be of that form): inlined into a query,
+/// the switches on them fold away and the query computes what it computes on `t`, bit for bit.
+template <FieldForm Form>
+VF_HOST_DEVICE inline field::FieldTables with_form(field::FieldTables t) {
+  if constexpr (Form == FieldForm::defaults) {
+    t.mapping = field::HemisphereMapping::concentric_malley;
+    t.storage = field::CellStorage::u8;
+    t.normals = field::NormalStorage::none;
+    t.direction_lookup = field::DirectionLookup::nearest;
+    t.position_lookup = field::PositionLookup::nearest;
+    t.sample_line = field::SampleLine::through;
+  }
+  return t;
+}
+
 /// What the queries read: borrowed pointers (host or device memory), the fields already rebased.
 struct FieldSceneView {
   const field::FieldTables* fields = nullptr;
   const FieldObject* objects = nullptr;
   unsigned int object_count = 0;
-  BvhView exact;  ///< The meshes that stay exact (node_count 0 when none).
+  BvhView exact;                      ///< The meshes that stay exact (node_count 0 when none).
+  FieldForm form = FieldForm::any;    ///< A form every field has: the queries the kernels compile for it.
 };
 
 /// `ray` in object space: InverseTransform::apply's operations (identity: bit for bit the ray).
@@ -63,35 +95,40 @@ VF_HOST_DEVICE inline Ray to_object(const InverseTransform& m, const Ray& ray) {
 /// FieldScene's cull (field/sphere_cull.hpp): whether `ray` can meet object `o`'s sphere.
 VF_HOST_DEVICE inline bool may_meet(const FieldObject& o, const Ray& ray) { return field::may_meet_sphere(o.centre, o.radius, ray); }
 
-/// Object `o`'s field answer for world-space `ray` within [tmin, tmax].
+/// Object `o`'s field answer for world-space `ray` within [tmin, tmax], its field read as form `Form`.
+template <FieldForm Form = FieldForm::any>
 VF_HOST_DEVICE inline field::FieldAnswer trace_object(const FieldSceneView& scene, const FieldObject& o, const Ray& ray, float tmax) {
   const Ray local = to_object(o.to_object, ray);
-  return field::trace_field(scene.fields[o.field], {local.org.x, local.org.y, local.org.z}, {local.dir.x, local.dir.y, local.dir.z},
-                            ray.tmin, tmax);
+  const hd::Vec3<float> org{local.org.x, local.org.y, local.org.z}, dir{local.dir.x, local.dir.y, local.dir.z};
+  if constexpr (Form == FieldForm::any)
+    return field::trace_field(scene.fields[o.field], org, dir, ray.tmin, tmax);
+  else
+    return field::trace_field(with_form<Form>(scene.fields[o.field]), org, dir, ray.tmin, tmax);
 }
 
 /// FieldScene::occluded: some field object reports a hit in [tmin, tmax], or the exact part does.
-/// `Capacity` (the exact part's traversal stack) must be at least scene.exact.stack_bound.
-template <int Capacity = kStackSize>
+/// `Capacity` (the exact part's traversal stack) must be at least scene.exact.stack_bound; every
+/// field must be of form `Form`.
+template <int Capacity = kStackSize, FieldForm Form = FieldForm::any>
 VF_HOST_DEVICE inline bool occluded(const FieldSceneView& scene, const Ray& ray) {
   for (unsigned int k = 0; k < scene.object_count; ++k) {
     const FieldObject& o = scene.objects[k];
     if (scene.object_count > 1 && !may_meet(o, ray)) continue;
-    if (trace_object(scene, o, ray, ray.tmax).hit) return true;
+    if (trace_object<Form>(scene, o, ray, ray.tmax).hit) return true;
   }
   return occluded<Capacity>(scene.exact, ray);
 }
 
 /// FieldScene::intersect: the exact part's closest hit, or a nearer field answer (the first object
 /// of equals), with the object's id, no triangle, and the world-space normal when the field has one.
-/// `Capacity` must be at least scene.exact.stack_bound.
-template <int Capacity = kStackSize>
+/// `Capacity` must be at least scene.exact.stack_bound; every field must be of form `Form`.
+template <int Capacity = kStackSize, FieldForm Form = FieldForm::any>
 VF_HOST_DEVICE inline Hit intersect(const FieldSceneView& scene, const Ray& ray) {
   Hit best = intersect<Capacity>(scene.exact, ray);
   for (unsigned int k = 0; k < scene.object_count; ++k) {
     const FieldObject& o = scene.objects[k];
     if (scene.object_count > 1 && !may_meet(o, ray)) continue;
-    const field::FieldAnswer a = trace_object(scene, o, ray, best.found ? best.t : ray.tmax);
+    const field::FieldAnswer a = trace_object<Form>(scene, o, ray, best.found ? best.t : ray.tmax);
     if (!a.hit || (best.found && !(a.t < best.t))) continue;
     if (a.has_normal) {
       const Vec3f normal = o.rotation * Vec3f{a.normal.x, a.normal.y, a.normal.z};

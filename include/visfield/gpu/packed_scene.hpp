@@ -42,6 +42,9 @@ class PackedFieldScene {
   /// The slots rebased to `base` (where a copy of buffer() lives), one FieldTables per slot.
   std::vector<field::FieldTables> tables_at(const unsigned char* base) const;
 
+  /// The form every field has (FieldForm::defaults when each one has ObjectFieldConfig's default
+  /// choices, else FieldForm::any): the form the queries are compiled for, here and on a device.
+  FieldForm form() const { return form_; }
   /// The view of this host copy; `tables` must be tables_at(buffer().data()) and outlive the view.
   FieldSceneView view(const std::vector<field::FieldTables>& tables) const;
   /// FieldScene::intersect on the packed copy (by field_scene_view.hpp's code).
@@ -59,6 +62,7 @@ class PackedFieldScene {
   std::vector<FieldObject> objects_;
   GpuBvh exact_;
   std::vector<field::FieldTables> host_tables_;  // slots rebased to buffer_.data()
+  FieldForm form_ = FieldForm::any;
 };
 
 }  // namespace vf::gpu

@@ -95,6 +95,39 @@ TEST(PackedFieldScene, AnswersAsFieldSceneBitForBit) {
                       "sphere rejection bilinear blend");
 }
 
+TEST(PackedFieldScene, KnowsTheFormItsQueriesAreCompiledFor) {
+  // The default choices are FieldForm::defaults, whose queries (the host's here, the kernels on a
+  // device) fold every switch on them: AnswersAsFieldSceneBitForBit's "boxes u8" goes through them.
+  // One other choice anywhere takes the queries that read them all.
+  const Scene boxes = boxes_scene();
+  const auto form_of = [&](const field::ObjectFieldConfig& config) {
+    return gpu::PackedFieldScene::pack(boxes, field::FieldScene::build(boxes, config)).form();
+  };
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16}), gpu::FieldForm::defaults);
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16, .storage = field::CellStorage::u16}), gpu::FieldForm::any);
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16, .mapping = field::HemisphereMapping::polar}), gpu::FieldForm::any);
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16, .normals = field::NormalStorage::oct16}), gpu::FieldForm::any);
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16, .direction_lookup = field::DirectionLookup::bilinear}), gpu::FieldForm::any);
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16, .position_lookup = field::PositionLookup::blend}), gpu::FieldForm::any);
+  EXPECT_EQ(form_of({.positions = 290, .directions = 16, .sample_line = field::SampleLine::parallel}), gpu::FieldForm::any);
+
+  // The fitted queries and the generic ones give the same bits on the same tables.
+  const field::FieldScene fields = field::FieldScene::build(boxes, {.positions = 290, .directions = 16});
+  const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(boxes, fields);
+  const std::vector<field::FieldTables> tables = packed.tables_at(packed.buffer().data());
+  gpu::FieldSceneView generic = packed.view(tables);
+  ASSERT_EQ(generic.form, gpu::FieldForm::defaults);
+  generic.form = gpu::FieldForm::any;
+  std::size_t hits = 0;
+  for (const Ray& ray : probe_rays(boxes, 41)) {
+    const Hit fitted = packed.intersect(ray);
+    hits += fitted.found;
+    ASSERT_TRUE(same_bits(fitted, gpu::intersect(generic, ray)));
+    ASSERT_EQ(packed.occluded(ray), gpu::occluded(generic, ray));
+  }
+  EXPECT_GT(hits, 1000u);
+}
+
 TEST(PackedFieldScene, AllExactOrAllFields) {
   // A scene without field meshes packs to no slots and answers exactly; one without exact meshes
   // has an empty BVH.
