@@ -5,7 +5,8 @@
 #
 # Usage: scripts/gpu-bundle.sh [MODELS_DIR]      (default ../shared/models)
 #
-# Builds Release with VISFIELD_CUDA=ON for sm_90 and x86-64-v3 host code (not -march=native: the GPU
+# Builds Release with VISFIELD_CUDA=ON for sm_90 (its machine code alone: the H100 and H200 need no PTX,
+# which would double the kernels' bytes) and x86-64-v3 host code (not -march=native: the GPU
 # machine's processor is not this one) in build-gpu-bundle/ (incremental after the first time; ccache
 # when installed), then stages in gpu-bundle/ (ignored through .git/info/exclude):
 #   bin/     test_cuda, test_gpu, visfield, visfield-bench, visfield-experiments (without Embree: 42 MiB)
@@ -35,7 +36,7 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
   if command -v ccache >/dev/null; then
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
   fi
-  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVISFIELD_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90 \
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVISFIELD_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90-real \
     -DVISFIELD_NATIVE=OFF -DCMAKE_CXX_FLAGS=-march=x86-64-v3 -DVISFIELD_PYTHON=OFF -DVISFIELD_EMBREE=OFF \
     "${launcher[@]}" >/dev/null
 fi
@@ -45,7 +46,10 @@ cmake --build "$build" -j"$(nproc)" --target test_cuda test_gpu visfield visfiel
 rm -rf "$bundle"
 mkdir -p "$bundle/bin" "$bundle/lib" "$bundle/models"
 programs=(test_cuda test_gpu visfield visfield-bench visfield-experiments)
-for p in "${programs[@]}"; do cp "$build/bin/$p" "$bundle/bin/"; done
+for p in "${programs[@]}"; do
+  cp "$build/bin/$p" "$bundle/bin/"
+  strip "$bundle/bin/$p"
+done
 # glibc's libraries and the loader come with any Linux; the driver's (libcuda, libnvidia-*) with the GPU.
 system='^(linux-vdso|ld-linux|libc|libm|libdl|libpthread|librt|libresolv|libutil|libcuda|libnvidia-)[.-]'
 for p in "${programs[@]}"; do ldd "$bundle/bin/$p"; done | awk '/=>/ && $3 ~ /^\// {print $1, $3}' | sort -u |
@@ -68,7 +72,7 @@ chmod +x "$bundle/run.sh"
 {
   echo "commit $(git rev-parse --short HEAD)$(git diff --quiet HEAD 2>/dev/null || echo ' (with uncommitted changes)')"
   echo "built $(date -u +%Y-%m-%dT%H:%MZ) on $(uname -m), nvcc $(nvcc --version | sed -n 's/.*release \([0-9.]*\).*/\1/p')"
-  echo "flags Release, VISFIELD_CUDA=ON, sm_90, host -march=x86-64-v3, no Embree"
+  echo "flags Release, VISFIELD_CUDA=ON, sm_90 code alone (no PTX), host -march=x86-64-v3, no Embree, stripped"
 } >"$bundle/BUILD"
 
 # 3. Size.

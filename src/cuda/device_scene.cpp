@@ -30,11 +30,14 @@ DeviceFieldScene DeviceFieldScene::upload(const gpu::PackedFieldScene& packed, F
   d.objects_ = DeviceArray<gpu::FieldObject>::from(std::span<const gpu::FieldObject>(packed.objects()));
   d.exact_ = DeviceBvh::upload(packed.exact());
   if (kernels == FieldKernels::fitted) d.form_ = packed.form();
+  d.tree_nodes_ = DeviceArray<gpu::ObjectNode>::from(std::span<const gpu::ObjectNode>(packed.tree_nodes()));
+  d.tree_items_ = DeviceArray<unsigned int>::from(std::span<const unsigned int>(packed.tree_items()));
   return d;
 }
 
 gpu::FieldSceneView DeviceFieldScene::view() const {
-  return gpu::FieldSceneView{tables_.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view(), form_};
+  return gpu::FieldSceneView{tables_.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view(), form_,
+                            gpu::ObjectTreeView{tree_nodes_.data(), tree_items_.data(), static_cast<unsigned int>(tree_nodes_.size())}};
 }
 
 }  // namespace vf::cuda

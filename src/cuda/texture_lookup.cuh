@@ -43,15 +43,13 @@ __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTable
 template <int Capacity>
 __device__ inline bool occluded_texture(const gpu::FieldSceneView& scene, const unsigned long long* textures, const unsigned int* stacks,
                                         const Ray& ray) {
-  for (unsigned int k = 0; k < scene.object_count; ++k) {
-    const gpu::FieldObject& o = scene.objects[k];
-    if (scene.object_count > 1 && !gpu::may_meet(o, ray)) continue;
+  const auto hit = [&](const gpu::FieldObject& o) {
     const Ray local = gpu::to_object(o.to_object, ray);
-    if (trace_field_texture(scene.fields[o.field], textures[o.field], stacks[o.field], {local.org.x, local.org.y, local.org.z},
-                            {local.dir.x, local.dir.y, local.dir.z}, ray.tmin, ray.tmax)
-            .hit)
-      return true;
-  }
+    return trace_field_texture(scene.fields[o.field], textures[o.field], stacks[o.field], {local.org.x, local.org.y, local.org.z},
+                               {local.dir.x, local.dir.y, local.dir.z}, ray.tmin, ray.tmax)
+        .hit;
+  };
+  if (gpu::some_object(scene, ray, hit)) return true;
   return gpu::occluded<Capacity>(scene.exact, ray);
 }
 

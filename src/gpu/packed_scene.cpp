@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "visfield/core/error.hpp"
 #include "visfield/core/triangle_set.hpp"
 
 namespace vf::gpu {
@@ -47,6 +48,38 @@ FieldSlot pack_field(const field::ObjectField& f, std::vector<unsigned char>& bu
   return slot;
 }
 
+/// Appends to `nodes` the subtree over items[begin, end) (indices into `boxes`) at node `at`,
+/// split at the median centroid of the widest axis (ties by index: the same tree every time).
+void build_subtree(const std::vector<Bounds3f>& boxes, std::vector<unsigned int>& items, unsigned int begin, unsigned int end,
+                   unsigned int at, int depth, std::vector<ObjectNode>& nodes) {
+  if (depth >= kObjectStack) throw Error("packed field scene: the tree over the objects is too deep");
+  Bounds3f box, centres;
+  for (unsigned int i = begin; i < end; ++i) {
+    box.extend(boxes[items[i]]);
+    centres.extend((boxes[items[i]].lo + boxes[items[i]].hi) * 0.5f);
+  }
+  ObjectNode& node = nodes[at];
+  for (int a = 0; a < 3; ++a) node.lo[a] = box.lo[a], node.hi[a] = box.hi[a];
+  if (end - begin <= kObjectLeafSize) {
+    node.first = begin;
+    node.count = end - begin;
+    return;
+  }
+  const Vec3f e = centres.extent();
+  const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+  const unsigned int mid = begin + (end - begin) / 2;
+  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [&](unsigned int a, unsigned int b) {
+    const float ca = boxes[a].lo[axis] + boxes[a].hi[axis], cb = boxes[b].lo[axis] + boxes[b].hi[axis];
+    return ca < cb || (ca == cb && a < b);
+  });
+  const auto children = static_cast<unsigned int>(nodes.size());
+  node.first = children;
+  node.count = 0;
+  nodes.resize(nodes.size() + 2);  // `node` is not used past this point
+  build_subtree(boxes, items, begin, mid, children, depth + 1, nodes);
+  build_subtree(boxes, items, mid, end, children + 1, depth + 1, nodes);
+}
+
 }  // namespace
 
 PackedFieldScene PackedFieldScene::pack(const Scene& scene, const field::FieldScene& fields) {
@@ -77,6 +110,22 @@ PackedFieldScene PackedFieldScene::pack(const Scene& scene, const field::FieldSc
   }
   out.exact_ = GpuBvh::build(exact);
   out.host_tables_ = out.tables_at(out.buffer_.data());
+  if (fields.uses_tree()) {
+    // FieldScene's boxes: each sphere grown by 1% of its radius and 1e-5 of the scene's size.
+    Bounds3f scene_box;
+    for (const FieldObject& o : out.objects_) scene_box.extend(Bounds3f{o.centre - Vec3f(o.radius), o.centre + Vec3f(o.radius)});
+    const float margin = 1e-5f * length(scene_box.hi - scene_box.lo);
+    std::vector<Bounds3f> boxes;
+    boxes.reserve(out.objects_.size());
+    for (const FieldObject& o : out.objects_) {
+      const float r = o.radius * 1.01f + margin;
+      boxes.push_back({o.centre - Vec3f(r), o.centre + Vec3f(r)});
+    }
+    out.tree_items_.resize(boxes.size());
+    for (unsigned int k = 0; k < out.tree_items_.size(); ++k) out.tree_items_[k] = k;
+    out.tree_nodes_.resize(1);
+    build_subtree(boxes, out.tree_items_, 0, static_cast<unsigned int>(boxes.size()), 0, 0, out.tree_nodes_);
+  }
   const auto is_default = [](const FieldSlot& slot) { return has_form(slot.tables, FieldForm::defaults); };
   if (!out.slots_.empty() && std::all_of(out.slots_.begin(), out.slots_.end(), is_default)) out.form_ = FieldForm::defaults;
   return out;
@@ -90,7 +139,7 @@ std::vector<field::FieldTables> PackedFieldScene::tables_at(const unsigned char*
 }
 
 FieldSceneView PackedFieldScene::view(const std::vector<field::FieldTables>& tables) const {
-  return FieldSceneView{tables.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view(), form_};
+  return FieldSceneView{tables.data(), objects_.data(), static_cast<unsigned int>(objects_.size()), exact_.view(), form_, tree_view()};
 }
 
 // The host answers through the queries a device compiles for the same form, so that the unit tests
@@ -107,6 +156,7 @@ bool PackedFieldScene::occluded(const Ray& ray) const {
 
 std::size_t PackedFieldScene::device_bytes() const {
   return buffer_.size() + slots_.size() * sizeof(field::FieldTables) + objects_.size() * sizeof(FieldObject) +
+         tree_nodes_.size() * sizeof(ObjectNode) + tree_items_.size() * sizeof(unsigned int) +
          exact_.stats().memory_bytes;
 }
 

@@ -16,6 +16,7 @@
 
 #include "cuda/gpu_fixtures.hpp"
 #include "differential/test_scenes.hpp"
+#include "support/turned_boxes.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
@@ -200,12 +201,20 @@ TEST(Cuda, FieldBatchEqualsFieldSceneBitForBit) {
   if (std::optional<Scene> bunny = shared_model("bun_zipper.ply"))
     cases.push_back({"bunny on a ground, 16642 x 64^2 oct32", on_ground(*bunny),
                      {.positions = 16642, .directions = 64, .normals = field::NormalStorage::oct32}});
+  // 80 boxes in a row and rays along it: each may meet more objects than a walk of the tree over
+  // them sorts on its stack (boxes u8 walks it too: 64 objects).
+  Bounds3f first_box;
+  cases.push_back({"80 boxes in a row", boxes_in_a_row(80, first_box), {.positions = 290, .directions = 16}});
   for (const Case& c : cases) {
     const field::FieldScene fields = field::FieldScene::build(c.scene, c.config);
     const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(c.scene, fields);
     const cuda::DeviceFieldScene device = cuda::DeviceFieldScene::upload(packed);
     const TriangleSet set = flatten(c.scene);
-    const std::vector<Ray> rays = mixed_rays(set, 5, scaled_count(5'000'000));
+    std::vector<Ray> rays = mixed_rays(set, 5, scaled_count(c.name == "80 boxes in a row" ? 1'000'000 : 5'000'000));
+    if (c.name == "80 boxes in a row") {
+      const std::vector<Ray> along = rays_along_the_row(c.scene, first_box, scaled_count(1'000'000), 9);
+      rays.insert(rays.end(), along.begin(), along.end());
+    }
     EXPECT_EQ(count_hit_differences(cuda::intersect(device, rays), cpu_hits(fields, rays)), 0u) << c.name;
     EXPECT_EQ(count_differences(cuda::occluded(device, rays), cpu_occluded(fields, rays)), 0u) << c.name;
     if (packed.form() != gpu::FieldForm::any) {  // the default fields: the kernels fitted to them above, the generic ones here

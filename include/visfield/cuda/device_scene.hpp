@@ -47,7 +47,9 @@ class DeviceFieldScene {
   /// Device addresses for the kernels.
   gpu::FieldSceneView view() const;
   /// Device bytes held.
-  std::size_t bytes() const { return buffer_.bytes() + tables_.bytes() + objects_.bytes() + exact_.bytes(); }
+  std::size_t bytes() const {
+    return buffer_.bytes() + tables_.bytes() + objects_.bytes() + exact_.bytes() + tree_nodes_.bytes() + tree_items_.bytes();
+  }
 
  private:
   DeviceBuffer buffer_;
@@ -55,6 +57,8 @@ class DeviceFieldScene {
   DeviceArray<gpu::FieldObject> objects_;
   DeviceBvh exact_;
   gpu::FieldForm form_ = gpu::FieldForm::any;
+  DeviceArray<gpu::ObjectNode> tree_nodes_;
+  DeviceArray<unsigned int> tree_items_;
 };
 
 }  // namespace vf::cuda

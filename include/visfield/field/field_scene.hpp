@@ -82,6 +82,10 @@ class FieldScene {
   static std::string name() { return "field"; }
   static constexpr Exactness exactness = Exactness::approximate;
 
+  /// Whether the objects are found through the tree over their spheres (cull tree, and more than a
+  /// few objects) rather than by testing every sphere.
+  bool uses_tree() const;
+
  private:
   friend void occluded_batch(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
   friend void occluded_block(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
@@ -101,9 +105,6 @@ class FieldScene {
     Vec3f centre;
     float radius;
   };
-  /// Whether the objects are found through the tree over their spheres (cull tree, and more than a
-  /// few objects) rather than by testing every sphere.
-  bool uses_tree() const;
   /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
   static bool may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
   /// Indices of the objects whose spheres `ray` may meet (may_meet), ascending, into `out`; every

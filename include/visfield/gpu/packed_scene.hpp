@@ -45,6 +45,15 @@ class PackedFieldScene {
   /// The form every field has (FieldForm::defaults when each one has ObjectFieldConfig's default
   /// choices, else FieldForm::any): the form the queries are compiled for, here and on a device.
   FieldForm form() const { return form_; }
+  /// The tree over the objects, where the FieldScene culls through one (FieldScene::uses_tree()), else
+  /// empty: its nodes, root first.
+  const std::vector<ObjectNode>& tree_nodes() const { return tree_nodes_; }
+  /// The objects' indices, leaf after leaf.
+  const std::vector<unsigned int>& tree_items() const { return tree_items_; }
+  /// The tree of this host copy.
+  ObjectTreeView tree_view() const {
+    return {tree_nodes_.data(), tree_items_.data(), static_cast<unsigned int>(tree_nodes_.size())};
+  }
   /// The view of this host copy; `tables` must be tables_at(buffer().data()) and outlive the view.
   FieldSceneView view(const std::vector<field::FieldTables>& tables) const;
   /// FieldScene::intersect on the packed copy (by field_scene_view.hpp's code).
@@ -63,6 +72,8 @@ class PackedFieldScene {
   GpuBvh exact_;
   std::vector<field::FieldTables> host_tables_;  // slots rebased to buffer_.data()
   FieldForm form_ = FieldForm::any;
+  std::vector<ObjectNode> tree_nodes_;
+  std::vector<unsigned int> tree_items_;
 };
 
 }  // namespace vf::gpu

@@ -3,6 +3,8 @@
 // bit for bit: closest hits (t, object, normal field) and occlusion, with instances (rotated,
 // scaled, sharing one field), an exact ground, every cell storage, normal fields and both lookups.
 
+#include <algorithm>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -126,6 +128,76 @@ TEST(PackedFieldScene, KnowsTheFormItsQueriesAreCompiledFor) {
     ASSERT_EQ(packed.occluded(ray), gpu::occluded(generic, ray));
   }
   EXPECT_GT(hits, 1000u);
+}
+
+/// Every query of `packed` through its tree over the objects and with the tree left out (each sphere in
+/// turn) gives the same bits, and FieldScene's; returns how many rays hit a field object.
+std::size_t expect_tree_answers_as_every_sphere(const gpu::PackedFieldScene& packed, const field::FieldScene& fields,
+                                                const std::vector<Ray>& rays) {
+  const std::vector<field::FieldTables> tables = packed.tables_at(packed.buffer().data());
+  const gpu::FieldSceneView with_tree = packed.view(tables);
+  gpu::FieldSceneView each = with_tree;
+  each.tree = {};
+  std::size_t field_hits = 0;
+  for (const Ray& ray : rays) {
+    const Hit expected = fields.intersect(ray);
+    field_hits += expected.found && !expected.has_triangle();
+    EXPECT_TRUE(same_bits(gpu::intersect(with_tree, ray), expected));
+    EXPECT_TRUE(same_bits(gpu::intersect(each, ray), expected));
+    const bool occluded = fields.occluded(ray);
+    EXPECT_EQ(gpu::occluded(with_tree, ray), occluded);
+    EXPECT_EQ(gpu::occluded(each, ray), occluded);
+  }
+  return field_hits;
+}
+
+TEST(PackedFieldScene, TreeOverManyObjectsAnswersAsTestingEverySphere) {
+  // The packed copy walks a tree where FieldScene does: 27 boxes, not 8, and not with ObjectCull::each.
+  const auto tree_nodes = [](const Scene& scene, field::ObjectCull cull) {
+    const field::FieldScene fields = field::FieldScene::build(scene, {.positions = 290, .directions = 16}, {}, "", field::FieldMeshes::all, cull);
+    EXPECT_EQ(fields.uses_tree(), !gpu::PackedFieldScene::pack(scene, fields).tree_nodes().empty());
+    return gpu::PackedFieldScene::pack(scene, fields).tree_nodes().size();
+  };
+  EXPECT_EQ(tree_nodes(turned_boxes(8), field::ObjectCull::tree), 0u);
+  EXPECT_EQ(tree_nodes(boxes_scene(), field::ObjectCull::each), 0u);
+  const Scene boxes = boxes_scene();
+  const field::FieldScene fields = field::FieldScene::build(boxes, {.positions = 290, .directions = 16});
+  const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(boxes, fields);
+  ASSERT_GT(packed.tree_nodes().size(), 1u);
+  // Every object in exactly one leaf; every leaf's box holds its objects' widened spheres.
+  std::vector<int> seen(packed.objects().size(), 0);
+  for (const gpu::ObjectNode& n : packed.tree_nodes())
+    for (unsigned int k = n.first; n.count > 0 && k < n.first + n.count; ++k) {
+      const gpu::FieldObject& o = packed.objects()[packed.tree_items()[k]];
+      ++seen[packed.tree_items()[k]];
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_LE(n.lo[a], o.centre[a] - o.radius * 1.001f);
+        EXPECT_GE(n.hi[a], o.centre[a] + o.radius * 1.001f);
+      }
+    }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<std::ptrdiff_t>(seen.size()));
+  EXPECT_GT(expect_tree_answers_as_every_sphere(packed, fields, probe_rays(boxes, 43)), 500u);
+}
+
+TEST(PackedFieldScene, RaysMeetingMoreObjectsThanTheWalkSortsGoThroughEverySphere) {
+  // 80 overlapping boxes in a row: rays along it may meet them all, more than kOrderedObjects, and
+  // still answer with the first nearest object, as FieldScene does.
+  Bounds3f b;
+  const Scene scene = boxes_in_a_row(80, b);
+  const field::FieldScene fields = field::FieldScene::build(scene, {.positions = 290, .directions = 16});
+  const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(scene, fields);
+  ASSERT_FALSE(packed.tree_nodes().empty());
+  std::vector<Ray> rays = probe_rays(scene, 47);
+  const std::vector<Ray> row = rays_along_the_row(scene, b, 2000, 3);
+  rays.insert(rays.end(), row.begin(), row.end());
+  std::size_t along = 0;
+  for (const Ray& ray : row) {
+    std::size_t met = 0;
+    for (const gpu::FieldObject& o : packed.objects()) met += gpu::may_meet(o, ray);
+    along += met > gpu::kOrderedObjects;
+  }
+  EXPECT_GT(along, 1000u);
+  EXPECT_GT(expect_tree_answers_as_every_sphere(packed, fields, rays), 1000u);
 }
 
 TEST(PackedFieldScene, AllExactOrAllFields) {
