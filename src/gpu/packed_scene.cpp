@@ -74,7 +74,7 @@ void build_subtree(const std::vector<Bounds3f>& boxes, std::vector<unsigned int>
   });
   const auto children = static_cast<unsigned int>(nodes.size());
   node.first = children;
-  node.count = 0;
+  node.count = kInteriorNode + static_cast<unsigned int>(axis);
   nodes.resize(nodes.size() + 2);  // `node` is not used past this point
   build_subtree(boxes, items, begin, mid, children, depth + 1, nodes);
   build_subtree(boxes, items, mid, end, children + 1, depth + 1, nodes);

@@ -19,8 +19,12 @@ inline constexpr unsigned int kObjectLeafSize = 4;
 /// log2(N) + 1 levels deep, and it refuses a tree deeper than this.
 inline constexpr int kObjectStack = 48;
 
-/// One node, 32 bytes: its box, and either (count > 0) a leaf of `count` items from items[first], or
-/// (count 0) an interior node whose two children are nodes `first` and `first + 1`.
+/// ObjectNode::count of an interior node: this plus the axis its children were split along.
+inline constexpr unsigned int kInteriorNode = 0x100;
+
+/// One node, 32 bytes: its box, and either a leaf of `count` (< kInteriorNode) items from
+/// items[first], or an interior node (count kInteriorNode + split axis) whose two children are nodes
+/// `first` (the lower centroids along the axis) and `first + 1`.
 struct alignas(16) ObjectNode {
   float lo[3];
   unsigned int first;
@@ -28,6 +32,9 @@ struct alignas(16) ObjectNode {
   unsigned int count;
 };
 static_assert(sizeof(ObjectNode) == 32, "ObjectNode is 32 bytes");
+
+/// Whether `n` is a leaf.
+VF_HOST_DEVICE inline bool is_leaf(const ObjectNode& n) { return n.count < kInteriorNode; }
 
 /// What a walk reads: borrowed pointers (host or device memory). node_count 0: no tree.
 struct ObjectTreeView {
@@ -49,8 +56,9 @@ VF_HOST_DEVICE inline bool node_met(const ObjectNode& n, const BoxRay& r, float 
   return near_t <= far_t * kFarScale;
 }
 
-/// Calls visit(item) for the items of every leaf whose box `ray` meets within its [tmin, tmax], in
-/// tree order, until one call returns true; returns whether one did. O(log N + items met).
+/// Calls visit(item) for the items of every leaf whose box `ray` meets within its [tmin, tmax], the
+/// nearer child of a split first along the ray (the first objects met are likelier to occlude),
+/// until one call returns true; returns whether one did. O(log N + items met).
 template <class Visit>
 VF_HOST_DEVICE inline bool for_items_met(const ObjectTreeView& tree, const Ray& ray, Visit&& visit) {
   if (tree.node_count == 0) return false;
@@ -62,9 +70,10 @@ VF_HOST_DEVICE inline bool for_items_met(const ObjectTreeView& tree, const Ray& 
   for (;;) {
     const ObjectNode& n = tree.nodes[node];
     if (node_met(n, box, tmin, tmax)) {
-      if (n.count == 0) {
-        stack[sp++] = n.first + 1;
-        node = n.first;
+      if (!is_leaf(n)) {
+        const unsigned int far_side = box.negative[n.count - kInteriorNode] ? 0u : 1u;
+        stack[sp++] = n.first + far_side;
+        node = n.first + (1u - far_side);
         continue;
       }
       for (unsigned int k = n.first; k < n.first + n.count; ++k)

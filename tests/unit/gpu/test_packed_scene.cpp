@@ -166,8 +166,9 @@ TEST(PackedFieldScene, TreeOverManyObjectsAnswersAsTestingEverySphere) {
   ASSERT_GT(packed.tree_nodes().size(), 1u);
   // Every object in exactly one leaf; every leaf's box holds its objects' widened spheres.
   std::vector<int> seen(packed.objects().size(), 0);
-  for (const gpu::ObjectNode& n : packed.tree_nodes())
-    for (unsigned int k = n.first; n.count > 0 && k < n.first + n.count; ++k) {
+  for (const gpu::ObjectNode& n : packed.tree_nodes()) {
+    EXPECT_TRUE(gpu::is_leaf(n) ? n.count >= 1 && n.count <= gpu::kObjectLeafSize : n.count < gpu::kInteriorNode + 3);
+    for (unsigned int k = n.first; gpu::is_leaf(n) && k < n.first + n.count; ++k) {
       const gpu::FieldObject& o = packed.objects()[packed.tree_items()[k]];
       ++seen[packed.tree_items()[k]];
       for (int a = 0; a < 3; ++a) {
@@ -175,6 +176,7 @@ TEST(PackedFieldScene, TreeOverManyObjectsAnswersAsTestingEverySphere) {
         EXPECT_GE(n.hi[a], o.centre[a] + o.radius * 1.001f);
       }
     }
+  }
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<std::ptrdiff_t>(seen.size()));
   EXPECT_GT(expect_tree_answers_as_every_sphere(packed, fields, probe_rays(boxes, 43)), 500u);
 }
