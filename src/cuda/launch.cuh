@@ -112,21 +112,15 @@ void with_field_form(const gpu::FieldSceneView& view, Run&& run) {
 }
 
 /// gpu::occluded and gpu::intersect through either view, the fields read as form `Form`.
-template <int Capacity, gpu::FieldForm Form>
-__device__ inline bool occluded_in(const gpu::BvhView& view, const Ray& ray) {
-  return gpu::occluded<Capacity>(view, ray);
+template <int Capacity, gpu::FieldForm Form, class View>
+__device__ inline bool occluded_in(const View& view, const Ray& ray) {
+  if constexpr (std::is_same_v<View, gpu::FieldSceneView>) return gpu::occluded<Capacity, Form>(view, ray);
+  else return gpu::occluded<Capacity>(view, ray);
 }
-template <int Capacity, gpu::FieldForm Form>
-__device__ inline bool occluded_in(const gpu::FieldSceneView& view, const Ray& ray) {
-  return gpu::occluded<Capacity, Form>(view, ray);
-}
-template <int Capacity, gpu::FieldForm Form>
-__device__ inline Hit intersect_in(const gpu::BvhView& view, const Ray& ray) {
-  return gpu::intersect<Capacity>(view, ray);
-}
-template <int Capacity, gpu::FieldForm Form>
-__device__ inline Hit intersect_in(const gpu::FieldSceneView& view, const Ray& ray) {
-  return gpu::intersect<Capacity, Form>(view, ray);
+template <int Capacity, gpu::FieldForm Form, class View>
+__device__ inline Hit intersect_in(const View& view, const Ray& ray) {
+  if constexpr (std::is_same_v<View, gpu::FieldSceneView>) return gpu::intersect<Capacity, Form>(view, ray);
+  else return gpu::intersect<Capacity>(view, ray);
 }
 
 /// The grid-stride loop's first index and step.

@@ -152,19 +152,7 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   }
   result.cull_ = cull;
   if (result.uses_tree()) {
-    // Each box holds its sphere grown by 1% of the radius and by 1e-5 of the scene's size: far more
-    // than the rounding of may_meet (whose own widening is 0.1%) and of the tree's box test, so that
-    // the tree never leaves out an object may_meet lets in, and the answers are those of testing
-    // every sphere.
-    Bounds3f scene_box;
-    for (const Object& o : result.objects_) scene_box.extend(Bounds3f{o.centre - Vec3f(o.radius), o.centre + Vec3f(o.radius)});
-    const float scene_margin = 1e-5f * length(scene_box.hi - scene_box.lo);
-    std::vector<Bounds3f> boxes;
-    boxes.reserve(result.objects_.size());
-    for (const Object& o : result.objects_) {
-      const float r = o.radius * 1.01f + scene_margin;
-      boxes.push_back({o.centre - Vec3f(r), o.centre + Vec3f(r)});
-    }
+    const std::vector<Bounds3f> boxes = result.object_boxes();
     result.tree_ = BoxTree::build(boxes);
     result.stats_.memory_bytes += result.tree_.memory_bytes();
   }
@@ -173,6 +161,22 @@ FieldScene FieldScene::build(const Scene& scene, const ObjectFieldConfig& config
   result.stats_.max_depth = 1;
   result.stats_.build_ms = watch.elapsed_ms();
   return result;
+}
+
+std::vector<Bounds3f> FieldScene::object_boxes() const {
+  // Each box holds its sphere grown by 1% of the radius and by 1e-5 of the scene's size: far more
+  // than the rounding of may_meet (whose own widening is 0.1%) and of a tree's box test, so that a
+  // tree never leaves out an object may_meet lets in, and the answers are those of testing every sphere.
+  Bounds3f scene_box;
+  for (const Object& o : objects_) scene_box.extend(Bounds3f{o.centre - Vec3f(o.radius), o.centre + Vec3f(o.radius)});
+  const float scene_margin = 1e-5f * length(scene_box.hi - scene_box.lo);
+  std::vector<Bounds3f> boxes;
+  boxes.reserve(objects_.size());
+  for (const Object& o : objects_) {
+    const float r = o.radius * 1.01f + scene_margin;
+    boxes.push_back({o.centre - Vec3f(r), o.centre + Vec3f(r)});
+  }
+  return boxes;
 }
 
 bool FieldScene::uses_tree() const { return cull_ == ObjectCull::tree && objects_.size() > kFewObjects; }

@@ -111,16 +111,8 @@ PackedFieldScene PackedFieldScene::pack(const Scene& scene, const field::FieldSc
   out.exact_ = GpuBvh::build(exact);
   out.host_tables_ = out.tables_at(out.buffer_.data());
   if (fields.uses_tree()) {
-    // FieldScene's boxes: each sphere grown by 1% of its radius and 1e-5 of the scene's size.
-    Bounds3f scene_box;
-    for (const FieldObject& o : out.objects_) scene_box.extend(Bounds3f{o.centre - Vec3f(o.radius), o.centre + Vec3f(o.radius)});
-    const float margin = 1e-5f * length(scene_box.hi - scene_box.lo);
-    std::vector<Bounds3f> boxes;
-    boxes.reserve(out.objects_.size());
-    for (const FieldObject& o : out.objects_) {
-      const float r = o.radius * 1.01f + margin;
-      boxes.push_back({o.centre - Vec3f(r), o.centre + Vec3f(r)});
-    }
+    const std::vector<Bounds3f> boxes = fields.object_boxes();  // FieldScene's objects are these, in this order
+    if (boxes.size() != out.objects_.size()) throw Error("packed field scene: the field scene was built over another scene");
     out.tree_items_.resize(boxes.size());
     for (unsigned int k = 0; k < out.tree_items_.size(); ++k) out.tree_items_[k] = k;
     out.tree_nodes_.resize(1);

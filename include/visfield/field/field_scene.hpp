@@ -85,6 +85,10 @@ class FieldScene {
   /// Whether the objects are found through the tree over their spheres (cull tree, and more than a
   /// few objects) rather than by testing every sphere.
   bool uses_tree() const;
+  /// The boxes a tree over the objects is built over, one per object in order: each sphere grown by
+  /// 1% of its radius and 1e-5 of the scene's size, so that no rounding leaves out an object may_meet
+  /// lets in. O(objects).
+  std::vector<Bounds3f> object_boxes() const;
 
  private:
   friend void occluded_batch(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);

@@ -1,8 +1,8 @@
 #pragma once
 /// \file A binary BVH over a field scene's objects for a GPU, host and device, no STL: what tells a
 /// ray which of many field objects it may meet, in O(log objects) instead of one sphere test per
-/// object. Each object's box holds its sphere grown as FieldScene's tree grows it (1% of the radius
-/// and 1e-5 of the scene's size, far above the rounding of the sphere cull and of the box test), so
+/// object. Each object's box is FieldScene::object_boxes()': its sphere grown by 1% of the radius
+/// and 1e-5 of the scene's size, far above the rounding of the sphere cull and of the box test, so
 /// the tree never leaves out an object the cull lets in, and the queries answer as testing every
 /// sphere does. Built by PackedFieldScene (packed_scene.hpp) where the FieldScene culls by its tree;
 /// walked by field_scene_view.hpp.
