@@ -14,6 +14,17 @@
 
 namespace vf {
 
+/// Rays grouped by the item whose box they meet (BoxTree::rays_by_item): list k holds
+/// rays[lists[k].begin .. + lists[k].count), the rays of item lists[k].item. Reused between calls.
+struct ItemRays {
+  /// One item's rays.
+  struct List {
+    std::uint32_t item, begin, count;
+  };
+  std::vector<List> lists;
+  std::vector<std::uint32_t> rays;
+};
+
 /// An immutable 8-wide BVH over boxes, one per item. Queries are const and thread-safe. Move-only.
 class BoxTree {
  public:
@@ -28,12 +39,17 @@ class BoxTree {
   /// range are widened as the Bvh's are, so a ray that touches a box is never left out.
   /// O(log N + items met).
   void items_met(const Ray& ray, std::vector<std::uint32_t>& items) const;
-  /// items_met() for many rays: for each i with no skip[i] (every ray when `skip` is null), appends
-  /// (item, i) to (`items`, `ray_index`) for every item rays[i] meets. Several rays walk the tree at
-  /// once, a step each in turn, so that one's node loads overlap another's; pairs come out grouped by
-  /// neither item nor ray. The same pairs as items_met() ray by ray.
-  void pairs_met(std::span<const Ray> rays, const std::uint8_t* skip, std::vector<std::uint32_t>& items,
-                 std::vector<std::uint32_t>& ray_index) const;
+  /// items_met() for many rays, grouped by item: for the rays rays[i] with no skip[i] (every ray
+  /// when `skip` is null), `out` gets one list per item some ray's box test lets in, holding those
+  /// rays' indices in ascending order; the same (item, ray) pairs as items_met() ray by ray. The
+  /// rays go down the tree together, node by node: each node tests its rays and hands each child
+  /// those that meet its box, so no ray keeps a walk of its own, and a leaf's rays arrive already
+  /// grouped. `width` 16 tests 16 rays at a time against a box (AVX-512 builds), 1 a ray at a time
+  /// against a node's boxes, 0 the widest this build has: the same lists either way.
+  /// O(nodes met by some ray + pairs).
+  void rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width = 0) const;
+  /// The rays a rays_by_item() step tests together for `width` in this build: 16 or 1.
+  static int batch_width(int width = 0);
   /// Bytes of its nodes and item list.
   std::size_t memory_bytes() const;
 

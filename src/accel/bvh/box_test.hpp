@@ -13,6 +13,7 @@
 /// box's exact interval is still tested.
 
 #include <cmath>
+#include <cstddef>
 
 #include "bvh/wide_nodes.hpp"
 #include "visfield/core/ray.hpp"
@@ -38,6 +39,17 @@ struct BoxRay {
   /// Fills the constants for `ray` given inv_dir[a] = 1 / ray.dir[a] (+-inf for +-0).
   void set(const Ray& ray, const float* inv_dir) {
     set(ray, V8::broadcast(inv_dir[0]), V8::broadcast(inv_dir[1]), V8::broadcast(inv_dir[2]));
+  }
+  /// Fills the constants for a ray from `org` whose direction has the reciprocals `inv_dir`
+  /// (+-inf for +-0): the same as set(ray, inv_dir), the direction's signs being the reciprocals'.
+  void set(const float* org_xyz, const float* inv_dir) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = V8::broadcast(org_xyz[a]);
+      inv[a] = V8::broadcast(inv_dir[a]);
+      const int negative = std::signbit(inv_dir[a]) ? 3 : 0;
+      near_row[a] = kLoX + a + negative;
+      far_row[a] = kHiX + a - negative;
+    }
   }
   /// Fills the constants for `ray` given inv_x = 1 / ray.dir.x (+-inf for +-0) in every lane, and
   /// so on.
@@ -66,5 +78,41 @@ inline simd::LaneBits test_children(const Node8& node, const BoxRay& r, const V8
   const V8 t_far = min_nan_second(fx, min_nan_second(fy, min_nan_second(fz, tmax))) * V8::broadcast(kFarScale);
   return cmp_le(t_near, t_far);
 }
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+/// A ray in each of 16 lanes, as columns: origin x, y, z, the direction's reciprocals x, y, z (+-inf
+/// for +-0), and [tmin, tmax] already widened.
+struct BoxRays16 {
+  __m512 org[3], inv[3], tmin, tmax;
+  __mmask16 negative[3];  // lanes whose reciprocal on the axis is negative (its sign bit)
+
+  /// Loads 16 rays from columns: org x, y, z, reciprocals x, y, z, tmin, tmax, each at `at`.
+  void load(const float* const columns[8], std::size_t at) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = _mm512_loadu_ps(columns[a] + at);
+      inv[a] = _mm512_loadu_ps(columns[3 + a] + at);
+      negative[a] = _mm512_movepi32_mask(_mm512_castps_si512(inv[a]));
+    }
+    tmin = _mm512_loadu_ps(columns[6] + at);
+    tmax = _mm512_loadu_ps(columns[7] + at);
+  }
+};
+
+/// test_children() with the roles turned: 16 rays against the box of one child `slot`. The same
+/// operations on the same values for each ray, so lane i is bit `slot` of test_children() for ray i.
+inline __mmask16 rays_meet_child(const Node8& node, int slot, const BoxRays16& r) {
+  __m512 t_near = r.tmin, t_far = r.tmax;
+  // Innermost first, as test_children() nests them: z, then y, then x, the running value second.
+  for (int a = 2; a >= 0; --a) {
+    const __m512 lo = _mm512_set1_ps(node.bounds[kLoX + a][slot]), hi = _mm512_set1_ps(node.bounds[kHiX + a][slot]);
+    const __m512 near_plane = _mm512_mask_blend_ps(r.negative[a], lo, hi), far_plane = _mm512_mask_blend_ps(r.negative[a], hi, lo);
+    // The zero-masking forms with every lane kept: vmaxps and vminps as such (GCC 12's plain forms
+    // trip its own uninitialised-value warning).
+    t_near = _mm512_maskz_max_ps(0xffff, _mm512_mul_ps(_mm512_sub_ps(near_plane, r.org[a]), r.inv[a]), t_near);
+    t_far = _mm512_maskz_min_ps(0xffff, _mm512_mul_ps(_mm512_sub_ps(far_plane, r.org[a]), r.inv[a]), t_far);
+  }
+  return _mm512_cmp_ps_mask(t_near, _mm512_mul_ps(t_far, _mm512_set1_ps(kFarScale)), _CMP_LE_OQ);
+}
+#endif
 
 }  // namespace vf::bvh

@@ -116,5 +116,79 @@ TEST(BoxTest, NeverCullsABoxTheRayMeetsExactly) {
   EXPECT_GT(exact_hits, 20000);
 }
 
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+TEST(BoxTest, SixteenRaysAgainstOneBoxDecideAsOneRayAgainstEight) {
+  // rays_meet_child() must give each ray test_children()'s bit, edge cases included: rays that meet
+  // a box at their origin alone (t_near == t_far == 0), rays ending exactly on it, rays in a
+  // face's plane with a zero (or negative zero) direction component, flat and empty boxes.
+  Rng rng(5);
+  int hits_seen = 0, touching = 0;
+  for (int iter = 0; iter < 4000; ++iter) {
+    Node8 node = Node8::empty();
+    Bounds3f boxes[8];
+    for (int slot = 0; slot < 7; ++slot) {  // slot 7 stays empty
+      const Vec3f c{rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2};
+      Vec3f e{rng.uniform(), rng.uniform(), rng.uniform()};
+      if (slot == 3) e[iter % 3] = 0.0f;
+      boxes[slot] = Bounds3f{c - e, c + e};
+      node.set_bounds(slot, boxes[slot]);
+    }
+    alignas(64) float columns[8][16];
+    Ray rays[16];
+    for (int lane = 0; lane < 16; ++lane) {
+      const Bounds3f& b = boxes[rng.next_u32() % 7];
+      Ray ray{{rng.uniform() * 6 - 3, rng.uniform() * 6 - 3, rng.uniform() * 6 - 3}, uniform_sphere(rng.uniform(), rng.uniform())};
+      const int axis = static_cast<int>(rng.next_u32() % 3);
+      switch (lane % 4) {
+        case 1: {  // from a point of a face, leaving the box: it meets it at t = 0 alone
+          for (int a = 0; a < 3; ++a) ray.org[a] = b.lo[a] + (b.hi[a] - b.lo[a]) * rng.uniform();
+          const bool high = rng.uniform() < 0.5f;
+          ray.org[axis] = high ? b.hi[axis] : b.lo[axis];
+          ray.dir[axis] = high ? std::fabs(ray.dir[axis]) + 0.1f : -std::fabs(ray.dir[axis]) - 0.1f;
+          break;
+        }
+        case 2:  // in a face's plane, a zero direction component
+          ray.org[axis] = rng.uniform() < 0.5f ? b.lo[axis] : b.hi[axis];
+          ray.dir[axis] = rng.uniform() < 0.5f ? 0.0f : -0.0f;
+          break;
+        case 3:  // ending where it enters
+          ray.tmax = 0.5f * rng.uniform();
+          break;
+        default:
+          break;
+      }
+      rays[lane] = ray;
+      for (int a = 0; a < 3; ++a) {
+        columns[a][lane] = ray.org[a];
+        columns[3 + a][lane] = 1.0f / ray.dir[a];
+      }
+      columns[6][lane] = widen_down(ray.tmin);
+      columns[7][lane] = widen_up(ray.tmax);
+    }
+    const float* const column[8] = {columns[0], columns[1], columns[2], columns[3], columns[4], columns[5], columns[6], columns[7]};
+    BoxRays16 packet;
+    packet.load(column, 0);
+    for (int slot = 0; slot < 8; ++slot) {
+      const __mmask16 lanes = rays_meet_child(node, slot, packet);
+      for (int lane = 0; lane < 16; ++lane) {
+        const bool one = (hits(node, rays[lane]) >> slot) & 1u;
+        ASSERT_EQ(((lanes >> lane) & 1u) != 0, one) << "iteration " << iter << " slot " << slot << " lane " << lane;
+        hits_seen += one ? 1 : 0;
+      }
+    }
+    // The origin-on-a-face rays: at least some meet their box at t = 0 exactly, where <= and < differ.
+    for (int lane = 1; lane < 16; lane += 4)
+      for (int slot = 0; slot < 7; ++slot) {
+        const Ray& ray = rays[lane];
+        bool on_face = true;
+        for (int a = 0; a < 3; ++a) on_face = on_face && ray.org[a] >= boxes[slot].lo[a] && ray.org[a] <= boxes[slot].hi[a];
+        touching += on_face && ((hits(node, ray) >> slot) & 1u) ? 1 : 0;
+      }
+  }
+  EXPECT_GT(hits_seen, 20000);
+  EXPECT_GT(touching, 10000);
+}
+#endif
+
 }  // namespace
 }  // namespace vf::bvh

@@ -1,0 +1,142 @@
+// BoxTree's batch query: the rays grouped by item (rays_by_item) are exactly the (item, ray) pairs
+// the single-ray query gives (items_met), at each width this build runs, on boxes and rays chosen
+// to meet the box test's edge cases (origins on slab planes with zero direction components, rays
+// that touch a box at their origin alone, flat and nested boxes, finite and shifted ray intervals,
+// skipped rays).
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "visfield/accel/box_tree.hpp"
+#include "visfield/core/rng.hpp"
+
+namespace vf {
+namespace {
+
+using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;  // (item, ray)
+
+std::vector<Bounds3f> adversarial_boxes(Rng& rng) {
+  std::vector<Bounds3f> boxes;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3f centre{rng.uniform() * 20 - 10, rng.uniform() * 4 - 2, rng.uniform() * 20 - 10};
+    Vec3f half{0.1f + rng.uniform(), 0.1f + rng.uniform(), 0.1f + rng.uniform()};
+    if (k % 17 == 0) half.y = 0.0f;  // flat boxes
+    if (k % 29 == 0) half = half * 6.0f;  // large boxes holding many others
+    boxes.push_back({centre - half, centre + half});
+  }
+  boxes.push_back(Bounds3f{});  // an empty box is never met
+  return boxes;
+}
+
+std::vector<Ray> adversarial_rays(Rng& rng, const std::vector<Bounds3f>& boxes) {
+  std::vector<Ray> rays;
+  for (int i = 0; i < 6000; ++i) {
+    Ray ray;
+    ray.org = {rng.uniform() * 24 - 12, rng.uniform() * 6 - 3, rng.uniform() * 24 - 12};
+    ray.dir = {rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1};
+    switch (i % 6) {
+      case 1:  // a zero direction component, the origin on a box's slab plane on that axis
+      {
+        const Bounds3f& b = boxes[rng.next_u32() % (boxes.size() - 1)];
+        const int axis = static_cast<int>(rng.next_u32() % 3);
+        ray.dir[axis] = (i % 12 == 1) ? -0.0f : 0.0f;
+        ray.org[axis] = (i % 4 == 1) ? b.lo[axis] : b.hi[axis];
+        break;
+      }
+      case 2:  // a short segment
+        ray.tmax = rng.uniform() * 3;
+        break;
+      case 3:  // an interval that starts away from the origin
+        ray.tmin = rng.uniform() * 2;
+        ray.tmax = ray.tmin + rng.uniform() * 10;
+        break;
+      case 4:  // along an axis
+        ray.dir = {0.0f, 0.0f, 0.0f};
+        ray.dir[static_cast<int>(rng.next_u32() % 3)] = rng.uniform() < 0.5f ? 1.0f : -1.0f;
+        break;
+      case 5:  // from a point of a box's face, leaving it: the box is met at t = 0 alone
+      {
+        const Bounds3f& b = boxes[rng.next_u32() % (boxes.size() - 1)];
+        const int axis = static_cast<int>(rng.next_u32() % 3);
+        for (int a = 0; a < 3; ++a) ray.org[a] = b.lo[a] + (b.hi[a] - b.lo[a]) * rng.uniform();
+        const bool high = i % 12 == 5;
+        ray.org[axis] = high ? b.hi[axis] : b.lo[axis];
+        ray.dir[axis] = high ? 0.5f + rng.uniform() : -0.5f - rng.uniform();
+        break;
+      }
+      default:
+        break;
+    }
+    rays.push_back(ray);
+  }
+  return rays;
+}
+
+Pairs one_ray_at_a_time(const BoxTree& tree, const std::vector<Ray>& rays, const std::vector<std::uint8_t>& skip) {
+  Pairs pairs;
+  std::vector<std::uint32_t> items;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (skip[i]) continue;
+    items.clear();
+    tree.items_met(rays[i], items);
+    for (const std::uint32_t item : items) pairs.emplace_back(item, static_cast<std::uint32_t>(i));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+Pairs grouped(const BoxTree& tree, const std::vector<Ray>& rays, const std::vector<std::uint8_t>& skip, int width, ItemRays& out) {
+  tree.rays_by_item(rays, skip.data(), out, width);
+  Pairs pairs;
+  std::set<std::uint32_t> items;
+  for (const ItemRays::List& list : out.lists) {
+    EXPECT_TRUE(items.insert(list.item).second) << "item " << list.item << " has two lists";
+    EXPECT_GT(list.count, 0u);
+    const std::uint32_t* ray = out.rays.data() + list.begin;
+    EXPECT_TRUE(std::is_sorted(ray, ray + list.count)) << "item " << list.item << ": rays out of order";
+    for (std::uint32_t k = 0; k < list.count; ++k) pairs.emplace_back(list.item, ray[k]);
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+TEST(BoxTree, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
+  Rng rng(41);
+  const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
+  const BoxTree tree = BoxTree::build(boxes);
+  const std::vector<Ray> rays = adversarial_rays(rng, boxes);
+  std::vector<std::uint8_t> skip(rays.size(), 0);
+  for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
+  const Pairs expected = one_ray_at_a_time(tree, rays, skip);
+  ASSERT_GT(expected.size(), rays.size());  // rays meet several boxes each: the grouping is exercised
+  std::set<int> widths{BoxTree::batch_width(1), BoxTree::batch_width(16)};
+  for (const int width : widths) {
+    ItemRays out;
+    EXPECT_EQ(grouped(tree, rays, skip, width, out), expected) << "width " << width;
+    // The buffers are reused: a second, smaller call gives its own pairs, nothing of the first.
+    const std::vector<Ray> fewer(rays.begin(), rays.begin() + 777);
+    const std::vector<std::uint8_t> none(fewer.size(), 0);
+    EXPECT_EQ(grouped(tree, fewer, none, width, out), one_ray_at_a_time(tree, fewer, none)) << "width " << width;
+  }
+}
+
+TEST(BoxTree, RaysByItemOfNoRaysOrNoBoxesIsEmpty) {
+  Rng rng(7);
+  const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
+  const std::vector<Ray> rays = adversarial_rays(rng, boxes);
+  ItemRays out;
+  const std::vector<std::uint8_t> all(rays.size(), 1);
+  BoxTree::build(boxes).rays_by_item(rays, all.data(), out);
+  EXPECT_TRUE(out.lists.empty());
+  BoxTree::build(std::vector<Bounds3f>{}).rays_by_item(rays, nullptr, out);
+  EXPECT_TRUE(out.lists.empty());
+}
+
+}  // namespace
+}  // namespace vf
