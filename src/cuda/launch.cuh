@@ -34,6 +34,14 @@ template <class View>
 inline constexpr int kIntersectBlocks = std::is_same_v<View, gpu::FieldSceneView> ? 3 : kMinBlocksPerSm;
 #endif
 
+/// The same for the occlusion kernels (AO, shadow, occlusion batch) of form `Form` over `View`: the
+/// generic field kernels (gpu::FieldForm::any) carry the switches on the tables' choices beside the
+/// tree walk, and at 64 registers spilled (68 bytes a thread, 1.30M local-memory requests on the
+/// bunny's AO) where 80 (3 blocks) hold them; the fitted field kernels and the BVH's fit in 64.
+template <gpu::FieldForm Form, class View>
+inline constexpr int kOcclusionBlocks =
+    std::is_same_v<View, gpu::FieldSceneView> && Form == gpu::FieldForm::any ? 3 : kMinBlocksPerSm;
+
 /// Blocks for `n` threads, at most 2^20 (the grid-stride loop does the rest).
 inline unsigned int blocks_for(std::size_t n) {
   const std::size_t blocks = (n + kBlockThreads - 1) / kBlockThreads;
