@@ -62,7 +62,11 @@ fi
 mkdir -p "$out"
 models=${TMPDIR:-/tmp}/visfield-models
 mkdir -p "$models"
-for m in "$here"/models/*.gz; do gzip -dc "$m" >"$models/$(basename "${m%.gz}")"; done
+# xz where the machine has it, else Python's lzma (the device image has Python, not always xz).
+unxz_to() {
+  if command -v xz >/dev/null; then xz -dc "$1" >"$2"; else python3 -c 'import lzma, shutil, sys; shutil.copyfileobj(lzma.open(sys.argv[1]), open(sys.argv[2], "wb"))' "$1" "$2"; fi
+}
+for m in "$here"/models/*.xz; do unxz_to "$m" "$models/$(basename "${m%.xz}")"; done
 export VISFIELD_MODELS_DIR=$models
 threads=$(nproc)
 

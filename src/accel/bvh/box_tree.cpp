@@ -71,7 +71,8 @@ namespace {
 //   read through its index; any build;
 // - by columns (AVX-512): sixteen rays at a time against one box, the rays' values held in columns
 //   that move down the tree with them, so that a node reads its rays in order and a child gets
-//   its rays by a compress a column. A ray costs about a third of what it costs by rows.
+//   its rays by a compress a column (1024 bunnies' AO rays, the whole field query: 23.6-23.8
+//   Mrays/s by rows, 25.0-25.4 by columns, four interleaved rounds).
 
 /// A node's rays, ids[begin .. begin + count) (and the columns' same places): pending until the
 /// node is tested.
