@@ -11,7 +11,7 @@ namespace vf::cuda {
 namespace {
 
 template <int Capacity, gpu::FieldForm Form, class View>
-__global__ void __launch_bounds__(detail::kBlockThreads, detail::kOcclusionBlocks<Form, View>)
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     occluded_kernel(View view, const Ray* rays, std::size_t n, std::uint8_t* out) {
   for (std::size_t i = detail::first_index(); i < n; i += detail::index_step())
     out[i] = detail::occluded_in<Capacity, Form>(view, rays[i]) ? 1 : 0;

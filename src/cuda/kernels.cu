@@ -12,7 +12,7 @@ namespace vf::cuda {
 namespace {
 
 template <int Capacity, bool kStreams, gpu::FieldForm Form, class View>
-__global__ void __launch_bounds__(detail::kBlockThreads, detail::kOcclusionBlocks<Form, View>)
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     ao_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, AoParams p, std::uint32_t* unoccluded) {
   const std::size_t rays = static_cast<std::size_t>(p.rays_per_point), total = n * rays;
   for (std::size_t idx = detail::first_index(); idx < total; idx += detail::index_step()) {
@@ -24,7 +24,7 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kOcclusionBlock
 }
 
 template <int Capacity, gpu::FieldForm Form, class View>
-__global__ void __launch_bounds__(detail::kBlockThreads, detail::kOcclusionBlocks<Form, View>)
+__global__ void __launch_bounds__(detail::kBlockThreads, detail::kMinBlocksPerSm)
     shadow_kernel(View view, const gpu::SurfaceFrame* points, std::size_t n, const gpu::SphereLightData* lights, int light_count,
                               int rays_per_light, std::uint64_t seed, std::uint32_t* visible) {
   const std::size_t per_light = static_cast<std::size_t>(rays_per_light), per_point = per_light * static_cast<std::size_t>(light_count);
@@ -38,8 +38,9 @@ __global__ void __launch_bounds__(detail::kBlockThreads, detail::kOcclusionBlock
   }
 }
 
-// Closest hits over fields: the closest-hit batch kernel's block count (at 64 registers it spilled
-// 446 bytes a thread).
+// Closest hits over fields, as the closest-hit batch kernel (intersect_kernel), whose 3 blocks an SM
+// were measured faster than 4: at 64 registers this kernel spilled 446 bytes a thread, at 80 it
+// spills 88 (nvcc -Xptxas -v, sm_90). Its own speed is not timed.
 template <int Capacity>
 __global__ void __launch_bounds__(detail::kBlockThreads, detail::kIntersectBlocks<gpu::FieldSceneView>)
     glossy_kernel(gpu::FieldSceneView view, const GlossyPoint* points, std::size_t n, int rays_per_point, std::uint64_t seed,

@@ -20,7 +20,11 @@ namespace vf::cuda::detail {
 
 inline constexpr int kBlockThreads = 256;
 /// Blocks an SM should hold at once: with 256 threads, 4 blocks cap a thread at 64 registers
-/// (50% occupancy on sm_90) where the traversal kernels would otherwise take 66-72 and hold 3.
+/// (50% occupancy on sm_90) where the traversal kernels would otherwise take 66-72 and hold 3. The
+/// generic field kernels spill under that cap (68 bytes a thread); built for 3 blocks (80 registers,
+/// no spills) they ran 14-15% slower on an H100 (bunny: AO 23.6 against 27.3 G rays/s spilling,
+/// occlusion batch 26.4 against 31.1; the spilling figures from the previous day's run on an H100),
+/// so occupancy wins there and they keep 4.
 inline constexpr int kMinBlocksPerSm = 4;
 /// The same for the closest-hit batch kernel over `View`. Over fields, capped at 64 registers, it
 /// spilled (1.4 local-memory requests a ray) and at 80 (3 blocks) ran 8-20% faster on an H100; over
@@ -33,14 +37,6 @@ inline constexpr int kIntersectBlocks = VISFIELD_CUDA_CLOSEST_BLOCKS;
 template <class View>
 inline constexpr int kIntersectBlocks = std::is_same_v<View, gpu::FieldSceneView> ? 3 : kMinBlocksPerSm;
 #endif
-
-/// The same for the occlusion kernels (AO, shadow, occlusion batch) of form `Form` over `View`: the
-/// generic field kernels (gpu::FieldForm::any) carry the switches on the tables' choices beside the
-/// tree walk, and at 64 registers spilled (68 bytes a thread, 1.30M local-memory requests on the
-/// bunny's AO) where 80 (3 blocks) hold them; the fitted field kernels and the BVH's fit in 64.
-template <gpu::FieldForm Form, class View>
-inline constexpr int kOcclusionBlocks =
-    std::is_same_v<View, gpu::FieldSceneView> && Form == gpu::FieldForm::any ? 3 : kMinBlocksPerSm;
 
 /// Blocks for `n` threads, at most 2^20 (the grid-stride loop does the rest).
 inline unsigned int blocks_for(std::size_t n) {
