@@ -108,6 +108,9 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    // The block's first pass over its rays reads them from memory: ask for those 4 packets on now.
+    for (std::size_t line = 0; line < L::kWidth * sizeof(Ray); line += 64)
+      __builtin_prefetch(reinterpret_cast<const char*>(rays.data() + i + 4 * L::kWidth) + line);
     M redo;
     const std::uint32_t hits = L::bits(occluded_packet(triangles, rays.data() + i, redo));
     for (int lane = 0; lane < L::kWidth; ++lane) occluded[i + static_cast<std::size_t>(lane)] = (hits >> lane) & 1u;

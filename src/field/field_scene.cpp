@@ -244,17 +244,17 @@ namespace {
 
 // Rays per parallel task: enough to amortise its scheduling (1024 was 3% slower on one object). Among
 // several objects a block's rays are shared out between them, and larger blocks fill the kernel's
-// packets better: 16384 gained 5% on 9 bunnies and 10% on 1024, and lost 7% on a lone bunny; through
-// the tree, 65536 against 16384 gained 24% on 1024 bunnies (131072: 7% less than 65536).
+// packets better: 16384 gained 5% on 9 bunnies and 10% on 1024, and lost 7% on a lone bunny. Through
+// the tree, with each object's rays copied side by side, 16384 ran level with 32768 and 7% faster than
+// 65536, whose 2 MiB of rays outgrow a core's L2 (1024 bunnies, 3 interleaved rounds).
 constexpr std::size_t kBlock = 4096;
 constexpr std::size_t kObjectsBlock = 16384;
-constexpr std::size_t kTreeBlock = 65536;
 
-/// 0, 1, …, kTreeBlock − 1: the candidate list of an object every ray of a block may meet.
-const std::array<std::uint32_t, kTreeBlock>& every_ray() {
-  static const std::array<std::uint32_t, kTreeBlock> all = [] {
-    std::array<std::uint32_t, kTreeBlock> a{};
-    for (std::size_t i = 0; i < kTreeBlock; ++i) a[i] = static_cast<std::uint32_t>(i);
+/// 0, 1, …, kObjectsBlock − 1: the candidate list of an object every ray of a block may meet.
+const std::array<std::uint32_t, kObjectsBlock>& every_ray() {
+  static const std::array<std::uint32_t, kObjectsBlock> all = [] {
+    std::array<std::uint32_t, kObjectsBlock> a{};
+    for (std::size_t i = 0; i < kObjectsBlock; ++i) a[i] = static_cast<std::uint32_t>(i);
     return a;
   }();
   return all;
@@ -379,23 +379,11 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
   }
 }
 
-std::size_t FieldScene::block_size() const { return uses_tree() ? kTreeBlock : objects_.size() > 1 ? kObjectsBlock : kBlock; }
+std::size_t FieldScene::block_size() const { return objects_.size() > 1 ? kObjectsBlock : kBlock; }
 
-namespace {
-
-/// Rays per task of a parallel batch of `count` rays whose blocks hold at most `largest`: blocks
-/// through the tree shrink to give each hardware thread about four, down to kObjectsBlock (513k
-/// rays on 16 threads made 8 blocks of 65536, and half the threads waited). A ray's answer does not
-/// depend on its block.
-std::size_t parallel_block(std::size_t largest, std::size_t count) {
-  if (largest <= kObjectsBlock) return largest;
-  return std::clamp(count / (4 * static_cast<std::size_t>(hardware_threads())), kObjectsBlock, largest);
-}
-
-}  // namespace
 
 void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
-  const std::size_t size = parallel_block(fields.block_size(), rays.size());
+  const std::size_t size = fields.block_size();
   vf::parallel_for(std::size_t{0}, (rays.size() + size - 1) / size, [&](std::size_t block) {
     check_interrupt();
     const std::size_t begin = block * size, count = std::min(size, rays.size() - begin);
@@ -412,7 +400,7 @@ void occluded_block(const FieldScene& fields, std::span<const Ray> rays, std::sp
 }
 
 void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits) {
-  const std::size_t size = parallel_block(fields.block_size(), rays.size());
+  const std::size_t size = fields.block_size();
   vf::parallel_for(std::size_t{0}, (rays.size() + size - 1) / size, [&](std::size_t block) {
     check_interrupt();
     const std::size_t begin = block * size, count = std::min(size, rays.size() - begin);

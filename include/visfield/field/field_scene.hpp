@@ -94,7 +94,7 @@ class FieldScene {
   friend void occluded_batch(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
   friend void occluded_block(const FieldScene&, std::span<const Ray>, std::span<std::uint8_t>);
   friend void intersect_batch(const FieldScene&, std::span<const Ray>, std::span<Hit>);
-  /// Rays per block of the batch queries: up to 65536 through the tree, 16384 among a few objects, 4096 for one.
+  /// Rays per block of the batch queries: 16384 among several objects, 4096 for one.
   std::size_t block_size() const;
   /// Answers for the rays of one block (at most block_size()), into best (closest hits, when `closest`) or
   /// occluded; the batch queries run it per block in parallel.
