@@ -95,7 +95,26 @@ copies_tables() {
   echo
   echo "Before the first change a lone ray's walk of the ground's two-triangle BVH cost more than its field lookup"
   echo "(\`perf\`: 9.3% of the samples against 7.5% for the kernel); at 1024 objects the tree walk (13%) and the"
-  echo "block's pairing and sphere tests (8%) now outweigh the lookups (6%)."
+  echo "block's pairing and sphere tests (8%) then outweighed the lookups (6%)."
+  echo
+  echo "Measured on 2026-11-27 (AMD EPYC, 2 threads) on 1024 bunnies (below), \`field,embree:levels=2 --count 1000000"
+  echo "--reps 5\` or \`--reps 7\`, Mrays/s of the fields (Embree's instancing in the same runs: 7.8–9.8, as the machine's load went):"
+  echo
+  echo "| change | 1024 bunnies | kept |"
+  echo "|---|---|---|"
+  echo "| before: each ray walked the tree over the objects (eight walks interleaved), its (object, ray) pairs grouped by object with a counting sort | 16.35 (9 bunnies 69.5) | |"
+  echo "| the walks' pairs taken in rounds (each ray's first object, then its second...), each round's rays of all objects in one kernel batch | 13.9–14.3 | no |"
+  echo "| the block's rays sent down the tree together (\`BoxTree::rays_by_item\`): each node tests its rays, each child gets those that meet its box, each object's rays arrive grouped | 17.5–18.4 | yes |"
+  echo "| each object's open rays copied side by side before its sphere test and kernel, instead of gathered from the block by each | 17.5–22.5 → 23.6–23.8 | yes |"
+  echo "| a node's test 16 rays at a time against a box (AVX-512), the rays' values moving down in columns, instead of a ray at a time against 8 boxes | 23.6–23.8 → 25.0–25.4 (4 rounds) | yes |"
+  echo "| the rays the block's first pass (the exact ground's packets) reads, prefetched four packets ahead | 26.4 → 28.2 (9 bunnies 70 → 77) | yes |"
+  echo "| blocks of 65536 rays (the three rows above were measured with them) instead of 16384 | 16384 level with 32768, 65536 7% slower (its rays outgrow a core's L2) | no: back to 16384 |"
+  echo "| occlusion rays of many objects gathered into full packets of one field, in object space | +1% | no |"
+  echo
+  echo "\`perf\` at the end (1024 bunnies, share of all the bench's samples): the tree pass 3.5%, the ground's packets"
+  echo "(the block's first read of its rays from memory) 2.4%, the field kernel 2.5%, the objects' copies and sphere"
+  echo "tests 1.8%: the tree is still the largest part, and the ≤ 2× growth of time per ray from 9 to 1024 objects"
+  echo "(2.8× today) needs it and the copies about halved."
   echo
   echo "Renders (\`visfield render igea-triangles.ply --width 512 --height 512 --ao-rays 121\`, fields 16642 × 64² against the"
   echo "BVH, 3 interleaved rounds, Mrays/s): drawing each pixel's AO rays 16 at a time on lanes took the field render"
