@@ -84,10 +84,22 @@ struct Pending {
 /// block's growth costs O(final size).
 std::size_t grown(std::size_t size, std::size_t need) { return std::max(need, 2 * size); }
 
-/// Emits a leaf's lists: each of its items gets the leaf's rays.
-void emit_leaf(const std::uint32_t* order, const Pending& p, ItemRays& out) {
-  const std::uint32_t first = bvh::leaf_first_item(p.ref), count = bvh::leaf_item_count(p.ref);
-  for (std::uint32_t k = 0; k < count; ++k) out.lists.push_back({order[first + k], p.begin, p.count});
+/// Takes the tree's nodes from the root's `count` rays down: a leaf's rays become each of its items'
+/// list; `split(node, p, pending)` hands an interior node's rays to its children, pushing a Pending
+/// for each child that gets some, last to first (so that children are taken in tree order).
+template <class Split>
+void down_the_tree(const bvh::Node8* nodes, const std::uint32_t* order, std::uint32_t count, ItemRays& out, Split&& split) {
+  std::vector<Pending> pending{{bvh::node_ref(0), 0, count}};
+  while (!pending.empty()) {
+    const Pending p = pending.back();
+    pending.pop_back();
+    if (!bvh::is_leaf(p.ref)) {
+      split(bvh::node_at(nodes, p.ref), p, pending);
+      continue;
+    }
+    const std::uint32_t first = bvh::leaf_first_item(p.ref), items = bvh::leaf_item_count(p.ref);
+    for (std::uint32_t k = 0; k < items; ++k) out.lists.push_back({order[first + k], p.begin, p.count});
+  }
 }
 
 /// kSpread[b]: bit k of b moved to byte k (a child's count in a byte of one word).
@@ -127,15 +139,7 @@ void partition_by_rows(const bvh::Node8* nodes, const std::uint32_t* order, std:
     out.rays[used++] = static_cast<std::uint32_t>(i);
   }
   if (used == 0) return;
-  std::vector<Pending> pending{{bvh::node_ref(0), 0, static_cast<std::uint32_t>(used)}};
-  while (!pending.empty()) {
-    const Pending p = pending.back();
-    pending.pop_back();
-    if (bvh::is_leaf(p.ref)) {
-      emit_leaf(order, p, out);
-      continue;
-    }
-    const bvh::Node8& node = bvh::node_at(nodes, p.ref);
+  down_the_tree(nodes, order, static_cast<std::uint32_t>(used), out, [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
     // The children each ray meets, and how many rays each gets.
     if (lanes_of.size() < p.count) lanes_of.resize(p.count);
     std::uint32_t met[8] = {};
@@ -176,10 +180,9 @@ void partition_by_rows(const bvh::Node8* nodes, const std::uint32_t* order, std:
         cursor[child] += (lanes >> child) & 1u;
       }
     }
-    // Pushed last to first, so that children are taken in tree order.
     for (int child = 7; child >= 0; --child)
       if (met[child] > 0) pending.push_back({node.child[child], cursor[child] - met[child], met[child]});
-  }
+  });
 }
 
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
@@ -210,16 +213,9 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
     out.rays[used++] = static_cast<std::uint32_t>(i);
   }
   if (used == 0) return;
+  const auto count = static_cast<std::uint32_t>(used);
   used += kLanes;
-  std::vector<Pending> pending{{bvh::node_ref(0), 0, static_cast<std::uint32_t>(used - kLanes)}};
-  while (!pending.empty()) {
-    const Pending p = pending.back();
-    pending.pop_back();
-    if (bvh::is_leaf(p.ref)) {
-      emit_leaf(order, p, out);
-      continue;
-    }
-    const bvh::Node8& node = bvh::node_at(nodes, p.ref);
+  down_the_tree(nodes, order, count, out, [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
     int slots[8], children = 0;
     for (int slot = 0; slot < 8; ++slot)
       if (node.bounds[bvh::kLoX][slot] <= node.bounds[bvh::kHiX][slot]) slots[children++] = slot;  // unused slots are empty boxes
@@ -272,7 +268,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       const int slot = slots[c];
       if (met[slot] > 0) pending.push_back({node.child[slot], cursor[slot] - met[slot], met[slot]});
     }
-  }
+  });
 }
 #endif
 
