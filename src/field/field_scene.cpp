@@ -381,7 +381,6 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
 
 std::size_t FieldScene::block_size() const { return objects_.size() > 1 ? kObjectsBlock : kBlock; }
 
-
 void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
   const std::size_t size = fields.block_size();
   vf::parallel_for(std::size_t{0}, (rays.size() + size - 1) / size, [&](std::size_t block) {
