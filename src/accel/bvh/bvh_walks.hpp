@@ -4,7 +4,10 @@
 /// occluded_stream, the instance layer's objects).
 
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <optional>
+#include <span>
 
 #include "bvh/box_test.hpp"
 #include "bvh/bvh_layout.hpp"
@@ -56,16 +59,21 @@ struct TraversalRay {
     const __m256 numerator = _mm256_permutevar8x32_ps(dir1, load_index(kNumeratorLanes[kz][flip]));
     const __m256 denominator = _mm256_permutevar8x32_ps(dir1, load_index(kDenominatorLanes[kz]));
     const __m256 q = _mm256_div_ps(numerator, denominator);  // 1/dir (+-inf for +-0), sx, sy, sz, 1, 1
-    const auto lane = [&](int l) { return V8{_mm256_permutevar8x32_ps(q, _mm256_set1_epi32(l))}; };
-    box.set(ray, lane(0), lane(1), lane(2));
-    return simd::BlockRay<kLeafWidth>(kx, ky, kz, ray.org, lane(3), lane(4), lane(5));
+    const auto lane = [&](__m256 v, int l) { return V8{_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(l))}; };
+    box.set(ray, lane(q, 0), lane(q, 1), lane(q, 2));
+    // The permuted origin by the same permutes: Vec3f's operator[] would branch on kx, ky, kz, and
+    // those branches are mispredicted on random directions.
+    const __m256 org = _mm256_castps128_ps256(_mm_setr_ps(ray.org.x, ray.org.y, ray.org.z, 0.0f));
+    return simd::BlockRay<kLeafWidth>(kx, ky, kz, lane(org, kx), lane(org, ky), lane(org, kz), lane(q, 3), lane(q, 4), lane(q, 5));
 #else
     alignas(32) const float numerator[8] = {1.0f, 1.0f, 1.0f, d[kx], d[ky], 1.0f, 1.0f, 1.0f};
     alignas(32) const float denominator[8] = {d[0], d[1], d[2], d[kz], d[kz], d[kz], 1.0f, 1.0f};
     alignas(32) float q[8];
     (V8::load(numerator) / V8::load(denominator)).store(q);  // 1/dir (+-inf for +-0), sx, sy, sz
     box.set(ray, q);
-    return simd::BlockRay<kLeafWidth>(kx, ky, kz, ray.org, q[3], q[4], q[5]);
+    const float o[3] = {ray.org.x, ray.org.y, ray.org.z};  // indexed without Vec3f's branches
+    return simd::BlockRay<kLeafWidth>(kx, ky, kz, V8::broadcast(o[kx]), V8::broadcast(o[ky]), V8::broadcast(o[kz]),
+                                      V8::broadcast(q[3]), V8::broadcast(q[4]), V8::broadcast(q[5]));
 #endif
   }
 };
@@ -149,15 +157,39 @@ class TriangleLeaves {
   std::uint32_t triangle_ = kInvalidId, slot_ = 0;
 };
 
+/// Calls run(first, count, traversal_rays) for consecutive runs of `rays`, with the runs' rays' constants
+/// computed beforehand in one loop: each ray's set-up is a chain of dependent steps (its largest
+/// axis, a table lookup, a division, permutes) that a loop of independent rays overlaps, where a
+/// walk started between other walks' steps would wait for it.
+template <class Run>
+void with_traversal_rays(std::span<const Ray> rays, Run&& run) {
+  constexpr std::size_t kRun = 64;
+  std::array<std::optional<TraversalRay>, kRun> traversal_rays;
+  for (std::size_t first = 0; first < rays.size(); first += kRun) {
+    const std::size_t count = std::min(kRun, rays.size() - first);
+    for (std::size_t i = 0; i < count; ++i) traversal_rays[i].emplace(rays[first + i]);
+    run(first, count, traversal_rays.data());
+  }
+}
+
 /// One ray's any-hit walk through a Bvh, taken a node or leaf at a time.
 class BvhAnyHit {
  public:
   /// A walk of `ray` through `bvh` (which must outlive it), from the root.
   void start(const BvhLayout& bvh, const Ray& ray) {
+    if (bvh.nodes.empty()) {
+      nodes_ = nullptr;
+      return;
+    }
+    own_ray_.emplace(ray);
+    start(bvh, ray, *own_ray_);
+  }
+  /// As above, with the ray's constants computed beforehand (`traversal_ray` must outlive the walk).
+  void start(const BvhLayout& bvh, const Ray& ray, const TraversalRay& traversal_ray) {
     nodes_ = bvh.nodes.empty() ? nullptr : bvh.nodes.data();
     if (!nodes_) return;
-    ray_.emplace(ray);
-    leaves_.emplace(bvh, *ray_, ray.tmin, ray.tmax, nullptr);
+    ray_ = &traversal_ray;
+    leaves_.emplace(bvh, traversal_ray, ray.tmin, ray.tmax, nullptr);
     walk_.start(ray.tmin, ray.tmax);
   }
   /// The next node or leaf; an empty Bvh misses at once.
@@ -168,7 +200,8 @@ class BvhAnyHit {
 
  private:
   const Node8* nodes_ = nullptr;
-  std::optional<TraversalRay> ray_;
+  std::optional<TraversalRay> own_ray_;
+  const TraversalRay* ray_ = nullptr;
   std::optional<TriangleLeaves<false>> leaves_;
   AnyHitState walk_;
 };

@@ -56,14 +56,16 @@ void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8
     BvhAnyHit through;
     AnyHitState::Step last = AnyHitState::Step::going;
   };
-  interleave_walks<Walk, kStreamWalks>(
-      rays.size(),
-      [&](Walk& w, std::size_t i) {
-        w.through.start(bvh, rays[i]);
-        return true;
-      },
-      [](Walk& w) { return (w.last = w.through.step()) == AnyHitState::Step::going; },
-      [&](const Walk& w, std::size_t i) { occluded[i] = w.last == AnyHitState::Step::hit ? 1 : 0; });
+  with_traversal_rays(rays, [&](std::size_t first, std::size_t count, const std::optional<TraversalRay>* traversal_rays) {
+    interleave_walks<Walk, kStreamWalks>(
+        count,
+        [&](Walk& w, std::size_t i) {
+          w.through.start(bvh, rays[first + i], *traversal_rays[i]);
+          return true;
+        },
+        [](Walk& w) { return (w.last = w.through.step()) == AnyHitState::Step::going; },
+        [&](const Walk& w, std::size_t i) { occluded[first + i] = w.last == AnyHitState::Step::hit ? 1 : 0; });
+  });
 }
 
 void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) {
@@ -72,24 +74,27 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
     return;
   }
   struct Walk {
-    std::optional<TraversalRay> ray;
+    const TraversalRay* ray = nullptr;
     std::optional<TriangleLeaves<false>> leaves;
     ClosestHitState state;
   };
-  interleave_walks<Walk, kClosestStreamWalks>(
-      rays.size(),
-      [&](Walk& w, std::size_t i) {
-        w.ray.emplace(rays[i]);
-        w.leaves.emplace(bvh, *w.ray, rays[i].tmin, rays[i].tmax, nullptr);
-        w.state.start(rays[i].tmin, rays[i].tmax);
-        return true;
-      },
-      [&](Walk& w) {
-        if constexpr (kMeasureCut == 2) return false;
-        return w.state.step(bvh.nodes.data(), w.ray->box, [&](std::uint32_t ref, float& best_t) { return w.leaves->closest(ref, best_t); },
-                            IgnoreNodes{});
-      },
-      [&](const Walk& w, std::size_t i) { std::construct_at(&hits[i], w.leaves->hit()); });
+  with_traversal_rays(rays, [&](std::size_t first, std::size_t count, const std::optional<TraversalRay>* traversal_rays) {
+    interleave_walks<Walk, kClosestStreamWalks>(
+        count,
+        [&](Walk& w, std::size_t i) {
+          const Ray& ray = rays[first + i];
+          w.ray = &*traversal_rays[i];
+          w.leaves.emplace(bvh, *w.ray, ray.tmin, ray.tmax, nullptr);
+          w.state.start(ray.tmin, ray.tmax);
+          return true;
+        },
+        [&](Walk& w) {
+          if constexpr (kMeasureCut == 2) return false;
+          return w.state.step(bvh.nodes.data(), w.ray->box, [&](std::uint32_t ref, float& best_t) { return w.leaves->closest(ref, best_t); },
+                              IgnoreNodes{});
+        },
+        [&](const Walk& w, std::size_t i) { std::construct_at(&hits[first + i], w.leaves->hit()); });
+  });
 }
 
 Hit intersect(const BvhLayout& bvh, const Ray& ray) { return closest_hit<false>(bvh, ray, nullptr); }

@@ -59,6 +59,9 @@ struct BlockRay {
   BlockRay(int kx_, int ky_, int kz_, const Vec3f& o, const V& sx_, const V& sy_, const V& sz_)
       : kx(kx_), ky(ky_), kz(kz_), org_x(V::broadcast(o[kx_])), org_y(V::broadcast(o[ky_])),
         org_z(V::broadcast(o[kz_])), sx(sx_), sy(sy_), sz(sz_) {}
+  /// As above, with the permuted origin already broadcast too.
+  BlockRay(int kx_, int ky_, int kz_, const V& org_x_, const V& org_y_, const V& org_z_, const V& sx_, const V& sy_, const V& sz_)
+      : kx(kx_), ky(ky_), kz(kz_), org_x(org_x_), org_y(org_y_), org_z(org_z_), sx(sx_), sy(sy_), sz(sz_) {}
 };
 
 /// t, u, v of every lane of one block test (meaningful in hit lanes only).
