@@ -6,7 +6,7 @@
 # binaries run in alternation (ROUNDS rounds, default 3) so that both see the same machine.
 # Usage: [BASELINE=BENCH] [ROUNDS=N] scripts/bvh-figures.sh MODELS_DIR [OUT.md]
 # (MODELS_DIR holds bun_zipper.ply, dragon_vrip_res2.ply, Armadillo.ply, sponza.obj,
-# conference.obj, cow.obj; about 2 minutes on 2 cores, twice that with BASELINE)
+# conference.obj, cow.obj, teapot.obj; about 10 minutes on 2 cores, twice that with BASELINE)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 models=$(cd "${1:?usage: scripts/bvh-figures.sh MODELS_DIR [OUT.md]}" && pwd)
@@ -38,10 +38,15 @@ for m in $flat_models; do
   for k in $kinds; do measure "flat.$m.$k" "$models/$m" "$k" bvh,embree; done
 done
 
-/usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" 100 0.25 "$work/bunnies100.json"
-/usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" 10 0.25 "$work/bunnies10.json"
-/usr/bin/python3 scripts/copies-scene.py "$models/cow.obj" 1000 15 "$work/cows1000.json"
-copies="bunnies100.json bunnies10.json cows1000.json builtin:boxes:size=10000 builtin:boxes:size=64"
+# The scenes of the instancing table in docs/structures.md (the README's instancing row).
+for n in 1000 100 10; do
+  /usr/bin/python3 scripts/copies-scene.py "$models/bun_zipper.ply" $n 0.25 "$work/bunnies$n.json" >/dev/null
+done
+/usr/bin/python3 scripts/copies-scene.py "$models/cow.obj" 1000 15 "$work/cows1000.json" >/dev/null
+/usr/bin/python3 scripts/copies-scene.py "$models/cow.obj" 16 15 "$work/cows16.json" >/dev/null
+/usr/bin/python3 scripts/copies-scene.py "$models/teapot.obj" 100 8 "$work/teapots100.json" >/dev/null
+copies="bunnies1000.json bunnies100.json bunnies10.json cows1000.json cows16.json teapots100.json"
+copies+=" builtin:boxes:size=100000 builtin:boxes:size=10000 builtin:boxes:size=64"
 for s in $copies; do
   scene=$s
   [ "${s#builtin:}" != "$s" ] || scene="$work/$s"
@@ -121,19 +126,27 @@ for m, (f, b) in builds.items():
     print("| " + " | ".join(cells) + " |")
 print()
 print("## Two levels (`bvh:levels=2` against `embree:levels=2`)\n")
-print("Scenes of copies by `scripts/copies-scene.py` (100 and 10 bunnies 0.25 apart, 1000 cows 15 apart) and")
-print("`builtin:boxes:size=N` (N 12-triangle boxes).\n")
+print("The scenes of the instancing table in [`structures.md`](structures.md#instances-and-updates): copies by")
+print("`scripts/copies-scene.py` (1000, 100 and 10 bunnies 0.25 apart, 1000 and 16 cows 15 apart, 100 teapots 8 apart)")
+print("and `builtin:boxes:size=N` (N 12-triangle boxes).\n")
 head = "| scene | rays | bvh:levels=2 Mrays/s | Embree's instancing Mrays/s | × Embree |" + (" before: Mrays/s, × Embree |" if with_base else "")
 print(head)
 print("|" + "---|" * (head.count("|") - 1))
+two_ratios, two_base_ratios = [], []
 for s in copies:
     for k in ("ao", "primary"):
         f = figures(f"two.{s}.{k}.new", "bvh")
+        two_ratios.append(f["ratio"])
         cells = [s, k, f"{f['ours']:.2f}", f"{f['embree']:.2f}", f"{f['ratio']:.2f}×"]
         if with_base:
             b = figures(f"two.{s}.{k}.base", "bvh")
+            two_base_ratios.append(b["ratio"])
             cells.append(f"{b['ours']:.2f}, {b['ratio']:.2f}×")
         print("| " + " | ".join(cells) + " |")
+print()
+print(f"Geometric mean of the ratios to Embree's instancing: **{geomean(two_ratios):.2f}×** (lowest {min(two_ratios):.2f}×, "
+      f"highest {max(two_ratios):.2f}×)"
+      + (f"; before: {geomean(two_base_ratios):.2f}× ({min(two_base_ratios):.2f}–{max(two_base_ratios):.2f}×)." if with_base else "."))
 PY
   cat <<'TEXT'
 
@@ -152,15 +165,32 @@ PY
 - **Short walks** (random rays on Sponza, the conference room and the cow: 2–2.5 nodes and under one leaf per
   ray) are bound by each ray's fixed cost. Measurement builds with parts of the closest-hit stream taken out
   (`cmake -DVISFIELD_MEASURE_BVH_CUT=1|2`, then `visfield-bench --rays random --accel bvh,embree --count
-  1000000`, per thread of 2): the batch loop and the answers' memory alone 6 ns a ray (cut 1: 290–350
-  Mrays/s); with each ray's constants (the watertight shear and the box reciprocals, one 8-lane division and
-  its permutes) 30 ns (cut 2: 65–68 Mrays/s); the whole query 88 ns on the cow and 127 ns on Sponza, against
-  Embree's 71 and 97 ns for everything. The set-up alone is a third of Embree's whole query on the cow, and
-  interleaving walks does not pay there (two walks: random rays on Sponza 0.82x -> 0.72x before the
-  branch-free child sort, which brought them back to 0.80x).
-- **Two levels**: on 12-triangle boxes each object costs a ray transform and that set-up for a walk of one node
-  (`perf`: the object's `any_hit` 48% of the samples, most of it the set-up), so Embree's instancing stays
-  1.5–2x ahead there.
+  1000000`, per thread of 2; Intel Xeon VM, 2026-11-26): the batch loop and the answers' memory alone 6 ns a
+  ray (cut 1); with each ray's constants (the watertight shear and the box reciprocals) 30 ns (cut 2); the
+  whole query 88 ns on the cow and 127 ns on Sponza, against Embree's 71 and 97 ns for everything.
+- **Each ray's constants** (AMD EPYC, 2026-11-27, interleaved runs of the same rays): `perf annotate` put a
+  fifth of the random-ray samples on the constants, on compare-and-branch pairs: the watertight test's
+  permuted origin was read through `Vec3f::operator[]` with the ray's kx, ky, kz, whose branches GCC keeps
+  and random directions mispredict. The permuted origin now comes from the same register permutes as the
+  shear (`TraversalRay` in `bvh_walks.hpp`), and the streams compute a run of 64 rays' constants in one loop
+  before stepping their walks (`with_traversal_rays`), which overlaps the rays' dependent chains. The run
+  alone: cow random 0.84x -> 0.92x Embree, Sponza random 0.82x -> 0.88x, conference AO 1.00x -> 1.08x; then
+  the origin without branches: cow random 0.86x -> 1.00x, conference random 0.81x -> 0.93x, conference AO
+  0.97x -> 1.19x, cow AO 0.98x -> 1.06x, Sponza AO 0.90x -> 1.32x. More walks in turn (4 any-hit, 3
+  closest-hit) were then slower (conference random 0.89x -> 0.82x, cow AO 1.05x -> 1.01x). Random rays on
+  Sponza and the conference room stay level with Embree (0.96–0.99x in the table; 1.0–1.03x on the cow and
+  the bunny).
+- **Two levels**: the objects' walks gain from the same constants (AO on copies of meshes 0.89–0.95x ->
+  1.07–1.14x Embree's instancing). A 12-triangle box costs a ray transform, the ray's constants and a walk
+  of one node and a leaf; since the constants have no branches, stepping that walk in turn with the others
+  beats answering it at once (64 boxes: 0.65x -> 0.70x). With the objects taken out
+  (`cmake -DVISFIELD_MEASURE_BVH_CUT=3`: the top level's walks alone, `visfield-bench --scene
+  builtin:boxes:size=N --rays ao --accel bvh:levels=2,embree:levels=2 --count 1000000 --threads 2`): on 64
+  boxes the top level alone runs 92 Mrays/s (22 ns a ray a thread) against 37 Mrays/s (54 ns) for the whole
+  query and Embree's 54 (37 ns): the 0.9 boxes a ray enters cost 32 ns, Embree's whole query 37. On 10,000
+  boxes the top level alone, which then never stops at a hit, runs 24.5–25.9 Mrays/s, below Embree's whole
+  query (33). Two walks in turn were level with three, four and six slower (64 boxes: 0.80x, 0.81x, 0.70x,
+  0.64x in one run).
 TEXT
 } > "$out"
 echo "wrote $out"

@@ -13,7 +13,16 @@
 #include "bvh/bvh_layout.hpp"
 #include "bvh/wide_traversal.hpp"
 
+#ifndef VISFIELD_MEASURE_BVH_CUT
+#define VISFIELD_MEASURE_BVH_CUT 0
+#endif
+
 namespace vf::bvh {
+
+/// A measurement build's cut (CMake VISFIELD_MEASURE_BVH_CUT; 0 in every other build): 1 and 2 take
+/// parts out of the Bvh's closest-hit stream, 3 the objects out of the instance layer's any-hit
+/// stream. Internal linkage: only the sources CMake names see the option's value.
+constexpr int kMeasureCut = VISFIELD_MEASURE_BVH_CUT;
 
 using LeafLanes = simd::Lanes<kLeafWidth>;
 

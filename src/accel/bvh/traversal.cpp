@@ -43,12 +43,6 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
     return any_hit_walk(bvh.nodes.data(), traversal_ray.box, ray.tmin, ray.tmax, test);
 }
 
-// A measurement build's cut (CMake VISFIELD_MEASURE_BVH_CUT; 0 in every other build).
-#ifndef VISFIELD_MEASURE_BVH_CUT
-#define VISFIELD_MEASURE_BVH_CUT 0
-#endif
-constexpr int kMeasureCut = VISFIELD_MEASURE_BVH_CUT;
-
 }  // namespace
 
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {

@@ -88,6 +88,7 @@ void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::
   // Enters the next object of the walk's leaf whose mesh is a Bvh, whose walk is stepped; answers
   // the others (meshes of other structures) at once. Returns true when one of those was hit.
   const auto enter_object = [&](Walk& w) {
+    if constexpr (bvh::kMeasureCut == 3) w.object = w.end;
     for (; w.object != w.end; ++w.object) {
       const Ray local = w.object->to_object.apply(*w.ray);
       // Even a Bvh of one node is stepped: since a ray's constants are computed without branches,
