@@ -3,9 +3,9 @@
 /// block tests, and a resumable any-hit walk that streams of rays step in turn (the Bvh's own
 /// occluded_stream, the instance layer's objects).
 
-#include <cmath>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <span>
 
