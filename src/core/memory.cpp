@@ -1,7 +1,9 @@
 #include "visfield/core/memory.hpp"
 
+#include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
+#include <new>
 #include <sstream>
 
 #include "visfield/core/error.hpp"
@@ -92,6 +95,24 @@ std::optional<double> parse_byte_size(std::string_view text) {
   const double bytes = number * scale;
   if (!std::isfinite(bytes) || !(bytes > 0.0)) return std::nullopt;
   return bytes;
+}
+
+void* allocate_aligned(std::size_t bytes, std::size_t alignment) {
+  if (bytes < kHugePageBytes) return ::operator new(bytes, std::align_val_t{alignment});
+  // Whole huge pages, advised before anything touches them, so that the first writes fault them in.
+  const std::size_t whole = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+  void* storage = ::operator new(whole, std::align_val_t{std::max(alignment, kHugePageBytes)});
+#if defined(MADV_HUGEPAGE)
+  (void)madvise(storage, whole, MADV_HUGEPAGE);  // advice only: without it the pages are 4 KiB ones
+#endif
+  return storage;
+}
+
+void free_aligned(void* storage, std::size_t bytes, std::size_t alignment) noexcept {
+  if (bytes < kHugePageBytes)
+    ::operator delete(storage, std::align_val_t{alignment});
+  else
+    ::operator delete(storage, std::align_val_t{std::max(alignment, kHugePageBytes)});
 }
 
 }  // namespace vf

@@ -228,14 +228,13 @@ ObjectField ObjectField::from_tables(const ObjectFieldConfig& config, const Boun
   const std::size_t expected_averages = config.storage == CellStorage::bit ? count : 0;
   if (averages.size() != expected_averages)
     throw Error("object field: " + std::to_string(averages.size()) + " average distances, expected " + std::to_string(expected_averages));
-  field.cells_ = std::move(cells);
-  field.cells_.reserve(field.cells_.size() + kTablePadding);
-  field.cells_.resize(field.cells_.size() + kTablePadding, 0);
-  field.cells_.shrink_to_fit();
+  field.cells_.reserve(cells.size() + kTablePadding);
+  field.cells_.assign(cells.begin(), cells.end());
+  field.cells_.resize(cells.size() + kTablePadding, 0);
   if (config.normals != NormalStorage::none) {
-    field.normals_ = std::move(normals);
-    field.normals_.resize(field.normals_.size() + kTablePadding, 0);
-    field.normals_.shrink_to_fit();
+    field.normals_.reserve(normals.size() + kTablePadding);
+    field.normals_.assign(normals.begin(), normals.end());
+    field.normals_.resize(normals.size() + kTablePadding, 0);
   }
   field.averages_ = std::move(averages);
   field.averages_.shrink_to_fit();

@@ -1,9 +1,12 @@
 #pragma once
-/// \file std::vector with cache-line aligned storage, for the SIMD arrays of the structures.
+/// \file std::vector with cache-line aligned storage, for the SIMD arrays of the structures (and, from
+/// 2 MiB on, huge-page advised storage: see allocate_aligned()).
 
 #include <cstddef>
 #include <new>
 #include <vector>
+
+#include "visfield/core/memory.hpp"
 
 namespace vf {
 
@@ -22,10 +25,10 @@ struct AlignedAllocator {
 
   /// Allocates room for n objects; throws std::bad_alloc on failure.
   T* allocate(std::size_t n) {
-    return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{Alignment}));
+    return static_cast<T*>(allocate_aligned(n * sizeof(T), Alignment));
   }
   /// Releases storage obtained from allocate().
-  void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, std::align_val_t{Alignment}); }
+  void deallocate(T* p, std::size_t n) noexcept { free_aligned(p, n * sizeof(T), Alignment); }
 
   template <class U>
   bool operator==(const AlignedAllocator<U, Alignment>&) const noexcept { return true; }

@@ -52,6 +52,17 @@ std::string format_bytes(double bytes);
 /// "1e9". Nothing for anything else, or for a size that is not finite and > 0.
 std::optional<double> parse_byte_size(std::string_view text);
 
+/// Arrays from this size on are placed on 2 MiB boundaries and advised to the kernel as huge pages.
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
+/// Uninitialised storage of `bytes` aligned to `alignment` (a power of two); from kHugePageBytes on,
+/// aligned to kHugePageBytes and advised as transparent huge pages (Linux, where the kernel allows:
+/// random reads into tables of many MiB then miss the TLB far less). Throws std::bad_alloc.
+void* allocate_aligned(std::size_t bytes, std::size_t alignment);
+
+/// Releases storage from allocate_aligned() of the same `bytes` and `alignment`.
+void free_aligned(void* storage, std::size_t bytes, std::size_t alignment) noexcept;
+
 /// How parse_byte_size's input is described in messages.
 inline constexpr std::string_view kByteSizeSyntax = "a size such as 4G, 512MiB or 1e9 (bytes)";
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "visfield/accel/aligned_vector.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/core/vec.hpp"
 #include "visfield/core/ray.hpp"
@@ -169,8 +170,8 @@ class ObjectField {
   std::size_t normal_stride_ = 0;      // bytes per positional sample of the normal table
   // Zero bytes after each table, so that the batch may read 32 bits at any cell.
   static constexpr std::size_t kTablePadding = 4;
-  std::vector<std::uint8_t> cells_;    // sample-major; within a sample, cell j·N + i; then the padding
-  std::vector<std::uint8_t> normals_;  // the same layout for the normal codes (empty without normals)
+  AlignedVector<std::uint8_t> cells_;    // sample-major; within a sample, cell j·N + i; then the padding
+  AlignedVector<std::uint8_t> normals_;  // the same layout for the normal codes (empty without normals)
   std::vector<float> averages_;        // 1-bit variant: mean normalised hit distance per sample
   std::vector<hd::Vec3<float>> upper_; // upper hemisphere's sample directions, by octa::point_index
   std::vector<unsigned long long> quadrant_;  // their |x|, |y| by (|i|, |j|) (FieldTables::quadrant)

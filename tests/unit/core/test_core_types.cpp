@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <thread>
 
 #include "visfield/core/error.hpp"
@@ -191,6 +192,18 @@ TEST(Memory, SizesAreWrittenForPeople) {
   EXPECT_EQ(format_bytes(12.5 * 1024), "12.5 KiB");
   EXPECT_EQ(format_bytes(4.4 * 1024 * 1024), "4.40 MiB");
   EXPECT_EQ(format_bytes(2.5 * 1024 * 1024 * 1024), "2.50 GiB");
+}
+
+TEST(Memory, LargeArraysStartOnHugePageBoundariesAndSmallOnesAsAsked) {
+  for (const std::size_t bytes : {std::size_t{100}, kHugePageBytes - 1, kHugePageBytes, 3 * kHugePageBytes + 5}) {
+    auto* storage = static_cast<unsigned char*>(allocate_aligned(bytes, 64));
+    const auto address = reinterpret_cast<std::uintptr_t>(storage);
+    EXPECT_EQ(address % (bytes < kHugePageBytes ? 64 : kHugePageBytes), 0u) << bytes;
+    storage[0] = 1;  // the whole range is writable
+    storage[bytes - 1] = 2;
+    EXPECT_EQ(storage[0] + storage[bytes - 1], 3);
+    free_aligned(storage, bytes, 64);
+  }
 }
 
 TEST(Statistics, MedianOfOddAndEvenCounts) {
