@@ -83,9 +83,9 @@ class FieldKernel {
   }
 
   /// Answers for packets 0 .. packets−1 of kWidth rays: emit(k, trace_lanes(load(k))), with the
-  /// paper's lookups pipelined one packet ahead (locate k+1, then read k's cells), so the table's
-  /// cache misses overlap the next packet's arithmetic in the out-of-order window (measured: 34 ->
-  /// 30.5 cycles a ray; explicit prefetches of the cells cost more than they saved).
+  /// paper's lookups pipelined one packet ahead (locate k+1 and ask for its cells, then read k's), so
+  /// the table's cache misses overlap the next packet's arithmetic (measured: 34 -> 30.5 cycles a ray
+  /// from the order alone; the prefetches then gained 8–14% on 4 MiB tables and 20% on a 65 MiB one).
   template <class Load, class Emit>
   static void stream(const FieldTables& f, std::size_t packets, const Load& load, const Emit& emit) {
     if (packets == 0) return;
@@ -98,6 +98,7 @@ class FieldKernel {
     for (std::size_t k = 0; k < packets; ++k) {
       if (k + 1 < packets) {
         locate(f, load(k + 1), L::all(), slot[(k + 1) & 1]);
+        prefetch_cells(f, slot[(k + 1) & 1]);
       }
       emit(k, finish(f, slot[k & 1]));
     }
@@ -160,7 +161,10 @@ class FieldKernel {
       Packet& p = packet[current];
       Packet& following = packet[current ^ 1];
       have = next(following);
-      if (have && paper) locate(f, following.rays, L::all(), following.located);
+      if (have && paper) {
+        locate(f, following.rays, L::all(), following.located);
+        prefetch_cells(f, following.located);
+      }
       emit(p.index, p.position, paper ? finish(f, p.located) : trace_lanes(f, p.rays, L::all()));
     }
     rest = 0;
@@ -703,6 +707,18 @@ class FieldKernel {
     square_point(f, w, read, l.g.active, s, t);
     l.i = cell_of(s, f.directions);
     l.j = cell_of(t, f.directions);
+  }
+
+  /// Asks for the cache lines of the cells `l` will read (its active lanes'), so that they arrive while
+  /// the next packet is located.
+  [[gnu::always_inline]] static void prefetch_cells(const FieldTables& f, const Located& l) {
+    const I c = l.j * L::splat(f.directions) + l.i;
+    const I base = l.sample * L::splat(static_cast<int>(f.cell_stride));
+    const int shift = f.storage == CellStorage::u16 ? 1 : f.storage == CellStorage::f32 ? 2 : 0;
+    const I offset = f.storage == CellStorage::bit ? base + (c >> L::splat(3)) : base + (c << L::splat(shift));
+    alignas(64) std::int32_t at[kWidth];
+    L::store(at, select(l.g.active, offset, L::splat(0)));
+    for (int lane = 0; lane < kWidth; ++lane) __builtin_prefetch(f.cells + at[lane]);
   }
 
   [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
