@@ -39,13 +39,16 @@ class OcclusionBatch {
     if (queued_ == 0) return;
     queries_.occluded_block(std::span<const Ray>(rays_.data(), queued_), std::span<std::uint8_t>(occluded_.data(), queued_));
     std::size_t i = 0;
-    for (const Run& run : runs_) {
-      // Summed in a local: through the reference, every add would wait on the last one's store
-      // (the answers are bytes, which may alias it). Same adds in the same order.
-      Vec3f sum = sums_[run.sample];
-      for (; i < run.end; ++i)
-        if (!occluded_[i]) sum += run.contribution;
-      sums_[run.sample] = sum;
+    for (std::size_t r = 0; r < runs_.size();) {
+      // Summed in a local across the runs of one sample (a soft shadow's rays are a run each): through
+      // memory, every add would wait on the last one's store (the answers are bytes, which may alias
+      // it). Same adds in the same order.
+      const std::uint32_t sample = runs_[r].sample;
+      Vec3f sum = sums_[sample];
+      for (; r < runs_.size() && runs_[r].sample == sample; ++r)
+        for (; i < runs_[r].end; ++i)
+          if (!occluded_[i]) sum += runs_[r].contribution;
+      sums_[sample] = sum;
     }
     queued_ = 0;
     runs_.clear();
