@@ -67,11 +67,9 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
               const auto n = static_cast<std::size_t>(std::min(kChunk, options.shadow_rays - first));
               cone->sample(rng, n, wi.data(), distance.data());
               surface.bsdf.eval(surface.wo, std::span<const Vec3f>(wi.data(), n), f_cos.data());
-              for (std::size_t k = 0; k < n; ++k) {
-                if (!(max_component(f_cos[k]) > 0.0f)) continue;
-                ++rays.shadow;
-                batch.add(Ray{surface.point.position, wi[k], 0.0f, distance[k] * (1.0f - 1e-4f)}, slot, f_cos[k] * weight * per_pdf);
-              }
+              for (std::size_t k = 0; k < n; ++k) distance[k] *= 1.0f - 1e-4f;  // ends just before the light
+              rays.shadow += batch.add_weighted(surface.point.position, std::span<const Vec3f>(wi.data(), n), distance.data(), f_cos.data(),
+                                                weight, per_pdf, slot);
             }
           }
         }
