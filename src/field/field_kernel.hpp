@@ -79,7 +79,13 @@ class FieldKernel {
 
   /// marks[index[lane]] = 1 for the lanes that hit (what an occlusion query needs).
   static void mark(const Answer& a, const std::uint32_t* index, std::uint8_t* marks) {
-    for (std::uint32_t hits = L::bits(a.hit); hits != 0; hits &= hits - 1) marks[index[std::countr_zero(hits)]] = 1;
+    std::uint32_t hits = L::bits(a.hit);
+    if (hits == 0) return;
+    if (L::bits(L::load(index) == L::splat(static_cast<int>(index[0])) + L::lane_index()) == L::bits(L::all())) {
+      L::set_bytes(marks + index[0], a.hit);  // consecutive rays (a lone object's block): one masked store
+      return;
+    }
+    for (; hits != 0; hits &= hits - 1) marks[index[std::countr_zero(hits)]] = 1;
   }
 
   /// Answers for packets 0 .. packets−1 of kWidth rays: emit(k, trace_lanes(load(k))), with the

@@ -47,6 +47,14 @@ struct Avx512 {
     _mm512_storeu_si512(dst, _mm512_maskz_compress_epi32(m.m, values.v));
     return __builtin_popcount(m.m);
   }
+  /// p[lane] = 1 for the lanes of `m`; the other bytes of p[0 .. 16) keep their values.
+  static void set_bytes(std::uint8_t* p, M m) {
+#if defined(__AVX512BW__) && defined(__AVX512VL__)
+    _mm_mask_storeu_epi8(p, m.m, _mm_set1_epi8(1));
+#else
+    for (std::uint32_t lanes = m.m; lanes != 0; lanes &= lanes - 1) p[__builtin_ctz(lanes)] = 1;
+#endif
+  }
   /// The 8 columns of 16 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]):
   /// an in-register transpose (per 128-bit block unpacks and shuffles, then one two-source
   /// permute per column), cheaper than 8 gathers.
@@ -176,6 +184,10 @@ struct Avx2 {
     int n = 0;
     for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) dst[n++] = all_values[__builtin_ctz(lanes)];
     return n;
+  }
+  /// p[lane] = 1 for the lanes of `m`; the other bytes of p[0 .. 8) keep their values.
+  static void set_bytes(std::uint8_t* p, M m) {
+    for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) p[__builtin_ctz(lanes)] = 1;
   }
   /// The 8 columns of 8 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]): the
   /// classic 8×8 in-register transpose.
