@@ -28,16 +28,18 @@ class OcclusionBatch {
   /// Room for `count` (<= kCapacity) rays, queued in order, each adding `contribution` to sample
   /// `of_sample` when unoccluded; the caller writes them before the next add, append or flush.
   std::span<Ray> append(std::size_t count, std::size_t of_sample, const Vec3f& contribution) {
+    if (count == 0) return {};  // no run: a run has rays, so runs_ never outgrows kCapacity
     if (queued_ + count > kCapacity) flush();
     const std::span<Ray> room(rays_.data() + queued_, count);
     queued_ += count;
     runs_[run_count_++] = Run{static_cast<std::uint32_t>(queued_), static_cast<std::uint32_t>(of_sample), contribution};
     return room;
   }
-  /// Queues, for each k < count with max_component(f_cos[k]) > 0, the ray from `origin` along wi[k]
-  /// over [0, tmax[k]], adding f_cos[k] · weight · scale to sample `of_sample` when unoccluded (the
-  /// products in that order); returns how many it queued. One call per chunk of a light's samples:
-  /// a loop of its own keeps the batch's state in registers (inside a tile's loop it lived on the stack).
+  /// Queues, for each k < wi.size() (<= kCapacity) with max_component(f_cos[k]) > 0, the ray from
+  /// `origin` along wi[k] over [0, tmax[k]], adding f_cos[k] · weight · scale to sample `of_sample`
+  /// when unoccluded (the products in that order); returns how many it queued. One call per chunk of
+  /// a light's samples: a loop of its own keeps the batch's state in registers (inside a tile's loop
+  /// it lived on the stack).
   [[gnu::noinline]] std::size_t add_weighted(const Vec3f& origin, std::span<const Vec3f> wi, const float* tmax, const Vec3f* f_cos,
                                              const Vec3f& weight, float scale, std::size_t of_sample) {
     if (queued_ + wi.size() > kCapacity) flush();
