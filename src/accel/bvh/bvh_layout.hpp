@@ -27,12 +27,23 @@ struct alignas(64) LeafBlock {
   ObjectId instance[kLeafWidth];              ///< The TriangleSet's object id per lane.
 };
 
+/// A Bvh of at most this many blocks is queried without its nodes: every block is tested at once.
+/// A 12-triangle box (two blocks) costs a node test and one or two block tests through its root;
+/// the blocks alone save the node and the box test's constants, which for an instanced box are a
+/// third of its cost (64 boxes, AO rays: 43 -> 53 Mrays/s).
+inline constexpr std::size_t kDirectBlocks = 2;
+
 /// The built hierarchy. nodes[0] is the root whenever the set has triangles; a leaf reference names
 /// a run of blocks.
 struct BvhLayout {
   AlignedVector<Node8> nodes;
   AlignedVector<LeafBlock> blocks;
   AccelStats stats;
+
+  /// Whether queries test every block at once (1 to kDirectBlocks blocks) instead of walking the nodes.
+  bool direct() const { return !blocks.empty() && blocks.size() <= kDirectBlocks; }
+  /// The leaf reference naming every block (a direct Bvh's whole set).
+  std::uint32_t all_blocks() const { return leaf_ref(0, static_cast<std::uint32_t>(blocks.size())); }
 };
 
 /// Closest hit in (tmin, tmax] (see Bvh::intersect). Thread-safe.

@@ -47,6 +47,13 @@ struct TraversalRay {
 
   explicit TraversalRay(const Ray& ray) : triangle(shear(ray, box)) {}
 
+  /// The triangle test's constants alone (those of TraversalRay(ray).triangle, bit for bit), for
+  /// rays that meet no box.
+  static simd::BlockRay<kLeafWidth> triangle_ray(const Ray& ray) {
+    BoxRay unused;  // a local never read: the compiler drops its stores
+    return shear(ray, unused);
+  }
+
  private:
   static simd::BlockRay<kLeafWidth> shear(const Ray& ray, BoxRay& box) {
     const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
@@ -93,7 +100,10 @@ template <bool kCount>
 class TriangleLeaves {
  public:
   TriangleLeaves(const BvhLayout& bvh, const TraversalRay& ray, float tmin, float tmax, BvhQueryCounters* counters)
-      : bvh_(bvh), ray_(ray.triangle), tmin_(LeafLanes::broadcast(tmin)), tmax_(LeafLanes::broadcast(tmax)), counters_(counters) {}
+      : TriangleLeaves(bvh, ray.triangle, tmin, tmax, counters) {}
+  /// The leaves for a ray of which only the triangle test's constants are known (`ray` must outlive them).
+  TriangleLeaves(const BvhLayout& bvh, const simd::BlockRay<kLeafWidth>& ray, float tmin, float tmax, BvhQueryCounters* counters)
+      : bvh_(bvh), ray_(ray), tmin_(LeafLanes::broadcast(tmin)), tmax_(LeafLanes::broadcast(tmax)), counters_(counters) {}
 
   /// Any triangle of leaf `ref` hit in (tmin, tmax].
   bool any(std::uint32_t ref) const {
@@ -165,6 +175,23 @@ class TriangleLeaves {
   float t_ = 0.0f, u_ = 0.0f, v_ = 0.0f;
   std::uint32_t triangle_ = kInvalidId, slot_ = 0;
 };
+
+/// A direct Bvh's closest hit (see BvhLayout::direct): every block tested, no box.
+template <bool kCount>
+Hit closest_hit_direct(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  const simd::BlockRay<kLeafWidth> triangle_ray = TraversalRay::triangle_ray(ray);
+  TriangleLeaves<kCount> leaves(bvh, triangle_ray, ray.tmin, ray.tmax, counters);
+  float best_t = ray.tmax;
+  leaves.closest(bvh.all_blocks(), best_t);
+  return leaves.hit();
+}
+
+/// A direct Bvh's any hit (see BvhLayout::direct): every block tested, no box.
+template <bool kCount>
+bool any_hit_direct(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  const simd::BlockRay<kLeafWidth> triangle_ray = TraversalRay::triangle_ray(ray);
+  return TriangleLeaves<kCount>(bvh, triangle_ray, ray.tmin, ray.tmax, counters).any(bvh.all_blocks());
+}
 
 /// Calls run(first, count, traversal_rays) for consecutive runs of `rays`, with the runs' rays' constants
 /// computed beforehand in one loop: each ray's set-up is a chain of dependent steps (its largest

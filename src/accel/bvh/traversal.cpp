@@ -20,6 +20,7 @@ template <bool kCount>
 Hit closest_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
   if constexpr (kCount) ++counters->rays;
   if (bvh.nodes.empty()) return Hit{};
+  if (bvh.direct()) return closest_hit_direct<kCount>(bvh, ray, counters);
   const TraversalRay traversal_ray(ray);
   TriangleLeaves<kCount> leaves(bvh, traversal_ray, ray.tmin, ray.tmax, counters);
   const auto visit = [&](std::uint32_t ref, float& best_t) { return leaves.closest(ref, best_t); };
@@ -34,6 +35,7 @@ template <bool kCount>
 bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
   if constexpr (kCount) ++counters->rays;
   if (bvh.nodes.empty()) return false;
+  if (bvh.direct()) return any_hit_direct<kCount>(bvh, ray, counters);
   const TraversalRay traversal_ray(ray);
   const TriangleLeaves<kCount> leaves(bvh, traversal_ray, ray.tmin, ray.tmax, counters);
   const auto test = [&](std::uint32_t ref) { return leaves.any(ref); };
@@ -46,6 +48,10 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
 }  // namespace
 
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
+  if (bvh.direct()) {
+    for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = any_hit_direct<false>(bvh, rays[i], nullptr) ? 1 : 0;
+    return;
+  }
   struct Walk {
     BvhAnyHit through;
     AnyHitState::Step last = AnyHitState::Step::going;
@@ -65,6 +71,10 @@ void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8
 void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) {
   if (bvh.nodes.empty() || kMeasureCut == 1) {
     std::fill(hits, hits + rays.size(), Hit{});
+    return;
+  }
+  if (bvh.direct()) {
+    for (std::size_t i = 0; i < rays.size(); ++i) std::construct_at(&hits[i], closest_hit_direct<false>(bvh, rays[i], nullptr));
     return;
   }
   struct Walk {

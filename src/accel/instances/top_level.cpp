@@ -91,9 +91,16 @@ void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::
     if constexpr (bvh::kMeasureCut == 3) w.object = w.end;
     for (; w.object != w.end; ++w.object) {
       const Ray local = w.object->to_object.apply(*w.ray);
-      // Even a Bvh of one node is stepped: since a ray's constants are computed without branches,
-      // answering it at once costs more than switching walks (64 boxes of 12 triangles: +7%).
+      // A Bvh walk is stepped: since a ray's constants are computed without branches, answering
+      // even a one-node walk at once costs more than switching walks (64 boxes of 12 triangles:
+      // +7%). A direct Bvh (its blocks without a node or box constants) is answered at once: that
+      // took 64 boxes from 0.82x to 1.00x Embree's instancing, where stepping its test in turn
+      // measured 0.94-0.97x.
       if (const Bvh* mesh = std::get_if<Bvh>(w.object->mesh)) {
+        if (mesh->layout_->direct()) {
+          if (bvh::any_hit_direct<false>(*mesh->layout_, local, nullptr)) return true;
+          continue;
+        }
         w.inside.start(*mesh->layout_, local);
         w.in_object = true;
         return false;

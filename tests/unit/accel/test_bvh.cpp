@@ -93,19 +93,19 @@ TEST(Bvh, EmptyAndSingleTriangleSets) {
 }
 
 TEST(Bvh, CountingQueriesAnswerAsThePlainOnesAndCountTheirWork) {
-  // One triangle: the root node, its one leaf, one block holding one triangle.
+  // One triangle: a direct Bvh, whose one block (one triangle) every query tests without a node.
   const Bvh one = Bvh::build(test::set_from_triangles({{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}}));
   BvhQueryCounters c;
   EXPECT_TRUE(one.occluded(Ray{{0.25f, 0.25f, 2.0f}, {0, 0, -1}}, c));
   EXPECT_EQ(c.rays, 1u);
-  EXPECT_EQ(c.nodes, 1u);
+  EXPECT_EQ(c.nodes, 0u);
   EXPECT_EQ(c.leaves, 1u);
   EXPECT_EQ(c.blocks, 1u);
   EXPECT_EQ(c.triangle_tests, 1u);
-  EXPECT_FALSE(one.intersect(Ray{{5.0f, 5.0f, 2.0f}, {0, 0, -1}}, c));  // misses the root's boxes
+  EXPECT_FALSE(one.intersect(Ray{{5.0f, 5.0f, 2.0f}, {0, 0, -1}}, c));  // a miss tests the block too
   EXPECT_EQ(c.rays, 2u);
-  EXPECT_EQ(c.nodes, 2u);
-  EXPECT_EQ(c.leaves, 1u);
+  EXPECT_EQ(c.nodes, 0u);
+  EXPECT_EQ(c.leaves, 2u);
 
   const TriangleSet set = test::set_from_triangles(test::random_soup(24, 5000, 0.005f, 0.1f));
   const Bvh bvh = Bvh::build(set);
@@ -124,6 +124,42 @@ TEST(Bvh, CountingQueriesAnswerAsThePlainOnesAndCountTheirWork) {
   }
   EXPECT_LE(any.nodes, closest.nodes);  // any hit stops at the first occluder
   EXPECT_LT(any.triangle_tests, closest.triangle_tests);
+}
+
+TEST(Bvh, SmallSetsTestedWithoutNodesAnswerAsTheOracle) {
+  // Sets of one or two blocks are queried without their nodes (kDirectBlocks); larger ones walk.
+  // Both answer as brute force, ties included (a triangle repeated at a higher index), one ray at a
+  // time and streamed.
+  std::size_t direct_sets = 0, walked_sets = 0, hits = 0;
+  for (std::size_t n = 1; n <= 24; ++n) {
+    std::vector<Triangle> triangles = test::random_soup(300 + n, n, 0.2f, 0.5f);
+    if (n > 3) triangles[n - 1] = triangles[1];
+    const TriangleSet set = test::set_from_triangles(triangles);
+    const Bvh bvh = Bvh::build(set);
+    const BruteForce oracle = BruteForce::build(set);
+    std::vector<Ray> rays = test::random_rays(set, 40 + n, 1000);
+    for (std::size_t i = 0; i < rays.size(); i += 5) rays[i].tmax = 0.3f;
+    std::vector<std::uint8_t> streamed(rays.size(), 7);
+    std::vector<Hit> closest(rays.size());
+    occluded_block(bvh, rays, streamed);
+    intersect_batch(bvh, rays, std::span<Hit>(closest));
+    BvhQueryCounters counters;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const Hit expected = oracle.intersect(rays[i]);
+      ASSERT_TRUE(test::same_bits(bvh.intersect(rays[i], counters), expected)) << n << " triangles, ray " << i;
+      ASSERT_TRUE(test::same_bits(closest[i], expected)) << n << " triangles, ray " << i;
+      ASSERT_EQ(bvh.occluded(rays[i]), expected.found) << n << " triangles, ray " << i;
+      ASSERT_EQ(streamed[i], expected.found ? 1 : 0) << n << " triangles, ray " << i;
+      hits += expected ? 1 : 0;
+    }
+    (counters.nodes == 0 ? direct_sets : walked_sets) += 1;
+    if (counters.nodes == 0) {
+      EXPECT_LE(counters.blocks, 2 * rays.size()) << n << " triangles";
+    }
+  }
+  EXPECT_GE(direct_sets, 8u);  // at least every set of one block
+  EXPECT_GE(walked_sets, 4u);
+  EXPECT_GT(hits, 600u) << direct_sets << " " << walked_sets;
 }
 
 TEST(Bvh, StreamedQueriesAnswerAsOneRayAtATime) {
