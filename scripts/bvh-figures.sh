@@ -178,8 +178,11 @@ PY
   the origin without branches: cow random 0.86x -> 1.00x, conference random 0.81x -> 0.93x, conference AO
   0.97x -> 1.19x, cow AO 0.98x -> 1.06x, Sponza AO 0.90x -> 1.32x. More walks in turn (4 any-hit, 3
   closest-hit) were then slower (conference random 0.89x -> 0.82x, cow AO 1.05x -> 1.01x). Random rays on
-  Sponza and the conference room stay level with Embree (0.96–0.99x in the table; 1.0–1.03x on the cow and
-  the bunny).
+  Sponza and the conference room stay level with Embree or just below (0.96–0.99x in the run of the morning
+  of 2026-11-27; 0.91x in the table's run, on a slower day of the machine, where the build before the day's
+  change gave 0.90–0.93x): a short walk's cost is its fixed per-ray part (the constants, the answer), which
+  the profile spreads flat over the stream's loop (`perf annotate`: no instruction above 3% of its samples);
+  runs of 16 or 32 rays' constants instead of 64 were slower (Sponza random 0.88x -> 0.80-0.88x).
 - **Two levels**: the objects' walks gain from the same constants (AO on copies of meshes 0.89–0.95x ->
   1.07–1.14x Embree's instancing). A 12-triangle box costs a ray transform, the ray's constants and a walk
   of one node and a leaf; since the constants have no branches, stepping that walk in turn with the others
@@ -191,6 +194,15 @@ PY
   boxes the top level alone, which then never stops at a hit, runs 24.5–25.9 Mrays/s, below Embree's whole
   query (33). Two walks in turn were level with three, four and six slower (64 boxes: 0.80x, 0.81x, 0.70x,
   0.64x in one run).
+- **Direct Bvhs** (2026-11-27, AMD EPYC): a Bvh of one or two leaf blocks (up to 16 triangles, the 12-triangle
+  box among them) is queried without its node: its blocks are tested at once, and only the triangle test's
+  constants are computed (no box reciprocals); the instance layer answers such an object at once instead of
+  stepping a walk into it. 64 boxes, AO: 43.5 -> 53.3 Mrays/s (0.82x -> 1.00x Embree's instancing in that
+  run); 10,000 boxes 32.6 -> 38.4 (0.95x -> 1.13x); primary rays on 64 boxes 1.12x -> 1.14-1.31x.
+  Stepping the direct test in turn with the other walks measured 0.94-0.97x (answered at once: 0.99-1.01x),
+  and one 4-lane division for the top level's three reciprocals was level with three scalar ones. On
+  another day's machine state the same two builds gave 0.70x and 0.86-0.88x: the gain (+24%) held, the
+  ratio to Embree moved with the machine.
 TEXT
 } > "$out"
 echo "wrote $out"
