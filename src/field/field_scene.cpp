@@ -249,6 +249,11 @@ namespace {
 // 65536, whose 2 MiB of rays outgrow a core's L2 (1024 bunnies, 3 interleaved rounds).
 constexpr std::size_t kBlock = 4096;
 constexpr std::size_t kObjectsBlock = 16384;
+// Occlusion through the tree: (ray, object) pairs traced in one stream once this many are pending.
+// Between flushes the rays they settle leave the later objects' lists. 1024 bunnies, AO, 4 interleaved
+// rounds: per-object streams 29.1-32.9 Mrays/s; 512 pairs 28.7-35.4, 1024 32.7-36.2, 2048 30.5-35.5;
+// one flush at the block's end (no rays settled in between) was level with per-object streams.
+constexpr std::size_t kFlushPairs = 1024;
 
 /// 0, 1, …, kObjectsBlock − 1: the candidate list of an object every ray of a block may meet.
 const std::array<std::uint32_t, kObjectsBlock>& every_ray() {
@@ -331,14 +336,36 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
     std::vector<std::uint8_t> marks;
     std::vector<float> limit;
     std::vector<FieldAnswer> answers;
+    std::vector<Ray> local;                       // occlusion: the pending pairs' object-space rays
+    std::vector<std::uint32_t> pair_ray, in_order;  // their rays in the block; 0, 1, 2, ...
   };
   thread_local Scratch s;
   // The block's rays go down the tree together and arrive grouped by object (each object's in
   // ascending order); the objects are then taken in index order, as without the tree.
   tree_.rays_by_item(rays, closest ? nullptr : occluded, s.by_object);
   std::sort(s.by_object.lists.begin(), s.by_object.lists.end(), [](const ItemRays::List& a, const ItemRays::List& b) { return a.item < b.item; });
+  // Occlusion: the (ray, object) pairs of objects sharing a field are mapped into object space and
+  // traced together, as one stream of consecutive rays through the field's kernel: an object's own
+  // few rays would fill few packets, gathered from its list and transformed per packet, with the
+  // pipeline restarting at every object. Rays an earlier flush settled are left out of later objects.
+  const ObjectField* pending_field = nullptr;
+  const auto flush = [&] {
+    const std::size_t pairs = s.local.size();
+    if (pairs == 0) return;
+    for (std::size_t k = s.in_order.size(); k < pairs; ++k) s.in_order.push_back(static_cast<std::uint32_t>(k));
+    s.marks.assign(pairs, 0);
+    pending_field->mark_occluded(s.local.data(), s.in_order.data(), pairs, InverseTransform{}, s.marks.data());
+    for (std::size_t k = 0; k < pairs; ++k)
+      if (s.marks[k]) occluded[s.pair_ray[k]] = 1;
+    s.local.clear();
+    s.pair_ray.clear();
+  };
   for (const ItemRays::List& list : s.by_object.lists) {
     const Object& o = objects_[list.item];
+    if (!closest && (o.field != pending_field || s.local.size() >= kFlushPairs)) {
+      flush();
+      pending_field = o.field;
+    }
     // The object's rays that are still open (occlusion: an earlier object may have settled some),
     // copied side by side: read once here from the block, they are then read in order, by the sphere
     // test and by the field's kernel, rather than gathered from all over the block by each.
@@ -367,10 +394,10 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
     const std::size_t m = rays_meeting_sphere(o.centre, o.radius, std::span<const Ray>(s.copies.data(), open), nullptr, s.kept.data());
     if (m == 0) continue;
     if (!closest) {
-      s.marks.assign(open, 0);
-      o.field->mark_occluded(s.copies.data(), s.kept.data(), m, o.to_object, s.marks.data());
-      for (std::size_t k = 0; k < m; ++k)
-        if (s.marks[s.kept[k]]) occluded[s.open[s.kept[k]]] = 1;
+      for (std::size_t k = 0; k < m; ++k) {
+        s.local.push_back(o.to_object.apply(s.copies[s.kept[k]]));  // as the kernel maps a ray, bit for bit
+        s.pair_ray.push_back(s.open[s.kept[k]]);
+      }
       continue;
     }
     s.limit.resize(open);
@@ -387,6 +414,7 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
       if (!best[i].found || a.t < best[i].t) best[i] = field_hit(o, a);
     }
   }
+  if (!closest) flush();
 }
 
 std::size_t FieldScene::block_size() const { return objects_.size() > 1 ? kObjectsBlock : kBlock; }
