@@ -217,8 +217,11 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
   used += kLanes;
   down_the_tree(nodes, order, count, out, [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
     int slots[8], children = 0;
-    for (int slot = 0; slot < 8; ++slot)
+    bool leaf[8];
+    for (int slot = 0; slot < 8; ++slot) {
+      leaf[slot] = bvh::is_leaf(node.child[slot]);
       if (node.bounds[bvh::kLoX][slot] <= node.bounds[bvh::kHiX][slot]) slots[children++] = slot;  // unused slots are empty boxes
+    }
     const std::uint32_t chunks = (p.count + kLanes - 1) / kLanes;
     if (masks.size() < 8 * std::size_t{chunks}) masks.resize(8 * std::size_t{chunks});
     std::uint32_t met[8] = {};
@@ -259,7 +262,10 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
         const __mmask16 meets = mask[8 * std::size_t{chunk} + static_cast<std::size_t>(slot)];
         if (meets == 0) continue;
         const std::uint32_t to = cursor[slot];
-        for (int k = 0; k < 8; ++k) _mm512_storeu_ps(base[k] + to, _mm512_maskz_compress_ps(meets, v[k]));
+        // A leaf's rays become its items' lists: their ids alone go on (1024 bunnies' AO rays, the
+        // whole field query: 35.1-38.3 -> 38.4-40.1 Mrays/s, four interleaved rounds).
+        if (!leaf[slot])
+          for (int k = 0; k < 8; ++k) _mm512_storeu_ps(base[k] + to, _mm512_maskz_compress_ps(meets, v[k]));
         _mm512_storeu_si512(id_base + to, _mm512_maskz_compress_epi32(meets, id));
         cursor[slot] = to + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(meets)));
       }
