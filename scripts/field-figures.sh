@@ -110,6 +110,10 @@ copies_tables() {
   echo "| the rays the block's first pass (the exact ground's packets) reads, prefetched four packets ahead | 26.4 → 28.2 (9 bunnies 70 → 77) | yes |"
   echo "| blocks of 65536 rays (the three rows above were measured with them) instead of 16384 | 16384 level with 32768, 65536 7% slower (its rays outgrow a core's L2) | no: back to 16384 |"
   echo "| occlusion rays of many objects gathered into full packets of one field, in object space | +1% | no |"
+  echo "| an object's open rays copied without a branch on \`occluded[i]\` (every ray written, the open ones kept by count) | 24.4–24.8 → 24.5–26.3 (4 rounds) | yes |"
+  echo "| the (ray, object) pairs of the objects sharing a field traced as one stream of object-space rays (consecutive, full packets), flushed every 1024 pairs so that the rays a flush settles leave the later objects' lists (a single flush at the block's end, as in the row above, was level; 512 and 2048 pairs 1–3% below 1024) | 29.1–32.9 → 32.7–36.2 (4 rounds) | yes |"
+  echo "| rays handed to a leaf of the tree over the objects carry their ids alone, not the box test's columns | 35.1–38.3 → 38.4–40.1 (4 rounds) | yes |"
+  echo "| the tree pass's reciprocals and widened intervals 16 rays at a time instead of ray by ray | level | no |"
   echo
   echo "\`perf\` at the end (1024 bunnies, share of all the bench's samples): the tree pass 3.5%, the ground's packets"
   echo "(the block's first read of its rays from memory) 2.4%, the field kernel 2.5%, the objects' copies and sphere"
