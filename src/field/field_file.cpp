@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <span>
 #include <vector>
 
 #include "visfield/core/error.hpp"
@@ -18,6 +19,9 @@ static_assert(std::endian::native == std::endian::little, "the .vfield writer as
 constexpr char kMagic[8] = {'V', 'I', 'S', 'F', 'I', 'E', 'L', 'D'};
 /// Header bytes of version 1 (no normal field) and of version 2.
 constexpr std::size_t header_bytes(std::uint32_t version) { return version == 1 ? 80 : 88; }
+
+/// The characters of `s` as the bytes of a table.
+std::span<const std::uint8_t> bytes_of(std::string_view s) { return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()}; }
 
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
   for (const char c : bytes) {
@@ -100,7 +104,7 @@ std::string encode_field(const ObjectField& field, std::uint64_t hash) {
   return out;
 }
 
-StoredField decode_field(std::string_view bytes, const std::string& name) {
+StoredField decode_field(std::string_view bytes, const std::string& name, const ObjectFieldConfig& lookups) {
   Reader in(bytes, name);
   if (in.take(sizeof(kMagic)) != std::string_view(kMagic, sizeof(kMagic))) throw Error(name + ": not a .vfield file (no VISFIELD signature)");
   const auto version = in.get<std::uint32_t>();
@@ -129,6 +133,9 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   config.mapping = static_cast<HemisphereMapping>(mapping);
   config.storage = static_cast<CellStorage>(storage);
   config.normals = static_cast<NormalStorage>(normals);
+  config.direction_lookup = lookups.direction_lookup;
+  config.position_lookup = lookups.position_lookup;
+  config.sample_line = lookups.sample_line;
   try {
     config.validate();
   } catch (const Error& e) {
@@ -158,12 +165,12 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
     throw Error(name + ": " + std::to_string(bytes.size()) + " bytes, its header describes " + std::to_string(total));
   require_memory(static_cast<double>(cell_bytes) + 4.0 * static_cast<double>(average_count) + static_cast<double>(normal_bytes),
                  name + "'s field");
+  // The tables are read in place: from_tables() copies them once, into the field's own.
   const std::string_view cell_data = in.take(cell_bytes);
-  std::vector<std::uint8_t> cells(cell_data.begin(), cell_data.end());
+  const std::span<const std::uint8_t> cells = bytes_of(cell_data);
   std::vector<float> averages(average_count);
   if (average_count > 0) std::memcpy(averages.data(), in.take(4 * average_count).data(), 4 * average_count);
   const std::string_view normal_data = in.take(normal_bytes);
-  std::vector<std::uint8_t> normal_codes(normal_data.begin(), normal_data.end());
   for (const float a : averages)
     if (!(a >= 0.0f && a <= 1.0f)) throw Error(name + ": an average distance outside [0, 1] (corrupted file)");
   if (config.storage == CellStorage::f32) {
@@ -175,7 +182,8 @@ StoredField decode_field(std::string_view bytes, const std::string& name) {
   }
   if (!std::isfinite(build_ms) || build_ms < 0.0) throw Error(name + ": a precompute time that is not a finite duration");
   try {
-    return {ObjectField::from_tables(config, sphere, std::move(cells), std::move(averages), std::move(normal_codes), build_ms, rays), hash, version};
+    return {ObjectField::from_tables(config, sphere, cells, std::move(averages), bytes_of(normal_data), build_ms, rays), hash,
+            version};
   } catch (const Error& e) {
     throw Error(name + ": " + e.what());
   }
@@ -196,17 +204,9 @@ StoredField load_field(const std::filesystem::path& path, std::optional<std::uin
   if (!file) throw Error(name + ": cannot open for reading");
   std::string bytes(size, '\0');
   if (!file.read(bytes.data(), static_cast<std::streamsize>(size))) throw Error(name + ": cannot read the whole file");
-  StoredField stored = decode_field(bytes, name);
+  StoredField stored = decode_field(bytes, name, lookups);
   if (expected_hash && *expected_hash != stored.mesh_hash)
     throw Error(name + ": made for another mesh (its mesh hash differs; rebuild it with visfield field build)");
-  ObjectFieldConfig config = stored.field.config();
-  config.direction_lookup = lookups.direction_lookup;
-  config.position_lookup = lookups.position_lookup;
-  config.sample_line = lookups.sample_line;
-  const std::span<const std::uint8_t> table = stored.field.cell_table(), normal_codes = stored.field.normal_table();
-  stored.field = ObjectField::from_tables(config, stored.field.sphere(), std::vector<std::uint8_t>(table.begin(), table.end()),
-                                          stored.field.averages(), std::vector<std::uint8_t>(normal_codes.begin(), normal_codes.end()),
-                                          stored.field.build_ms(), stored.field.rays_traced());
   return stored;
 }
 

@@ -212,8 +212,8 @@ bool ObjectField::same_tables(const ObjectFieldConfig& a, const ObjectFieldConfi
          a.normals == b.normals;
 }
 
-ObjectField ObjectField::from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::vector<std::uint8_t> cells,
-                                     std::vector<float> averages, std::vector<std::uint8_t> normals, double build_ms,
+ObjectField ObjectField::from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::span<const std::uint8_t> cells,
+                                     std::vector<float> averages, std::span<const std::uint8_t> normals, double build_ms,
                                      std::size_t rays_traced) {
   config.validate();
   if (!is_finite(sphere.centre) || !std::isfinite(sphere.radius) || !(sphere.radius > 0.0f))

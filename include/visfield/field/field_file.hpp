@@ -40,10 +40,11 @@ std::string with_field_checksum(std::string bytes);
 /// The bytes of a .vfield file for `field` of the mesh hashing to `hash`.
 std::string encode_field(const ObjectField& field, std::uint64_t hash);
 
-/// Parses .vfield bytes; `name` (the file) starts every message. Throws vf::Error with one line on
-/// a short, corrupted (checksum), wrong-version or inconsistent file, and refuses a table beyond the
-/// memory limit before allocating it.
-StoredField decode_field(std::string_view bytes, const std::string& name);
+/// Parses .vfield bytes into a field read with the lookup options of `lookups` (they are not
+/// stored); `name` (the file) starts every message. Throws vf::Error with one line on a short,
+/// corrupted (checksum), wrong-version or inconsistent file, and refuses a table beyond the memory
+/// limit before allocating it.
+StoredField decode_field(std::string_view bytes, const std::string& name, const ObjectFieldConfig& lookups = {});
 
 /// Writes `field` to `path` atomically (temporary file, then rename): an interrupted or failed write
 /// leaves no partial file.

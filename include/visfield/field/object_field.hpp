@@ -75,10 +75,11 @@ class ObjectField {
                            const std::function<void(std::size_t)>& progress = {});
 
   /// A field from stored tables (a .vfield file): `cells` and `normals` as cell_table() and
-  /// normal_table() return them, `averages` one per position for CellStorage::bit (else empty).
-  /// Throws vf::Error when a size does not match `config` or the sphere is not finite and positive.
-  static ObjectField from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::vector<std::uint8_t> cells,
-                                 std::vector<float> averages, std::vector<std::uint8_t> normals, double build_ms,
+  /// normal_table() return them (copied once, into the field's own aligned tables), `averages` one
+  /// per position for CellStorage::bit (else empty). Throws vf::Error when a size does not match
+  /// `config` or the sphere is not finite and positive.
+  static ObjectField from_tables(const ObjectFieldConfig& config, const BoundingSphere& sphere, std::span<const std::uint8_t> cells,
+                                 std::vector<float> averages, std::span<const std::uint8_t> normals, double build_ms,
                                  std::size_t rays_traced);
 
   /// Bytes a field of `config` holds: positions × N² × (bits per cell + bits per normal) / 8
