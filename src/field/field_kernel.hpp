@@ -338,33 +338,45 @@ class FieldKernel {
   /// cell_of on lanes.
   static I cell_of(F s, int n) { return min(max(to_int(s * L::splat(static_cast<float>(n))), L::splat(0)), L::splat(n - 1)); }
 
+  /// The byte of f.cells where cell c (= j·N + i) of `sample` starts; for 1-bit cells, the byte
+  /// that holds it.
+  [[gnu::always_inline]] static I cell_byte(const FieldTables& f, I sample, I c) {
+    const I base = sample * L::splat(static_cast<int>(f.cell_stride));
+    switch (f.storage) {
+      case CellStorage::u8: return base + c;
+      case CellStorage::u16: return base + c + c;
+      case CellStorage::f32: return base + (c << L::splat(2));
+      case CellStorage::bit:
+      default: return base + (c >> L::splat(3));
+    }
+  }
+
   /// read_cell on lanes (of `m`): hit, distance over 2R, and the normal code when the field has one.
   [[gnu::always_inline]] static Answer read_cell(const FieldTables& f, I sample, I i, I j, M m) {
     const I c = j * L::splat(f.directions) + i;
-    const I base = sample * L::splat(static_cast<int>(f.cell_stride));
+    const I at = cell_byte(f, sample, c);
     Answer a;
     switch (f.storage) {
       case CellStorage::u8: {
-        const I code = lanes::gather_bytes(f.cells, base + c, m) & L::splat(0xFF);
+        const I code = lanes::gather_bytes(f.cells, at, m) & L::splat(0xFF);
         a.hit = m & (code <= L::splat(254));
         a.t = to_float(code) * L::splat(1.0f / 254.0f);
         break;
       }
       case CellStorage::u16: {
-        const I code = lanes::gather_bytes(f.cells, base + c + c, m) & L::splat(0xFFFF);
+        const I code = lanes::gather_bytes(f.cells, at, m) & L::splat(0xFFFF);
         a.hit = m & (code <= L::splat(65534));
         a.t = to_float(code) * L::splat(1.0f / 65534.0f);
         break;
       }
       case CellStorage::f32: {
-        const I word_index = sample * L::splat(static_cast<int>(f.cell_stride / 4)) + c;
-        a.t = lanes::gather(reinterpret_cast<const float*>(f.cells), word_index, m);
+        a.t = lanes::gather(reinterpret_cast<const float*>(f.cells), at >> L::splat(2), m);
         a.hit = m & (a.t <= L::splat(1.5f));
         break;
       }
       case CellStorage::bit:
       default: {
-        const I word = lanes::gather_bytes(f.cells, base + (c >> L::splat(3)), m);
+        const I word = lanes::gather_bytes(f.cells, at, m);
         a.hit = m & (((word >> (c & L::splat(7))) & L::splat(1)) == L::splat(1));
         a.t = lanes::gather(f.averages, sample, a.hit);
         break;
@@ -718,10 +730,7 @@ class FieldKernel {
   /// Asks for the cache lines of the cells `l` will read (its active lanes'), so that they arrive while
   /// the next packet is located.
   [[gnu::always_inline]] static void prefetch_cells(const FieldTables& f, const Located& l) {
-    const I c = l.j * L::splat(f.directions) + l.i;
-    const I base = l.sample * L::splat(static_cast<int>(f.cell_stride));
-    const int shift = f.storage == CellStorage::u16 ? 1 : f.storage == CellStorage::f32 ? 2 : 0;
-    const I offset = f.storage == CellStorage::bit ? base + (c >> L::splat(3)) : base + (c << L::splat(shift));
+    const I offset = cell_byte(f, l.sample, l.j * L::splat(f.directions) + l.i);
     alignas(64) std::int32_t at[kWidth];
     L::store(at, select(l.g.active, offset, L::splat(0)));
     for (int lane = 0; lane < kWidth; ++lane) __builtin_prefetch(f.cells + at[lane]);
