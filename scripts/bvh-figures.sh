@@ -183,6 +183,10 @@ PY
   change gave 0.90–0.93x): a short walk's cost is its fixed per-ray part (the constants, the answer), which
   the profile spreads flat over the stream's loop (`perf annotate`: no instruction above 3% of its samples);
   runs of 16 or 32 rays' constants instead of 64 were slower (Sponza random 0.88x -> 0.80-0.88x).
+  The box test's constants held as scalars and broadcast where a node is tested (a run's 64 rays' constants 30 KiB
+  -> 16 KiB, within the 32 KiB first-level cache; 2026-11-27, 3 interleaved rounds) moved no ratio beyond noise:
+  Sponza random 0.93-0.94x -> 0.94-0.97x, conference random 0.88-0.93x -> 0.91-0.96x, cow random and bunny AO
+  level; not kept. The short walks are not bound by the constants' footprint.
 - **Two levels**: the objects' walks gain from the same constants (AO on copies of meshes 0.89–0.95x ->
   1.07–1.14x Embree's instancing). A 12-triangle box costs a ray transform, the ray's constants and a walk
   of one node and a leaf; since the constants have no branches, stepping that walk in turn with the others
