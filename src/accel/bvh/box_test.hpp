@@ -33,33 +33,28 @@ inline float widen_up(float t) { return std::isfinite(t) ? t + std::fabs(t) * kI
 
 /// Per-ray constants of the box test.
 struct BoxRay {
-  V8 org[3], inv[3];
+  // Scalars, broadcast where a node's boxes are tested: a stream keeps a run of rays' constants at
+  // hand, which as 8-lane copies filled the first-level cache.
+  float org[3], inv[3];
   int near_row[3], far_row[3];
 
   /// Fills the constants for `ray` given inv_dir[a] = 1 / ray.dir[a] (+-inf for +-0).
   void set(const Ray& ray, const float* inv_dir) {
-    set(ray, V8::broadcast(inv_dir[0]), V8::broadcast(inv_dir[1]), V8::broadcast(inv_dir[2]));
+    for (int a = 0; a < 3; ++a) {
+      org[a] = ray.org[a];
+      inv[a] = inv_dir[a];
+      const int negative = std::signbit(ray.dir[a]) ? 3 : 0;
+      near_row[a] = kLoX + a + negative;
+      far_row[a] = kHiX + a - negative;
+    }
   }
   /// Fills the constants for a ray from `org` whose direction has the reciprocals `inv_dir`
   /// (+-inf for +-0): the same as set(ray, inv_dir), the direction's signs being the reciprocals'.
   void set(const float* org_xyz, const float* inv_dir) {
     for (int a = 0; a < 3; ++a) {
-      org[a] = V8::broadcast(org_xyz[a]);
-      inv[a] = V8::broadcast(inv_dir[a]);
+      org[a] = org_xyz[a];
+      inv[a] = inv_dir[a];
       const int negative = std::signbit(inv_dir[a]) ? 3 : 0;
-      near_row[a] = kLoX + a + negative;
-      far_row[a] = kHiX + a - negative;
-    }
-  }
-  /// Fills the constants for `ray` given inv_x = 1 / ray.dir.x (+-inf for +-0) in every lane, and
-  /// so on.
-  void set(const Ray& ray, const V8& inv_x, const V8& inv_y, const V8& inv_z) {
-    inv[0] = inv_x;
-    inv[1] = inv_y;
-    inv[2] = inv_z;
-    for (int a = 0; a < 3; ++a) {
-      org[a] = V8::broadcast(ray.org[a]);
-      const int negative = std::signbit(ray.dir[a]) ? 3 : 0;
       near_row[a] = kLoX + a + negative;
       far_row[a] = kHiX + a - negative;
     }
@@ -69,7 +64,7 @@ struct BoxRay {
 /// Lanes of the children of `node` whose boxes meet [tmin, tmax] (already widened); their entry
 /// distances go to `t_near`.
 inline simd::LaneBits test_children(const Node8& node, const BoxRay& r, const V8& tmin, const V8& tmax, V8& t_near) {
-  const auto slab = [&](int row, int axis) { return (V8::load(node.bounds[row]) - r.org[axis]) * r.inv[axis]; };
+  const auto slab = [&](int row, int axis) { return (V8::load(node.bounds[row]) - V8::broadcast(r.org[axis])) * V8::broadcast(r.inv[axis]); };
   const V8 nx = slab(r.near_row[0], 0), ny = slab(r.near_row[1], 1), nz = slab(r.near_row[2], 2);
   const V8 fx = slab(r.far_row[0], 0), fy = slab(r.far_row[1], 1), fz = slab(r.far_row[2], 2);
   // The running value is the second operand, so a NaN slab value leaves it unchanged. Scaling after

@@ -67,30 +67,25 @@ struct TraversalRay {
     kx ^= swap;
     ky ^= swap;
 #if defined(__AVX2__)
-    // The operands are gathered and the quotients spread by register permutes: building them in a
-    // stack array with scalar stores and reloading it as a vector stalls on store forwarding,
-    // which measured as a sixth of a short AO traversal.
+    // The operands are gathered by register permutes: building them in a stack array with scalar
+    // stores and reloading it as a vector stalls on store forwarding, which measured as a sixth of a
+    // short AO traversal. (The other way, one vector store read back as scalars, forwards.)
     const int flip = swap != 0 ? 1 : 0;
     const __m256 dir1 = _mm256_castps128_ps256(_mm_setr_ps(d[0], d[1], d[2], 1.0f));  // lanes 4..7 unused
     const __m256 numerator = _mm256_permutevar8x32_ps(dir1, load_index(kNumeratorLanes[kz][flip]));
     const __m256 denominator = _mm256_permutevar8x32_ps(dir1, load_index(kDenominatorLanes[kz]));
     const __m256 q = _mm256_div_ps(numerator, denominator);  // 1/dir (+-inf for +-0), sx, sy, sz, 1, 1
-    const auto lane = [&](__m256 v, int l) { return V8{_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(l))}; };
-    box.set(ray, lane(q, 0), lane(q, 1), lane(q, 2));
-    // The permuted origin by the same permutes: Vec3f's operator[] would branch on kx, ky, kz, and
-    // those branches are mispredicted on random directions.
-    const __m256 org = _mm256_castps128_ps256(_mm_setr_ps(ray.org.x, ray.org.y, ray.org.z, 0.0f));
-    return simd::BlockRay<kLeafWidth>(kx, ky, kz, lane(org, kx), lane(org, ky), lane(org, kz), lane(q, 3), lane(q, 4), lane(q, 5));
+    alignas(32) float quotients[8];
+    _mm256_store_ps(quotients, q);
 #else
     alignas(32) const float numerator[8] = {1.0f, 1.0f, 1.0f, d[kx], d[ky], 1.0f, 1.0f, 1.0f};
     alignas(32) const float denominator[8] = {d[0], d[1], d[2], d[kz], d[kz], d[kz], 1.0f, 1.0f};
-    alignas(32) float q[8];
-    (V8::load(numerator) / V8::load(denominator)).store(q);  // 1/dir (+-inf for +-0), sx, sy, sz
-    box.set(ray, q);
-    const float o[3] = {ray.org.x, ray.org.y, ray.org.z};  // indexed without Vec3f's branches
-    return simd::BlockRay<kLeafWidth>(kx, ky, kz, V8::broadcast(o[kx]), V8::broadcast(o[ky]), V8::broadcast(o[kz]),
-                                      V8::broadcast(q[3]), V8::broadcast(q[4]), V8::broadcast(q[5]));
+    alignas(32) float quotients[8];
+    (V8::load(numerator) / V8::load(denominator)).store(quotients);  // 1/dir (+-inf for +-0), sx, sy, sz
 #endif
+    box.set(ray, quotients);
+    const float o[3] = {ray.org.x, ray.org.y, ray.org.z};  // indexed without Vec3f's branches
+    return simd::BlockRay<kLeafWidth>(kx, ky, kz, o[kx], o[ky], o[kz], quotients[3], quotients[4], quotients[5]);
   }
 };
 

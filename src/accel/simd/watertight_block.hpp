@@ -42,25 +42,17 @@ struct alignas(W * 4 > 64 ? 64 : W * 4) TriangleBlock {
   }
 };
 
-/// Per-ray constants of the block test (the WatertightRay, broadcast to W lanes). Build once per ray.
+/// Per-ray constants of the block test (the WatertightRay's), broadcast to W lanes where a block is
+/// tested. Build once per ray.
 template <int W>
 struct BlockRay {
-  using V = Lanes<W>;
   int kx, ky, kz;
-  V org_x, org_y, org_z;  ///< org[kx], org[ky], org[kz]
-  V sx, sy, sz;
+  float org_x, org_y, org_z;  ///< org[kx], org[ky], org[kz]
+  float sx, sy, sz;
 
-  explicit BlockRay(const WatertightRay& r) : BlockRay(r.kx, r.ky, r.kz, r.org, r.sx, r.sy, r.sz) {}
-  /// From the WatertightRay fields computed elsewhere (bit-identically).
-  BlockRay(int kx_, int ky_, int kz_, const Vec3f& o, float sx_, float sy_, float sz_)
-      : kx(kx_), ky(ky_), kz(kz_), org_x(V::broadcast(o[kx_])), org_y(V::broadcast(o[ky_])),
-        org_z(V::broadcast(o[kz_])), sx(V::broadcast(sx_)), sy(V::broadcast(sy_)), sz(V::broadcast(sz_)) {}
-  /// As above, with the shear constants already broadcast.
-  BlockRay(int kx_, int ky_, int kz_, const Vec3f& o, const V& sx_, const V& sy_, const V& sz_)
-      : kx(kx_), ky(ky_), kz(kz_), org_x(V::broadcast(o[kx_])), org_y(V::broadcast(o[ky_])),
-        org_z(V::broadcast(o[kz_])), sx(sx_), sy(sy_), sz(sz_) {}
-  /// As above, with the permuted origin already broadcast too.
-  BlockRay(int kx_, int ky_, int kz_, const V& org_x_, const V& org_y_, const V& org_z_, const V& sx_, const V& sy_, const V& sz_)
+  explicit BlockRay(const WatertightRay& r) : BlockRay(r.kx, r.ky, r.kz, r.org[r.kx], r.org[r.ky], r.org[r.kz], r.sx, r.sy, r.sz) {}
+  /// From the WatertightRay fields computed elsewhere (bit-identically), the origin already permuted.
+  BlockRay(int kx_, int ky_, int kz_, float org_x_, float org_y_, float org_z_, float sx_, float sy_, float sz_)
       : kx(kx_), ky(ky_), kz(kz_), org_x(org_x_), org_y(org_y_), org_z(org_z_), sx(sx_), sy(sy_), sz(sz_) {}
 };
 
@@ -163,10 +155,12 @@ inline LaneBits intersect_block(const TriangleBlock<W>& block, const BlockRay<W>
   const float* px = block.row(0, r.kx);
   const float* py = block.row(0, r.ky);
   const float* pz = block.row(0, r.kz);
-  const V a_x = V::load(px) - r.org_x, a_y = V::load(py) - r.org_y, a_z = V::load(pz) - r.org_z;
-  const V b_x = V::load(px + 3 * W) - r.org_x, b_y = V::load(py + 3 * W) - r.org_y, b_z = V::load(pz + 3 * W) - r.org_z;
-  const V c_x = V::load(px + 6 * W) - r.org_x, c_y = V::load(py + 6 * W) - r.org_y, c_z = V::load(pz + 6 * W) - r.org_z;
-  return hit_lanes<W, kWantHits>(a_x, a_y, a_z, b_x, b_y, b_z, c_x, c_y, c_z, r.sx, r.sy, r.sz, tmin, tmax, hits);
+  const V ox = V::broadcast(r.org_x), oy = V::broadcast(r.org_y), oz = V::broadcast(r.org_z);
+  const V a_x = V::load(px) - ox, a_y = V::load(py) - oy, a_z = V::load(pz) - oz;
+  const V b_x = V::load(px + 3 * W) - ox, b_y = V::load(py + 3 * W) - oy, b_z = V::load(pz + 3 * W) - oz;
+  const V c_x = V::load(px + 6 * W) - ox, c_y = V::load(py + 6 * W) - oy, c_z = V::load(pz + 6 * W) - oz;
+  return hit_lanes<W, kWantHits>(a_x, a_y, a_z, b_x, b_y, b_z, c_x, c_y, c_z, V::broadcast(r.sx), V::broadcast(r.sy), V::broadcast(r.sz),
+                                 tmin, tmax, hits);
 }
 
 /// W rays of one direction (their shared WatertightRay constants kx, ky, kz, sx, sy, sz) with their
@@ -189,7 +183,8 @@ inline LaneBits intersect_rays(const RayBlock<W>& rays, const BlockRay<W>& shear
   const V a_x = V::broadcast(p0[kx]) - ox, a_y = V::broadcast(p0[ky]) - oy, a_z = V::broadcast(p0[kz]) - oz;
   const V b_x = V::broadcast(p1[kx]) - ox, b_y = V::broadcast(p1[ky]) - oy, b_z = V::broadcast(p1[kz]) - oz;
   const V c_x = V::broadcast(p2[kx]) - ox, c_y = V::broadcast(p2[ky]) - oy, c_z = V::broadcast(p2[kz]) - oz;
-  return hit_lanes<W, false>(a_x, a_y, a_z, b_x, b_y, b_z, c_x, c_y, c_z, shear.sx, shear.sy, shear.sz, tmin, tmax, nullptr);
+  return hit_lanes<W, false>(a_x, a_y, a_z, b_x, b_y, b_z, c_x, c_y, c_z, V::broadcast(shear.sx), V::broadcast(shear.sy),
+                             V::broadcast(shear.sz), tmin, tmax, nullptr);
 }
 
 }  // namespace vf::simd
