@@ -183,10 +183,14 @@ PY
   change gave 0.90–0.93x): a short walk's cost is its fixed per-ray part (the constants, the answer), which
   the profile spreads flat over the stream's loop (`perf annotate`: no instruction above 3% of its samples);
   runs of 16 or 32 rays' constants instead of 64 were slower (Sponza random 0.88x -> 0.80-0.88x).
-  The box test's constants held as scalars and broadcast where a node is tested (a run's 64 rays' constants 30 KiB
-  -> 16 KiB, within the 32 KiB first-level cache; 2026-11-27, 3 interleaved rounds) moved no ratio beyond noise:
-  Sponza random 0.93-0.94x -> 0.94-0.97x, conference random 0.88-0.93x -> 0.91-0.96x, cow random and bunny AO
-  level; not kept. The short walks are not bound by the constants' footprint.
+- **Each ray's constants as scalars** (2026-11-27, 3 interleaved rounds): a stream keeps a run of 64 rays'
+  constants at hand, and held as 8-lane copies (the box test's origin and reciprocals, the triangle test's
+  permuted origin and shear: about 480 bytes a ray) they filled the 32 KiB first-level cache beside the nodes and
+  blocks. The box test's alone as scalars (30 -> 16 KiB a run) moved no ratio beyond noise; with the triangle
+  test's too (`BoxRay` and `simd::BlockRay` hold floats, broadcast where a node or a block is tested: 84 bytes a
+  ray, 5 KiB a run) every ratio rose: Sponza random 0.85-0.94x -> 0.96-1.01x, conference random 0.96-1.02x ->
+  0.98-1.04x, cow random 0.97-1.03x -> 1.03-1.04x, bunny AO 1.06-1.10x -> 1.11-1.15x, Sponza AO 1.28-1.33x ->
+  1.41-1.63x. This table's "before" column is the build before that change.
 - **Two levels**: the objects' walks gain from the same constants (AO on copies of meshes 0.89–0.95x ->
   1.07–1.14x Embree's instancing). A 12-triangle box costs a ray transform, the ray's constants and a walk
   of one node and a leaf; since the constants have no branches, stepping that walk in turn with the others
