@@ -171,17 +171,15 @@ PY
 - **Each ray's constants** (AMD EPYC, 2026-11-27, interleaved runs of the same rays): `perf annotate` put a
   fifth of the random-ray samples on the constants, on compare-and-branch pairs: the watertight test's
   permuted origin was read through `Vec3f::operator[]` with the ray's kx, ky, kz, whose branches GCC keeps
-  and random directions mispredict. The permuted origin now comes from the same register permutes as the
-  shear (`TraversalRay` in `bvh_walks.hpp`), and the streams compute a run of 64 rays' constants in one loop
+  and random directions mispredict. The permuted origin now comes without branches (register permutes at
+  first, now an index into a local array; `TraversalRay` in `bvh_walks.hpp`), and the streams compute a run of 64 rays' constants in one loop
   before stepping their walks (`with_traversal_rays`), which overlaps the rays' dependent chains. The run
   alone: cow random 0.84x -> 0.92x Embree, Sponza random 0.82x -> 0.88x, conference AO 1.00x -> 1.08x; then
   the origin without branches: cow random 0.86x -> 1.00x, conference random 0.81x -> 0.93x, conference AO
   0.97x -> 1.19x, cow AO 0.98x -> 1.06x, Sponza AO 0.90x -> 1.32x. More walks in turn (4 any-hit, 3
   closest-hit) were then slower (conference random 0.89x -> 0.82x, cow AO 1.05x -> 1.01x). Random rays on
-  Sponza and the conference room stay level with Embree or just below (0.96–0.99x in the run of the morning
-  of 2026-11-27; 0.91x in the table's run, on a slower day of the machine, where the build before the day's
-  change gave 0.90–0.93x): a short walk's cost is its fixed per-ray part (the constants, the answer), which
-  the profile spreads flat over the stream's loop (`perf annotate`: no instruction above 3% of its samples);
+  Sponza and the conference room stayed just below Embree (0.91-0.99x from run to run): a short walk's cost is
+  its fixed per-ray part (the constants, the answer), which the profile spreads flat over the stream's loop (`perf annotate`: no instruction above 3% of its samples);
   runs of 16 or 32 rays' constants instead of 64 were slower (Sponza random 0.88x -> 0.80-0.88x).
 - **Each ray's constants as scalars** (2026-11-27, 3 interleaved rounds): a stream keeps a run of 64 rays'
   constants at hand, and held as 8-lane copies (the box test's origin and reciprocals, the triangle test's
@@ -190,7 +188,8 @@ PY
   test's too (`BoxRay` and `simd::BlockRay` hold floats, broadcast where a node or a block is tested: 84 bytes a
   ray, 5 KiB a run) every ratio rose: Sponza random 0.85-0.94x -> 0.96-1.01x, conference random 0.96-1.02x ->
   0.98-1.04x, cow random 0.97-1.03x -> 1.03-1.04x, bunny AO 1.06-1.10x -> 1.11-1.15x, Sponza AO 1.28-1.33x ->
-  1.41-1.63x. This table's "before" column is the build before that change.
+  1.41-1.63x. This table's "before" column is the build before that change. Random rays on Sponza and the
+  conference room are the two cells left below 1.0x (0.97x each in the table's run).
 - **Two levels**: the objects' walks gain from the same constants (AO on copies of meshes 0.89–0.95x ->
   1.07–1.14x Embree's instancing). A 12-triangle box costs a ray transform, the ray's constants and a walk
   of one node and a leaf; since the constants have no branches, stepping that walk in turn with the others
