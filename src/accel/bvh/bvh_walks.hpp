@@ -188,13 +188,16 @@ bool any_hit_direct(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* coun
   return TriangleLeaves<kCount>(bvh, triangle_ray, ray.tmin, ray.tmax, counters).any(bvh.all_blocks());
 }
 
+/// How many rays' constants with_traversal_rays() computes at a time.
+inline constexpr std::size_t kTraversalRun = 64;
+
 /// Calls run(first, count, traversal_rays) for consecutive runs of `rays`, with the runs' rays' constants
 /// computed beforehand in one loop: each ray's set-up is a chain of dependent steps (its largest
 /// axis, a table lookup, a division, permutes) that a loop of independent rays overlaps, where a
 /// walk started between other walks' steps would wait for it.
 template <class Run>
 void with_traversal_rays(std::span<const Ray> rays, Run&& run) {
-  constexpr std::size_t kRun = 64;
+  constexpr std::size_t kRun = kTraversalRun;
   std::array<std::optional<TraversalRay>, kRun> traversal_rays;
   for (std::size_t first = 0; first < rays.size(); first += kRun) {
     const std::size_t count = std::min(kRun, rays.size() - first);

@@ -81,15 +81,33 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
     const TraversalRay* ray = nullptr;
     std::optional<TriangleLeaves<false>> leaves;
     ClosestHitState state;
+    std::size_t item = 0;  // the ray's place in its run
   };
+  const Node8& root = bvh.nodes[0];
   with_traversal_rays(rays, [&](std::size_t first, std::size_t count, const std::optional<TraversalRay>* traversal_rays) {
+    // The rays that meet none of the root's boxes (half of random segments through a scene's bounding
+    // sphere) end here, in a loop without branches: their walks would end at the root after a
+    // mispredicted branch each. The others' walks test the root again, from the first-level cache.
+    std::array<std::uint8_t, kTraversalRun> live;
+    std::size_t walks = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const Ray& ray = rays[first + i];
+      V8 unused;
+      const simd::LaneBits lanes = test_children(root, traversal_rays[i]->box, V8::broadcast(widen_down(ray.tmin)),
+                                                 V8::broadcast(widen_up(ray.tmax)), unused);
+      std::construct_at(&hits[first + i], Hit{});
+      live[walks] = static_cast<std::uint8_t>(i);
+      walks += lanes != 0 ? 1 : 0;
+    }
     interleave_walks<Walk, kClosestStreamWalks>(
-        count,
-        [&](Walk& w, std::size_t i) {
+        walks,
+        [&](Walk& w, std::size_t k) {
+          const std::size_t i = live[k];
           const Ray& ray = rays[first + i];
           w.ray = &*traversal_rays[i];
           w.leaves.emplace(bvh, *w.ray, ray.tmin, ray.tmax, nullptr);
           w.state.start(ray.tmin, ray.tmax);
+          w.item = i;
           return true;
         },
         [&](Walk& w) {
@@ -97,7 +115,7 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
           return w.state.step(bvh.nodes.data(), w.ray->box, [&](std::uint32_t ref, float& best_t) { return w.leaves->closest(ref, best_t); },
                               IgnoreNodes{});
         },
-        [&](const Walk& w, std::size_t i) { std::construct_at(&hits[first + i], w.leaves->hit()); });
+        [&](const Walk& w, std::size_t) { hits[first + w.item] = w.leaves->hit(); });
   });
 }
 
