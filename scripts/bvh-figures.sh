@@ -23,11 +23,18 @@ trap 'rm -rf "$work"' EXIT
 run() {
   "$2" --scene "$3" --rays "$4" --accel "$5" --count 1000000 --threads 2 --reps 5 --json 2>/dev/null > "$work/$1.r$round.json"
 }
-# measure NAME SCENE KIND ACCELS: every round, the baseline then the current build.
-measure() {
+# measure NAME SCENE KIND ACCELS: queues the cell; run_cells runs every queued cell once a round, the
+# baseline then the current build, so that a cell's rounds lie minutes apart: this machine's speed
+# drifts for minutes at a time (ours and Embree's unequally), and back-to-back rounds all saw one state.
+cells=()
+measure() { cells+=("$1|$2|$3|$4"); }
+run_cells() {
   for round in $(seq "$rounds"); do
-    [ -z "$baseline" ] || run "$1.base" "$baseline" "$2" "$3" "$4"
-    run "$1.new" "$bench" "$2" "$3" "$4"
+    for cell in "${cells[@]}"; do
+      IFS='|' read -r name scene kind accels <<<"$cell"
+      [ -z "$baseline" ] || run "$name.base" "$baseline" "$scene" "$kind" "$accels"
+      run "$name.new" "$bench" "$scene" "$kind" "$accels"
+    done
   done
 }
 
@@ -52,13 +59,15 @@ for s in $copies; do
   [ "${s#builtin:}" != "$s" ] || scene="$work/$s"
   for k in ao primary; do measure "two.$s.$k" "$scene" "$k" bvh:levels=2,embree:levels=2; done
 done
+run_cells
 
 {
   echo "# The exact BVH against Embree"
   echo
   echo "Written by \`scripts/bvh-figures.sh MODELS_DIR\` on $(date -u +%Y-%m-%d), $(nproc) threads, $(lscpu | sed -n 's/^Model name: *//p' | head -1)."
   echo "Each cell: \`visfield-bench --rays KIND --accel bvh,embree --count 1000000 --threads 2 --reps 5\`, the median over"
-  echo "$rounds rounds of the per-process figures (ours and Embree's on the same rays in one process)."
+  echo "$rounds rounds of the per-process figures (ours and Embree's on the same rays in one process); each round runs every"
+  echo "cell of both tables once, so a cell's rounds lie minutes apart."
   [ -z "$baseline" ] || echo "\"before\" is the build at BASELINE, run in alternation with this one in every round."
   echo
   /usr/bin/python3 - "$work" "$rounds" "${baseline:+yes}" "$flat_models" "$kinds" "$copies" <<'PY'
@@ -188,8 +197,25 @@ PY
   test's too (`BoxRay` and `simd::BlockRay` hold floats, broadcast where a node or a block is tested: 84 bytes a
   ray, 5 KiB a run) every ratio rose: Sponza random 0.85-0.94x -> 0.96-1.01x, conference random 0.96-1.02x ->
   0.98-1.04x, cow random 0.97-1.03x -> 1.03-1.04x, bunny AO 1.06-1.10x -> 1.11-1.15x, Sponza AO 1.28-1.33x ->
-  1.41-1.63x. This table's "before" column is the build before that change. Random rays on Sponza and the
-  conference room are the two cells left below 1.0x (0.97x each in the table's run).
+  1.41-1.63x. Random rays on Sponza and the
+  conference room were then the two cells left below 1.0x (0.97x each in that table's run).
+- **Rays that miss the scene** (2026-11-27, AMD EPYC): measurement builds on Sponza's random rays put the batch
+  loop at 1.5 ns a ray a thread (cut 1: 1360 Mrays/s), each ray's constants and answer at 7.5 ns (cut 2: 266
+  Mrays/s) and the whole query at 104 ns (19 Mrays/s): the walks are the time. Half of the random segments
+  through a scene's bounding sphere meet none of its boxes (Sponza 51%, conference 45%, cow 49%: the segments
+  against the scene's bounds), and each such walk ended at the root after a branch that random rays mispredict
+  half the time. The closest-hit stream now tests each run's rays against the root's boxes in a loop without
+  branches, writes the misses there, and starts walks for the others alone (`intersect_stream` in
+  `traversal.cpp`). Interleaved, 3 rounds: Sponza random 18.0-18.6 -> 19.2-19.9 Mrays/s, conference random
+  20.6-20.8 -> 22.0-22.9, cow random 27.6 -> 29.4-29.9, cow camera rays 49.6-54.1 -> 57.3; three walks in turn
+  instead of two were again slower (Sponza random 19.3-19.5 -> 18.3). This table's "before" column is the build
+  before that change.
+- **Rounds spread over the run**: this machine's speed drifts for minutes at a time, and not alike for ours and
+  Embree's: three rounds of a cell run back to back once put the copies scenes' AO at 0.90-0.94x Embree's
+  instancing for this build and the one before alike (bunnies100 AO 5.40 Mrays/s), where a few minutes later the
+  same binaries gave 1.10-1.14x (8.2-8.5 Mrays/s). Each round now runs every cell once, so a cell's rounds lie
+  minutes apart and its median is not one stretch's; in the tables' run the build before the change above is
+  also at or above 1.0x everywhere (lowest 1.01x, Sponza random).
 - **Two levels**: the objects' walks gain from the same constants (AO on copies of meshes 0.89–0.95x ->
   1.07–1.14x Embree's instancing). A 12-triangle box costs a ray transform, the ray's constants and a walk
   of one node and a leaf; since the constants have no branches, stepping that walk in turn with the others
