@@ -733,6 +733,9 @@ class FieldKernel {
     const I offset = cell_byte(f, l.sample, l.j * L::splat(f.directions) + l.i);
     alignas(64) std::int32_t at[kWidth];
     L::store(at, select(l.g.active, offset, L::splat(0)));
+    // Read back from memory: GCC would otherwise take each lane out of the register (two
+    // instructions a lane where a load is one, and loads issue three a cycle).
+    asm("" : "+m"(at));
     for (int lane = 0; lane < kWidth; ++lane) __builtin_prefetch(f.cells + at[lane]);
   }
 
