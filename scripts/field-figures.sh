@@ -141,6 +141,8 @@ with the BVH's interleaved walks)."
   echo "| the tree pass: rays that share one range (AO rays) move down without its two columns (6 columns and the ids instead of 8 and the ids) | 1024 bunnies, 18 interleaved rounds: median 3.555x -> 3.575x Embree's instancing (31.4-33.6 against 31.5-32.8 Mrays/s in the steady rounds), again in a faster state 3.845x -> 3.81x | no: level (the pass is not bound by its stores) |"
   echo "| the tree pass compresses every chunk into every child, without the branch on an empty mask | 1024 bunnies, 8 interleaved rounds: median 3.89x -> 3.33x Embree's instancing | no (most chunks meet few children: the branch spares more than its mispredictions cost) |"
   echo "| the tree over the objects built with up to 2, 4 or 8 objects a leaf (a level fewer; the sphere tests sort out the extra pairs) | 1024 bunnies, 3 rounds: 3.50-3.70x (1 a leaf), 3.59-3.79x (2), 3.67-3.81x (4), 3.46-3.73x (8) | no: within noise, and a leaf met would no longer mean an object's box met |"
+  echo "| the kernel 8 lanes wide (AVX2) instead of 16 (AVX-512) on this AMD EPYC, whose 512-bit operations take two passes through 256-bit units | intra AO, 2 rounds: bunny 171.6-189.7 -> 98.9-99.2 Mrays/s, cow 181.5-182.8 -> 100.5-100.6 | no: half the speed, so the kernel is bound by its instructions per packet, not by its lanes' arithmetic |"
+  echo "| the next packet's cell addresses read back from memory for their prefetches (GCC had turned the stored offsets into \`vpextrd\` chains, two instructions a lane) | intra AO, 3 rounds: bunny 183.5-188.5 -> 188.7-190.7 Mrays/s, cow 182.5-185.1 -> 186.1-188.2 | yes |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
