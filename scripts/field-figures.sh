@@ -143,6 +143,7 @@ with the BVH's interleaved walks)."
   echo "| the tree over the objects built with up to 2, 4 or 8 objects a leaf (a level fewer; the sphere tests sort out the extra pairs) | 1024 bunnies, 3 rounds: 3.50-3.70x (1 a leaf), 3.59-3.79x (2), 3.67-3.81x (4), 3.46-3.73x (8) | no: within noise, and a leaf met would no longer mean an object's box met |"
   echo "| the kernel 8 lanes wide (AVX2) instead of 16 (AVX-512) on this AMD EPYC, whose 512-bit operations take two passes through 256-bit units | intra AO, 2 rounds: bunny 171.6-189.7 -> 98.9-99.2 Mrays/s, cow 181.5-182.8 -> 100.5-100.6 | no: half the speed, so the kernel is bound by its instructions per packet, not by its lanes' arithmetic |"
   echo "| the next packet's cell addresses read back from memory for their prefetches (GCC had turned the stored offsets into \`vpextrd\` chains, two instructions a lane) | intra AO, 3 rounds: bunny 183.5-188.5 -> 188.7-190.7 Mrays/s, cow 182.5-185.1 -> 186.1-188.2 | yes |"
+  echo "| the pending (ray, object) pairs mapped into object space 16 at a time on lanes and kept as rows (origin, direction and interval columns), which the kernel loads without gathering, transposing or culling again, instead of one scalar transform and a 32-byte copy a pair | 1024 bunnies, 7 interleaved rounds: 32.6-34.8 -> 34.4-37.0 Mrays/s (medians 34.4 -> 35.0); 9 bunnies level (97.5-97.8 against 89.2-97.2) | yes |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo

@@ -10,8 +10,10 @@
 
 #include "block_lanes.hpp"
 
+#include <algorithm>
 #include <bit>
 
+#include "field_kernel.hpp"
 #include "kernel_lanes.hpp"
 #include "visfield/core/triangle_intersect.hpp"
 #include "visfield/field/sphere_cull.hpp"
@@ -138,6 +140,37 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
   for (; i < rays.size(); ++i)
     if ((!skip || !skip[i]) && may_meet_sphere(centre, radius, rays[i])) out[n++] = static_cast<std::uint32_t>(i);
   return n;
+}
+
+void append_mapped(std::span<const Ray> rays, const std::uint32_t* kept, std::size_t count, const InverseTransform& to_object,
+                   RayRows& out) {
+  std::size_t k = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  using Kernel = FieldKernel<L>;
+  constexpr std::size_t kWidth = Kernel::kWidth;
+  // Room for whole-packet stores past the end (the spare lanes of the last packet).
+  const std::size_t need = out.count + count + kWidth;
+  float* rows[8];
+  for (int r = 0; r < 8; ++r) {
+    if (out.row[r].size() < need) out.row[r].resize(std::max(need, 2 * out.row[r].size()));
+    rows[r] = out.row[r].data();
+  }
+  for (; k < count; k += kWidth) {
+    alignas(64) std::uint32_t index[kWidth];
+    for (std::size_t lane = 0; lane < kWidth; ++lane) index[lane] = kept[std::min(k + lane, count - 1)];  // spare lanes repeat the last
+    Kernel::store_rows(Kernel::gather(rays.data(), index, nullptr, to_object), rows, out.count + k);
+  }
+  k = count;
+#else
+  for (std::vector<float>& row : out.row)
+    if (row.size() < out.count + count) row.resize(std::max(out.count + count, 2 * row.size()));
+  for (; k < count; ++k) {
+    const Ray r = to_object.apply(rays[kept[k]]);
+    const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
+    for (int c = 0; c < 8; ++c) out.row[c][out.count + k] = values[c];
+  }
+#endif
+  out.count += count;
 }
 
 }  // namespace vf::field

@@ -10,8 +10,11 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "visfield/core/ray.hpp"
+#include "visfield/core/transform.hpp"
+#include "visfield/field/object_field.hpp"
 
 namespace vf::field {
 
@@ -32,5 +35,22 @@ inline constexpr std::size_t kFewObjects = 16;
 /// out[0 ..) (room for rays.size()); returns how many. O(rays).
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint8_t* skip,
                                 std::uint32_t* out);
+
+/// Object-space rays as rows (origin x, y, z, direction x, y, z, tmin, tmax): what the field kernel
+/// loads a packet at a time without gathering or transposing.
+struct RayRows {
+  std::array<std::vector<float>, 8> row;
+  std::size_t count = 0;
+
+  /// The rows' rays for ObjectField::mark_occluded (valid until the next append).
+  ObjectRays view() const {
+    return {row[0].data(), row[1].data(), row[2].data(), row[3].data(), row[4].data(), row[5].data(), row[6].data(), row[7].data(), count};
+  }
+};
+
+/// Appends rays[kept[k]], k < count, mapped by `to_object` as InverseTransform::apply() maps them
+/// (bit for bit), to `out`: a packet of lanes at a time, gathered, mapped and stored as rows.
+void append_mapped(std::span<const Ray> rays, const std::uint32_t* kept, std::size_t count, const InverseTransform& to_object,
+                   RayRows& out);
 
 }  // namespace vf::field

@@ -156,6 +156,19 @@ void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std
       });
 }
 
+void ObjectField::mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, int width) const {
+  const FieldTables f = tables();
+  const float* const rows[8] = {rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tmin, rays.tmax};
+  std::size_t done = run_lanes(
+      f, resolved_width(width), rays.count, cells_.size(), normals_.size(), [&]<class K>(K, std::size_t at) { return K::load(rows, at); },
+      [&]<class K>(K, std::size_t at, const typename K::Answer& a) { K::mark_run(a, occluded + at); });
+  for (; done < rays.count; ++done)
+    if (trace_field(f, {rays.ox[done], rays.oy[done], rays.oz[done]}, {rays.dx[done], rays.dy[done], rays.dz[done]}, rays.tmin[done],
+                    rays.tmax[done])
+            .hit)
+      occluded[done] = 1;
+}
+
 int ObjectField::batch_width(int width) { return resolved_width(width); }
 
 }  // namespace vf::field

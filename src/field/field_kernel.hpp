@@ -77,12 +77,17 @@ class FieldKernel {
     for (int lane = 0; lane < kWidth; ++lane) out[position[lane]] = packet[lane];
   }
 
+  /// marks[lane] = 1 for the lanes that hit: one masked store.
+  static void mark_run(const Answer& a, std::uint8_t* marks) {
+    if (L::bits(a.hit) != 0) L::set_bytes(marks, a.hit);
+  }
+
   /// marks[index[lane]] = 1 for the lanes that hit (what an occlusion query needs).
   static void mark(const Answer& a, const std::uint32_t* index, std::uint8_t* marks) {
     std::uint32_t hits = L::bits(a.hit);
     if (hits == 0) return;
     if (L::bits(L::load(index) == L::splat(static_cast<int>(index[0])) + L::lane_index()) == L::bits(L::all())) {
-      L::set_bytes(marks + index[0], a.hit);  // consecutive rays (a lone object's block): one masked store
+      mark_run(a, marks + index[0]);  // consecutive rays (a lone object's block)
       return;
     }
     for (; hits != 0; hits &= hits - 1) marks[index[std::countr_zero(hits)]] = 1;
@@ -203,6 +208,12 @@ class FieldKernel {
     const F c = oo * L::splat(1.0f - 1e-5f) - L::splat(r2 * (1.0f + 1e-3f));
     const M outside_going_away = (oo > L::splat(r2 * (1.0f + 1e-3f))) & (b > L::splat(0.0f));
     return (b * b - dd * c >= L::splat(0.0f)) & ~outside_going_away;
+  }
+
+  /// Stores the lanes' rays into structure-of-arrays rows at `at` (kWidth places each).
+  static void store_rows(const Rays& r, float* const rows[8], std::size_t at) {
+    const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
+    for (int k = 0; k < 8; ++k) L::store(rows[k] + at, *column[k]);
   }
 
   /// kWidth consecutive object-space rays from structure-of-arrays rows starting at `at`.

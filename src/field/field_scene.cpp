@@ -336,8 +336,8 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
     std::vector<std::uint8_t> marks;
     std::vector<float> limit;
     std::vector<FieldAnswer> answers;
-    std::vector<Ray> local;                       // occlusion: the pending pairs' object-space rays
-    std::vector<std::uint32_t> pair_ray, in_order;  // their rays in the block; 0, 1, 2, ...
+    RayRows local;                                // occlusion: the pending pairs' object-space rays
+    std::vector<std::uint32_t> pair_ray;          // their rays in the block
   };
   thread_local Scratch s;
   // The block's rays go down the tree together and arrive grouped by object (each object's in
@@ -350,19 +350,18 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
   // pipeline restarting at every object. Rays an earlier flush settled are left out of later objects.
   const ObjectField* pending_field = nullptr;
   const auto flush = [&] {
-    const std::size_t pairs = s.local.size();
+    const std::size_t pairs = s.local.count;
     if (pairs == 0) return;
-    for (std::size_t k = s.in_order.size(); k < pairs; ++k) s.in_order.push_back(static_cast<std::uint32_t>(k));
     s.marks.assign(pairs, 0);
-    pending_field->mark_occluded(s.local.data(), s.in_order.data(), pairs, InverseTransform{}, s.marks.data());
+    pending_field->mark_occluded(s.local.view(), s.marks.data());
     for (std::size_t k = 0; k < pairs; ++k)
       if (s.marks[k]) occluded[s.pair_ray[k]] = 1;
-    s.local.clear();
+    s.local.count = 0;
     s.pair_ray.clear();
   };
   for (const ItemRays::List& list : s.by_object.lists) {
     const Object& o = objects_[list.item];
-    if (!closest && (o.field != pending_field || s.local.size() >= kFlushPairs)) {
+    if (!closest && (o.field != pending_field || s.local.count >= kFlushPairs)) {
       flush();
       pending_field = o.field;
     }
@@ -394,10 +393,8 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
     const std::size_t m = rays_meeting_sphere(o.centre, o.radius, std::span<const Ray>(s.copies.data(), open), nullptr, s.kept.data());
     if (m == 0) continue;
     if (!closest) {
-      for (std::size_t k = 0; k < m; ++k) {
-        s.local.push_back(o.to_object.apply(s.copies[s.kept[k]]));  // as the kernel maps a ray, bit for bit
-        s.pair_ray.push_back(s.open[s.kept[k]]);
-      }
+      append_mapped(std::span<const Ray>(s.copies.data(), open), s.kept.data(), m, o.to_object, s.local);
+      for (std::size_t k = 0; k < m; ++k) s.pair_ray.push_back(s.open[s.kept[k]]);
       continue;
     }
     s.limit.resize(open);

@@ -152,6 +152,9 @@ class ObjectField {
   /// of the mapped ray hits; other entries are left as they are. Thread-safe for disjoint `index` sets.
   void mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                      std::uint8_t* occluded, int width = 0) const;
+  /// Occlusion for every object-space ray of `rays`: occluded[k] = 1 where trace() of ray k hits;
+  /// other entries are left as they are. Through the batch kernel, on the calling thread.
+  void mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, int width = 0) const;
   /// The lanes per step a batch query asked for `width` runs in this build: 16, 8 or 1.
   static int batch_width(int width = 0);
 

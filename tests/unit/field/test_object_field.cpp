@@ -363,6 +363,12 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
       std::size_t differ = 0;
       for (std::size_t q = 0; q < single.size(); ++q) differ += same_answer(single[q], batch[q]) ? 0 : 1;
       EXPECT_EQ(differ, 0u) << what << ", " << ObjectField::batch_width(width) << " lanes";
+      // Occlusion marks of the same rows: exactly the hits, nothing else touched.
+      std::vector<std::uint8_t> marks(single.size(), 2);
+      field.mark_occluded(rows.view(), marks.data(), width);
+      std::size_t wrong = 0;
+      for (std::size_t q = 0; q < single.size(); ++q) wrong += marks[q] != (single[q].hit ? 1 : 2) ? 1 : 0;
+      EXPECT_EQ(wrong, 0u) << what << ", marks, " << ObjectField::batch_width(width) << " lanes";
     }
   }
 }
