@@ -1,7 +1,7 @@
 #pragma once
 // Lanes for the ObjectField batch kernel (field_kernel.hpp): float lanes, 32-bit integer lanes and
 // native masks, with gathers, in two backends of one interface — 16 lanes on AVX-512 and 8 on AVX2 —
-// so the kernel is written once. The triangle tests' lanes (src/accel/simd/lanes.hpp) stay
+// and Pair, two packets of either side by side, so the kernel is written once. The triangle tests' lanes (src/accel/simd/lanes.hpp) stay
 // float-only with bit masks; this kernel computes table indices and reads tables, which needs
 // integer lanes, gathers and masks that select without a round trip through bits.
 //
@@ -291,5 +291,104 @@ inline void gather_pairs(const unsigned long long* table, Avx2::I index, Avx2::F
   second.v = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8));
 }
 #endif
+
+/// Two packets of a backend L side by side (2·L::kWidth lanes): every operation is L's on the first
+/// half, then on the second, so the two halves' independent chains interleave in the instruction
+/// stream (the kernel's steps are long dependency chains; one packet leaves the core waiting on them).
+template <class L>
+struct PairM {
+  typename L::M a, b;
+};
+template <class L>
+struct PairF {
+  typename L::F a, b;
+};
+template <class L>
+struct PairI {
+  typename L::I a, b;
+};
+
+template <class L>
+struct Pair {
+  static constexpr int kWidth = 2 * L::kWidth;
+  static_assert(kWidth <= 32, "bits() holds a mask in 32 bits");
+  using M = PairM<L>;
+  using F = PairF<L>;
+  using I = PairI<L>;
+  static F splat(float x) { return {L::splat(x), L::splat(x)}; }
+  static I splat(int x) { return {L::splat(x), L::splat(x)}; }
+  static F load(const float* p) { return {L::load(p), L::load(p + L::kWidth)}; }
+  static I load(const std::uint32_t* p) { return {L::load(p), L::load(p + L::kWidth)}; }
+  static I lane_index() { return {L::lane_index(), L::lane_index() + L::splat(L::kWidth)}; }
+  static void store(float* p, F x) { L::store(p, x.a), L::store(p + L::kWidth, x.b); }
+  static void store(std::int32_t* p, I x) { L::store(p, x.a), L::store(p + L::kWidth, x.b); }
+  static std::uint32_t bits(M x) { return L::bits(x.a) | (L::bits(x.b) << L::kWidth); }
+  static M none() { return {L::none(), L::none()}; }
+  static M all() { return {L::all(), L::all()}; }
+  static int compress(std::uint32_t* dst, I values, M m) {
+    const int n = L::compress(dst, values.a, m.a);
+    return n + L::compress(dst + n, values.b, m.b);
+  }
+  static void set_bytes(std::uint8_t* p, M m) { L::set_bytes(p, m.a), L::set_bytes(p + L::kWidth, m.b); }
+  static void transpose_rows(const float* p, F column[8]) {
+    typename L::F first[8], second[8];
+    L::transpose_rows(p, first);
+    L::transpose_rows(p + 8 * L::kWidth, second);
+    for (int k = 0; k < 8; ++k) column[k] = {first[k], second[k]};
+  }
+};
+
+template <class L> PairM<L> operator&(PairM<L> x, PairM<L> y) { return {x.a & y.a, x.b & y.b}; }
+template <class L> PairM<L> operator|(PairM<L> x, PairM<L> y) { return {x.a | y.a, x.b | y.b}; }
+template <class L> PairM<L> operator^(PairM<L> x, PairM<L> y) { return {x.a ^ y.a, x.b ^ y.b}; }
+template <class L> PairM<L> operator~(PairM<L> x) { return {~x.a, ~x.b}; }
+template <class L> bool any(PairM<L> x) { return any(x.a | x.b); }
+
+template <class L> PairF<L> operator+(PairF<L> x, PairF<L> y) { return {x.a + y.a, x.b + y.b}; }
+template <class L> PairF<L> operator-(PairF<L> x, PairF<L> y) { return {x.a - y.a, x.b - y.b}; }
+template <class L> PairF<L> operator*(PairF<L> x, PairF<L> y) { return {x.a * y.a, x.b * y.b}; }
+template <class L> PairF<L> operator/(PairF<L> x, PairF<L> y) { return {x.a / y.a, x.b / y.b}; }
+template <class L> PairF<L> operator-(PairF<L> x) { return {-x.a, -x.b}; }
+template <class L> PairM<L> operator<(PairF<L> x, PairF<L> y) { return {x.a < y.a, x.b < y.b}; }
+template <class L> PairM<L> operator<=(PairF<L> x, PairF<L> y) { return {x.a <= y.a, x.b <= y.b}; }
+template <class L> PairM<L> operator>(PairF<L> x, PairF<L> y) { return {x.a > y.a, x.b > y.b}; }
+template <class L> PairM<L> operator>=(PairF<L> x, PairF<L> y) { return {x.a >= y.a, x.b >= y.b}; }
+template <class L> PairM<L> operator==(PairF<L> x, PairF<L> y) { return {x.a == y.a, x.b == y.b}; }
+template <class L> PairF<L> sqrt(PairF<L> x) { return {sqrt(x.a), sqrt(x.b)}; }
+template <class L> PairF<L> fma(PairF<L> x, PairF<L> y, PairF<L> z) { return {fma(x.a, y.a, z.a), fma(x.b, y.b, z.b)}; }
+template <class L> PairF<L> abs(PairF<L> x) { return {abs(x.a), abs(x.b)}; }
+template <class L> PairF<L> floor(PairF<L> x) { return {floor(x.a), floor(x.b)}; }
+template <class L> PairF<L> max(PairF<L> x, PairF<L> y) { return {max(x.a, y.a), max(x.b, y.b)}; }
+template <class L> PairF<L> min(PairF<L> x, PairF<L> y) { return {min(x.a, y.a), min(x.b, y.b)}; }
+template <class L> PairF<L> copysign(PairF<L> x, PairF<L> y) { return {copysign(x.a, y.a), copysign(x.b, y.b)}; }
+template <class L> PairF<L> select(PairM<L> m, PairF<L> x, PairF<L> y) { return {select(m.a, x.a, y.a), select(m.b, x.b, y.b)}; }
+template <class L> PairI<L> select(PairM<L> m, PairI<L> x, PairI<L> y) { return {select(m.a, x.a, y.a), select(m.b, x.b, y.b)}; }
+template <class L> PairI<L> to_int(PairF<L> x) { return {to_int(x.a), to_int(x.b)}; }
+template <class L> PairF<L> to_float(PairI<L> x) { return {to_float(x.a), to_float(x.b)}; }
+
+template <class L> PairI<L> operator+(PairI<L> x, PairI<L> y) { return {x.a + y.a, x.b + y.b}; }
+template <class L> PairI<L> operator-(PairI<L> x, PairI<L> y) { return {x.a - y.a, x.b - y.b}; }
+template <class L> PairI<L> operator*(PairI<L> x, PairI<L> y) { return {x.a * y.a, x.b * y.b}; }
+template <class L> PairI<L> operator&(PairI<L> x, PairI<L> y) { return {x.a & y.a, x.b & y.b}; }
+template <class L> PairI<L> operator|(PairI<L> x, PairI<L> y) { return {x.a | y.a, x.b | y.b}; }
+template <class L> PairI<L> operator<<(PairI<L> x, PairI<L> y) { return {x.a << y.a, x.b << y.b}; }
+template <class L> PairI<L> operator>>(PairI<L> x, PairI<L> y) { return {x.a >> y.a, x.b >> y.b}; }
+template <class L> PairM<L> operator<(PairI<L> x, PairI<L> y) { return {x.a < y.a, x.b < y.b}; }
+template <class L> PairM<L> operator<=(PairI<L> x, PairI<L> y) { return {x.a <= y.a, x.b <= y.b}; }
+template <class L> PairM<L> operator==(PairI<L> x, PairI<L> y) { return {x.a == y.a, x.b == y.b}; }
+template <class L> PairI<L> min(PairI<L> x, PairI<L> y) { return {min(x.a, y.a), min(x.b, y.b)}; }
+template <class L> PairI<L> max(PairI<L> x, PairI<L> y) { return {max(x.a, y.a), max(x.b, y.b)}; }
+template <class L> PairI<L> abs(PairI<L> x) { return {abs(x.a), abs(x.b)}; }
+
+template <class L> PairF<L> gather(const float* base, PairI<L> index, PairM<L> m) {
+  return {gather(base, index.a, m.a), gather(base, index.b, m.b)};
+}
+template <class L> PairI<L> gather_bytes(const void* base, PairI<L> offset, PairM<L> m) {
+  return {gather_bytes(base, offset.a, m.a), gather_bytes(base, offset.b, m.b)};
+}
+template <class L> void gather_pairs(const unsigned long long* table, PairI<L> index, PairF<L>& first, PairF<L>& second) {
+  gather_pairs(table, index.a, first.a, second.a);
+  gather_pairs(table, index.b, first.b, second.b);
+}
 
 }  // namespace vf::field::lanes

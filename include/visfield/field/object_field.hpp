@@ -134,8 +134,8 @@ class ObjectField {
   FieldAnswer trace(const Vec3f& org, const Vec3f& dir, float tmin, float tmax) const;
 
   /// trace() for every ray of `rays`, answers into out[0 .. rays.count), bit for bit, `width` rays
-  /// per step: 0 for the widest this build runs (16 with AVX-512, 8 with AVX2, else 1), or 16, 8
-  /// or 1 to compare them (batch_width() says what a request runs). Thread-safe.
+  /// per step: 0 for the widest this build runs (32 with AVX-512, 16 with AVX2, else 1), or 32,
+  /// 16, 8 or 1 to compare them (batch_width() says what a request runs). Thread-safe.
   void trace_batch(const ObjectRays& rays, FieldAnswer* out, int width = 0) const;
 
   /// trace() for the world-space rays rays[index[k]], k < count, each mapped by `to_object` (as
@@ -155,7 +155,7 @@ class ObjectField {
   /// Occlusion for every object-space ray of `rays`: occluded[k] = 1 where trace() of ray k hits;
   /// other entries are left as they are. Through the batch kernel, on the calling thread.
   void mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, int width = 0) const;
-  /// The lanes per step a batch query asked for `width` runs in this build: 16, 8 or 1.
+  /// The lanes per step a batch query asked for `width` runs in this build: 32, 16, 8 or 1.
   static int batch_width(int width = 0);
 
   /// The distance (over 2R) below which an intra-object answer counts as the ray's own start

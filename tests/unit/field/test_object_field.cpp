@@ -357,7 +357,7 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
       }
     }
     EXPECT_GT(hits, single.size() / 10) << what;
-    for (const int width : {16, 8, 1}) {
+    for (const int width : {32, 16, 8, 1}) {
       std::vector<FieldAnswer> batch(single.size());
       field.trace_batch(rows.view(), batch.data(), width);
       std::size_t differ = 0;
@@ -398,7 +398,7 @@ TEST(ObjectField, WorldRaysThroughATransformAnswerAsTraceDoes) {
     if (q % 40 < 33) runs.push_back(q);
   for (const std::vector<std::uint32_t>& index : {shuffled, runs})
   for (const bool limited : {false, true})
-    for (const int width : {16, 8, 1}) {
+    for (const int width : {32, 16, 8, 1}) {
       std::vector<FieldAnswer> out(index.size());
       field.trace_rays(rays.data(), index.data(), index.size(), to_object, limited ? limit.data() : nullptr, out.data(), width);
       std::size_t differ = 0, hits = 0;
