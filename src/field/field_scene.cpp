@@ -272,12 +272,17 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   // The exact part first: its hit bounds every field's search (closest) or settles the ray (occlusion).
   if (!closest && !small_exact_.empty()) {
     occluded_by_small_exact(small_exact_, rays, occluded);
+  } else if (!exact_) {  // fields alone: every ray starts open (a loop testing exact_ a ray cost 7% of the corner's AO)
+    if (closest)
+      std::fill(best, best + n, Hit{});
+    else
+      std::fill(occluded, occluded + n, std::uint8_t{0});
   } else {
     for (std::size_t i = 0; i < n; ++i) {
       if (closest)
-        best[i] = exact_ ? exact_->intersect(rays[i]) : Hit{};
+        best[i] = exact_->intersect(rays[i]);
       else
-        occluded[i] = exact_ && exact_->occluded(rays[i]) ? 1 : 0;
+        occluded[i] = exact_->occluded(rays[i]) ? 1 : 0;
     }
   }
   if (objects_.empty()) return;
