@@ -87,10 +87,8 @@ M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* ra
   return hit;
 }
 
-/// may_meet_sphere() on the L::kWidth consecutive rays at `rays`.
-M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
-  F c[8];
-  L::transpose_rows(reinterpret_cast<const float*>(rays), c);
+/// may_meet_sphere() on rays in columns (origin, direction, tmin, tmax).
+M meets_sphere(const Vec3f& centre, float radius, const F c[8]) {
   const F dx = c[3], dy = c[4], dz = c[5];
   const float wide = radius * 1.001f;
   const F ocx = L::splat(centre.x) - c[0], ocy = L::splat(centre.y) - c[1], ocz = L::splat(centre.z) - c[2];
@@ -101,6 +99,13 @@ M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
   const M near = ~(px * px + py * py + pz * pz > L::splat(wide * wide));
   const F reach = L::splat(wide) * sqrt(dd);
   return near & (along + reach >= c[6] * dd) & (along - reach <= c[7] * dd);
+}
+
+/// may_meet_sphere() on the L::kWidth consecutive rays at `rays`.
+M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
+  F c[8];
+  L::transpose_rows(reinterpret_cast<const float*>(rays), c);
+  return meets_sphere(centre, radius, c);
 }
 #endif
 
@@ -142,35 +147,39 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
   return n;
 }
 
-void append_mapped(std::span<const Ray> rays, const std::uint32_t* kept, std::size_t count, const InverseTransform& to_object,
-                   RayRows& out) {
-  std::size_t k = 0;
+std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
+                                  const InverseTransform& to_object, RayRows& out) {
+  // Room for whole-packet stores past the end.
+  const std::size_t need = out.count + rays.size() + 16;
+  for (std::vector<float>& row : out.row)
+    if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
+  if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));
+  std::size_t at = out.count, i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   using Kernel = FieldKernel<L>;
-  constexpr std::size_t kWidth = Kernel::kWidth;
-  // Room for whole-packet stores past the end (the spare lanes of the last packet).
-  const std::size_t need = out.count + count + kWidth;
   float* rows[8];
-  for (int r = 0; r < 8; ++r) {
-    if (out.row[r].size() < need) out.row[r].resize(std::max(need, 2 * out.row[r].size()));
-    rows[r] = out.row[r].data();
-  }
-  for (; k < count; k += kWidth) {
-    alignas(64) std::uint32_t index[kWidth];
-    for (std::size_t lane = 0; lane < kWidth; ++lane) index[lane] = kept[std::min(k + lane, count - 1)];  // spare lanes repeat the last
-    Kernel::store_rows(Kernel::gather(rays.data(), index, nullptr, to_object), rows, out.count + k);
-  }
-  k = count;
-#else
-  for (std::vector<float>& row : out.row)
-    if (row.size() < out.count + count) row.resize(std::max(out.count + count, 2 * row.size()));
-  for (; k < count; ++k) {
-    const Ray r = to_object.apply(rays[kept[k]]);
-    const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
-    for (int c = 0; c < 8; ++c) out.row[c][out.count + k] = values[c];
+  for (int r = 0; r < 8; ++r) rows[r] = out.row[r].data();
+  for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    F c[8];
+    L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
+    const M meets = meets_sphere(centre, radius, c);
+    if (L::bits(meets) == 0) continue;
+    const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, to_object);
+    const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
+    for (int k = 0; k < 8; ++k) L::compress(rows[k] + at, *column[k], meets);
+    at += static_cast<std::size_t>(L::compress(out.id.data() + at, L::load(ids + i), meets));
   }
 #endif
-  out.count += count;
+  for (; i < rays.size(); ++i) {
+    if (!may_meet_sphere(centre, radius, rays[i])) continue;
+    const Ray r = to_object.apply(rays[i]);
+    const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
+    for (int k = 0; k < 8; ++k) out.row[k][at] = values[k];
+    out.id[at++] = ids[i];
+  }
+  const std::size_t added = at - out.count;
+  out.count = at;
+  return added;
 }
 
 }  // namespace vf::field

@@ -5,7 +5,9 @@
 //   against a packet of rays. A lone ray's BVH walk costs more than a field lookup (its setup, a
 //   root node of 8 boxes, a leaf), and in a mixed scene every ray makes one; here a triangle costs a
 //   few operations a ray;
-// - which rays of a block may meet an object's sphere (may_meet_sphere), for scenes of a few objects.
+// - which rays of a block may meet an object's sphere (may_meet_sphere), for scenes of a few objects;
+// - among many objects, an object's rays that may meet its sphere, mapped into object space and
+//   added to the pending (ray, object) pairs in the same pass.
 
 #include <array>
 #include <cstdint>
@@ -36,10 +38,11 @@ inline constexpr std::size_t kFewObjects = 16;
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint8_t* skip,
                                 std::uint32_t* out);
 
-/// Object-space rays as rows (origin x, y, z, direction x, y, z, tmin, tmax): what the field kernel
-/// loads a packet at a time without gathering or transposing.
+/// Object-space rays as rows (origin x, y, z, direction x, y, z, tmin, tmax), what the field kernel
+/// loads a packet at a time without gathering or transposing, each with its caller's id.
 struct RayRows {
   std::array<std::vector<float>, 8> row;
+  std::vector<std::uint32_t> id;
   std::size_t count = 0;
 
   /// The rows' rays for ObjectField::mark_occluded (valid until the next append).
@@ -48,9 +51,11 @@ struct RayRows {
   }
 };
 
-/// Appends rays[kept[k]], k < count, mapped by `to_object` as InverseTransform::apply() maps them
-/// (bit for bit), to `out`: a packet of lanes at a time, gathered, mapped and stored as rows.
-void append_mapped(std::span<const Ray> rays, const std::uint32_t* kept, std::size_t count, const InverseTransform& to_object,
-                   RayRows& out);
+/// Appends to `out` the rays of `rays` that may meet the sphere (centre, radius) by may_meet_sphere()
+/// (bit for bit), in order, mapped by `to_object` as InverseTransform::apply() maps them (bit for
+/// bit), with ids[k] as the id of rays[k]; returns how many. A packet of lanes at a time: tested,
+/// mapped and compressed into the rows in one pass. O(rays).
+std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
+                                  const InverseTransform& to_object, RayRows& out);
 
 }  // namespace vf::field

@@ -251,6 +251,11 @@ class FieldKernel {
       r.tmin = gather_at(base, slot, 6, all);
       r.tmax = limit ? lanes::gather(limit, at, all) : gather_at(base, slot, 7, all);
     }
+    return to_object_space(r, to_object);
+  }
+
+  /// World-space rays on lanes mapped into object space as InverseTransform::apply() maps them.
+  static Rays to_object_space(Rays r, const InverseTransform& to_object) {
     if (to_object.identity) return r;
     const Mat3& m = to_object.linear;
     const F px = r.ox - L::splat(to_object.translation.x), py = r.oy - L::splat(to_object.translation.y),

@@ -341,8 +341,7 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
     std::vector<std::uint8_t> marks;
     std::vector<float> limit;
     std::vector<FieldAnswer> answers;
-    RayRows local;                                // occlusion: the pending pairs' object-space rays
-    std::vector<std::uint32_t> pair_ray;          // their rays in the block
+    RayRows local;  // occlusion: the pending pairs' object-space rays, with their rays' places in the block as ids
   };
   thread_local Scratch s;
   // The block's rays go down the tree together and arrive grouped by object (each object's in
@@ -360,9 +359,8 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
     s.marks.assign(pairs, 0);
     pending_field->mark_occluded(s.local.view(), s.marks.data());
     for (std::size_t k = 0; k < pairs; ++k)
-      if (s.marks[k]) occluded[s.pair_ray[k]] = 1;
+      if (s.marks[k]) occluded[s.local.id[k]] = 1;
     s.local.count = 0;
-    s.pair_ray.clear();
   };
   for (const ItemRays::List& list : s.by_object.lists) {
     const Object& o = objects_[list.item];
@@ -393,15 +391,15 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
         open += occluded[i] ? 0 : 1;
       }
     }
-    // Those its sphere lets in: the test the single-ray queries make, on the ray as given.
+    // Those its sphere lets in: the test the single-ray queries make, on the ray as given. Occlusion:
+    // tested, mapped into object space and added to the pending pairs in one pass over the copies.
+    if (!closest) {
+      append_meeting_sphere(o.centre, o.radius, std::span<const Ray>(s.copies.data(), open), s.open.data(), o.to_object, s.local);
+      continue;
+    }
     s.kept.resize(open);
     const std::size_t m = rays_meeting_sphere(o.centre, o.radius, std::span<const Ray>(s.copies.data(), open), nullptr, s.kept.data());
     if (m == 0) continue;
-    if (!closest) {
-      append_mapped(std::span<const Ray>(s.copies.data(), open), s.kept.data(), m, o.to_object, s.local);
-      for (std::size_t k = 0; k < m; ++k) s.pair_ray.push_back(s.open[s.kept[k]]);
-      continue;
-    }
     s.limit.resize(open);
     s.answers.resize(m);
     for (std::size_t k = 0; k < m; ++k) {

@@ -42,9 +42,13 @@ struct Avx512 {
   static M all() { return {0xFFFF}; }
   /// Writes the lanes of `m` of `values` to dst[0 ..), in lane order, and may write up to 16 values
   /// there (dst needs room for 16); returns how many it kept. (A register compress and a plain store:
-  /// the memory form of vpcompressd is microcoded and slow on AMD Zen 4.)
+  /// the memory form of vpcompressd is microcoded and slow on AMD Zen 4.) Integer or float lanes.
   static int compress(std::uint32_t* dst, I values, M m) {
     _mm512_storeu_si512(dst, _mm512_maskz_compress_epi32(m.m, values.v));
+    return __builtin_popcount(m.m);
+  }
+  static int compress(float* dst, F values, M m) {
+    _mm512_storeu_ps(dst, _mm512_maskz_compress_ps(m.m, values.v));
     return __builtin_popcount(m.m);
   }
   /// p[lane] = 1 for the lanes of `m`; the other bytes of p[0 .. 16) keep their values.
@@ -177,10 +181,17 @@ struct Avx2 {
   static M none() { return {_mm256_setzero_si256()}; }
   static M all() { return {_mm256_set1_epi32(-1)}; }
   /// Writes the lanes of `m` of `values` to dst[0 ..), in lane order (dst needs room for 8);
-  /// returns how many it kept.
+  /// returns how many it kept. Integer or float lanes.
   static int compress(std::uint32_t* dst, I values, M m) {
     alignas(32) std::uint32_t all_values[8];
     _mm256_store_si256(reinterpret_cast<__m256i*>(all_values), values.v);
+    int n = 0;
+    for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) dst[n++] = all_values[__builtin_ctz(lanes)];
+    return n;
+  }
+  static int compress(float* dst, F values, M m) {
+    alignas(32) float all_values[8];
+    _mm256_store_ps(all_values, values.v);
     int n = 0;
     for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) dst[n++] = all_values[__builtin_ctz(lanes)];
     return n;
@@ -326,6 +337,10 @@ struct Pair {
   static M none() { return {L::none(), L::none()}; }
   static M all() { return {L::all(), L::all()}; }
   static int compress(std::uint32_t* dst, I values, M m) {
+    const int n = L::compress(dst, values.a, m.a);
+    return n + L::compress(dst + n, values.b, m.b);
+  }
+  static int compress(float* dst, F values, M m) {
     const int n = L::compress(dst, values.a, m.a);
     return n + L::compress(dst + n, values.b, m.b);
   }
