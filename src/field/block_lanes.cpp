@@ -147,10 +147,15 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
   return n;
 }
 
+void RayRows::pad_to(std::size_t width) {
+  const std::size_t padded = (count + width - 1) / width * width;
+  for (std::vector<float>& r : row) std::fill(r.begin() + static_cast<std::ptrdiff_t>(count), r.begin() + static_cast<std::ptrdiff_t>(padded), r[count - 1]);
+  count = padded;
+}
+
 std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
                                   const InverseTransform& to_object, RayRows& out) {
-  // Room for whole-packet stores past the end.
-  const std::size_t need = out.count + rays.size() + 16;
+  const std::size_t need = out.count + rays.size() + kRowsSlack;
   for (std::vector<float>& row : out.row)
     if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
   if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));

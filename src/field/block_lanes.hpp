@@ -49,7 +49,12 @@ struct RayRows {
   ObjectRays view() const {
     return {row[0].data(), row[1].data(), row[2].data(), row[3].data(), row[4].data(), row[5].data(), row[6].data(), row[7].data(), count};
   }
+  /// Repeats the last ray (count > 0) until count is a multiple of `width` (at most kRowsSlack).
+  void pad_to(std::size_t width);
 };
+
+/// Rows a RayRows keeps free past its rays: whole-packet stores and padding to whole packets (32 lanes at most).
+inline constexpr std::size_t kRowsSlack = 32;
 
 /// Appends to `out` the rays of `rays` that may meet the sphere (centre, radius) by may_meet_sphere()
 /// (bit for bit), in order, mapped by `to_object` as InverseTransform::apply() maps them (bit for

@@ -356,10 +356,12 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
   const auto flush = [&] {
     const std::size_t pairs = s.local.count;
     if (pairs == 0) return;
-    s.marks.assign(pairs, 0);
+    // Whole packets: the last pair repeated rather than a partial packet traced one ray at a time.
+    s.local.pad_to(static_cast<std::size_t>(ObjectField::batch_width()));
+    s.marks.assign(s.local.count, 0);
     pending_field->mark_occluded(s.local.view(), s.marks.data());
-    for (std::size_t k = 0; k < pairs; ++k)
-      if (s.marks[k]) occluded[s.local.id[k]] = 1;
+    // Every pair's mark or'ed in: a branch on the marks would be mispredicted for a large share of them.
+    for (std::size_t k = 0; k < pairs; ++k) occluded[s.local.id[k]] |= s.marks[k];
     s.local.count = 0;
   };
   for (const ItemRays::List& list : s.by_object.lists) {
