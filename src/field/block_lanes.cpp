@@ -101,6 +101,13 @@ M meets_sphere(const Vec3f& centre, float radius, const F c[8]) {
   return near & (along + reach >= c[6] * dd) & (along - reach <= c[7] * dd);
 }
 
+/// The lanes whose byte of skip[0 .. L::kWidth) is 0.
+M open_lanes(const std::uint8_t* skip) {
+  std::uint32_t open = 0;
+  for (int lane = 0; lane < L::kWidth; ++lane) open |= static_cast<std::uint32_t>(skip[lane] == 0) << lane;
+  return ((L::splat(static_cast<int>(open)) >> L::lane_index()) & L::splat(1)) == L::splat(1);
+}
+
 /// may_meet_sphere() on the L::kWidth consecutive rays at `rays`.
 M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
   F c[8];
@@ -130,20 +137,16 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
   for (; i < rays.size(); ++i) occluded[i] = occluded_one(triangles, rays[i]) ? 1 : 0;
 }
 
-std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint8_t* skip,
-                                std::uint32_t* out) {
+std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out) {
   std::size_t i = 0, n = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
     std::uint32_t lanes = L::bits(packet_meets_sphere(centre, radius, rays.data() + i));
-    for (; lanes != 0; lanes &= lanes - 1) {
-      const std::size_t k = i + static_cast<std::size_t>(std::countr_zero(lanes));
-      if (!skip || !skip[k]) out[n++] = static_cast<std::uint32_t>(k);
-    }
+    for (; lanes != 0; lanes &= lanes - 1) out[n++] = static_cast<std::uint32_t>(i + static_cast<std::size_t>(std::countr_zero(lanes)));
   }
 #endif
   for (; i < rays.size(); ++i)
-    if ((!skip || !skip[i]) && may_meet_sphere(centre, radius, rays[i])) out[n++] = static_cast<std::uint32_t>(i);
+    if (may_meet_sphere(centre, radius, rays[i])) out[n++] = static_cast<std::uint32_t>(i);
   return n;
 }
 
@@ -153,8 +156,20 @@ void RayRows::pad_to(std::size_t width) {
   count = padded;
 }
 
+void mark_rows(const ObjectField& field, RayRows& rows, std::vector<std::uint8_t>& marks, std::uint8_t* occluded) {
+  const std::size_t pairs = rows.count;
+  if (pairs == 0) return;
+  // Whole packets: the last ray repeated rather than a partial packet traced one ray at a time.
+  rows.pad_to(static_cast<std::size_t>(ObjectField::batch_width()));
+  marks.assign(rows.count, 0);
+  field.mark_occluded(rows.view(), marks.data());
+  // Every mark or'ed in: a branch on the marks would be mispredicted for a large share of them.
+  for (std::size_t k = 0; k < pairs; ++k) occluded[rows.id[k]] |= marks[k];
+  rows.count = 0;
+}
+
 std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
-                                  const InverseTransform& to_object, RayRows& out) {
+                                  const InverseTransform& to_object, RayRows& out, const std::uint8_t* skip) {
   const std::size_t need = out.count + rays.size() + kRowsSlack;
   for (std::vector<float>& row : out.row)
     if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
@@ -167,7 +182,7 @@ std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<c
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
     F c[8];
     L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
-    const M meets = meets_sphere(centre, radius, c);
+    const M meets = skip ? meets_sphere(centre, radius, c) & open_lanes(skip + i) : meets_sphere(centre, radius, c);
     if (L::bits(meets) == 0) continue;
     const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, to_object);
     const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
@@ -176,7 +191,7 @@ std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<c
   }
 #endif
   for (; i < rays.size(); ++i) {
-    if (!may_meet_sphere(centre, radius, rays[i])) continue;
+    if ((skip && skip[i]) || !may_meet_sphere(centre, radius, rays[i])) continue;
     const Ray r = to_object.apply(rays[i]);
     const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
     for (int k = 0; k < 8; ++k) out.row[k][at] = values[k];

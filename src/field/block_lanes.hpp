@@ -33,10 +33,8 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
 inline constexpr std::size_t kFewObjects = 16;
 
 /// The indices i of rays[i] (ascending) that may meet the sphere (centre, radius) by
-/// may_meet_sphere(), bit for bit, leaving out those with skip[i] != 0 when `skip` is given; into
-/// out[0 ..) (room for rays.size()); returns how many. O(rays).
-std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint8_t* skip,
-                                std::uint32_t* out);
+/// may_meet_sphere(), bit for bit, into out[0 ..) (room for rays.size()); returns how many. O(rays).
+std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out);
 
 /// Object-space rays as rows (origin x, y, z, direction x, y, z, tmin, tmax), what the field kernel
 /// loads a packet at a time without gathering or transposing, each with its caller's id.
@@ -57,10 +55,16 @@ struct RayRows {
 inline constexpr std::size_t kRowsSlack = 32;
 
 /// Appends to `out` the rays of `rays` that may meet the sphere (centre, radius) by may_meet_sphere()
-/// (bit for bit), in order, mapped by `to_object` as InverseTransform::apply() maps them (bit for
-/// bit), with ids[k] as the id of rays[k]; returns how many. A packet of lanes at a time: tested,
-/// mapped and compressed into the rows in one pass. O(rays).
+/// (bit for bit), in order, leaving out rays[k] where skip[k] != 0 when `skip` is given, mapped by
+/// `to_object` as InverseTransform::apply() maps them (bit for bit), with ids[k] as the id of
+/// rays[k]; returns how many. A packet of lanes at a time: tested, mapped and compressed into the
+/// rows in one pass. O(rays).
 std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
-                                  const InverseTransform& to_object, RayRows& out);
+                                  const InverseTransform& to_object, RayRows& out, const std::uint8_t* skip = nullptr);
+
+/// Occlusion of the object-space rays of `rows` by `field`: occluded[rows.id[k]] = 1 where trace()
+/// of row k hits, other entries left as they are; the rows are then emptied. Whole packets (the last
+/// row repeated); `marks` is scratch.
+void mark_rows(const ObjectField& field, RayRows& rows, std::vector<std::uint8_t>& marks, std::uint8_t* occluded);
 
 }  // namespace vf::field

@@ -296,6 +296,17 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
     trace_block_by_tree(rays, closest, best, occluded);
     return;
   }
+  if (cull && !closest) {
+    // A few objects, occlusion: each object's open rays that may meet its sphere, mapped into object
+    // space as rows in one pass over the block, then traced in whole packets (as among many objects).
+    thread_local RayRows rows;
+    thread_local std::vector<std::uint8_t> marks;
+    for (const Object& o : objects_) {
+      append_meeting_sphere(o.centre, o.radius, rays, every_ray().data(), o.to_object, rows, occluded);
+      mark_rows(*o.field, rows, marks, occluded);
+    }
+    return;
+  }
   std::vector<std::uint32_t> index;
   std::vector<float> limit(closest ? n : 0);
   std::vector<FieldAnswer> answers(closest ? n : 0);
@@ -303,9 +314,9 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
     const Object& o = objects_[object];
     const std::uint32_t* candidates = every_ray().data();
     std::size_t m = n;
-    if (cull) {  // a few objects: every sphere against the block's open rays, on lanes
+    if (cull) {  // a few objects, closest hits: every sphere against the block's rays, on lanes
       index.resize(n);
-      m = rays_meeting_sphere(o.centre, o.radius, rays, closest ? nullptr : occluded, index.data());
+      m = rays_meeting_sphere(o.centre, o.radius, rays, index.data());
       candidates = index.data();
     } else if (!closest && exact_) {
       index.resize(n);
@@ -354,15 +365,7 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
   // pipeline restarting at every object. Rays an earlier flush settled are left out of later objects.
   const ObjectField* pending_field = nullptr;
   const auto flush = [&] {
-    const std::size_t pairs = s.local.count;
-    if (pairs == 0) return;
-    // Whole packets: the last pair repeated rather than a partial packet traced one ray at a time.
-    s.local.pad_to(static_cast<std::size_t>(ObjectField::batch_width()));
-    s.marks.assign(s.local.count, 0);
-    pending_field->mark_occluded(s.local.view(), s.marks.data());
-    // Every pair's mark or'ed in: a branch on the marks would be mispredicted for a large share of them.
-    for (std::size_t k = 0; k < pairs; ++k) occluded[s.local.id[k]] |= s.marks[k];
-    s.local.count = 0;
+    if (s.local.count > 0) mark_rows(*pending_field, s.local, s.marks, occluded);
   };
   for (const ItemRays::List& list : s.by_object.lists) {
     const Object& o = objects_[list.item];
@@ -400,7 +403,7 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
       continue;
     }
     s.kept.resize(open);
-    const std::size_t m = rays_meeting_sphere(o.centre, o.radius, std::span<const Ray>(s.copies.data(), open), nullptr, s.kept.data());
+    const std::size_t m = rays_meeting_sphere(o.centre, o.radius, std::span<const Ray>(s.copies.data(), open), s.kept.data());
     if (m == 0) continue;
     s.limit.resize(open);
     s.answers.resize(m);
