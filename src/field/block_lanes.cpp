@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
 
 #include "field_kernel.hpp"
 #include "kernel_lanes.hpp"
@@ -104,7 +105,14 @@ M meets_sphere(const Vec3f& centre, float radius, const F c[8]) {
 /// The lanes whose byte of skip[0 .. L::kWidth) is 0.
 M open_lanes(const std::uint8_t* skip) {
   std::uint32_t open = 0;
-  for (int lane = 0; lane < L::kWidth; ++lane) open |= static_cast<std::uint32_t>(skip[lane] == 0) << lane;
+  for (int word = 0; word < L::kWidth / 8; ++word) {
+    std::uint64_t x;
+    std::memcpy(&x, skip + 8 * word, 8);
+    // The high bit of each byte that is not 0, then those 8 bits gathered into the top byte.
+    const std::uint64_t low7 = 0x7F7F7F7F7F7F7F7Full;
+    const std::uint64_t set = (((x & low7) + low7) | x) & ~low7;
+    open |= static_cast<std::uint32_t>(~((set >> 7) * 0x0102040810204080ull >> 56) & 0xFFu) << (8 * word);
+  }
   return ((L::splat(static_cast<int>(open)) >> L::lane_index()) & L::splat(1)) == L::splat(1);
 }
 
@@ -182,7 +190,9 @@ std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<c
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
     F c[8];
     L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
-    const M meets = skip ? meets_sphere(centre, radius, c) & open_lanes(skip + i) : meets_sphere(centre, radius, c);
+    M meets = meets_sphere(centre, radius, c);
+    if (L::bits(meets) == 0) continue;
+    if (skip) meets = meets & open_lanes(skip + i);
     if (L::bits(meets) == 0) continue;
     const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, to_object);
     const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
