@@ -152,6 +152,7 @@ with the BVH's interleaved walks)."
   echo "| the pending pairs traced in whole packets (the last pair repeated, not the last partial packet one ray at a time through \`trace_field\`), their marks or'ed in without a branch | 1024 bunnies, 7 rounds in a slow stretch: 32.9-42.4 -> 35.8-45.2 Mrays/s (medians 35.1 -> 39.7) | yes |"
   echo "| up to 16 objects, occlusion rays as rows too (each object's open rays that may meet its sphere mapped in one pass over the block, settled rays skipped on lanes, traced in whole packets), instead of index lists, gathers and the kernel's second cull | 9 bunnies, 7 rounds: 90.5-105.2 -> 87.7-106.8 Mrays/s (the 3 steady rounds 101.2-104.6 -> 105.9-106.8); fig8 three together 3.5-3.7 -> 3.4-3.7 ms | yes |"
   echo "| a lone object's occlusion rays as rows too | intra AO bunny, 2 rounds: 240.9-242.7 -> 167.4-170.4 Mrays/s; fig8 cow 1.8-1.9 -> 2.0-2.1 ms | no: a lone object's packets nearly all meet its sphere, and the rows are one more pass over the rays |"
+  echo "| a lone object's packets of 32 rays that all pass wide of its world-space sphere (1.01 radius, ahead of the origin) left out before they are read, mapped and culled by the kernel's own test | fig8, 2 rounds: field AO 1.9-2.1 -> 2.4-2.8 ms a model (cow 8.0-8.3x -> 6.4-6.7x); intra AO bunny 227.3-229.0 -> 193.3-198.4 Mrays/s | no: the extra pass over the rays (a read and a division a ray) costs more than the mapping it spares |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
