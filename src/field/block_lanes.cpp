@@ -160,7 +160,7 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
 
 void RayRows::pad_to(std::size_t width) {
   const std::size_t padded = (count + width - 1) / width * width;
-  for (std::vector<float>& r : row) std::fill(r.begin() + static_cast<std::ptrdiff_t>(count), r.begin() + static_cast<std::ptrdiff_t>(padded), r[count - 1]);
+  for (std::vector<float>& r : row) std::fill(r.data() + count, r.data() + padded, r[count - 1]);
   count = padded;
 }
 

@@ -1,6 +1,6 @@
 // ObjectField's batch queries: the lanes kernel of field_kernel.hpp at 32, 16 or 8 lanes (two or
-// one AVX-512 packets, two or one AVX2 packets), trace_field() for the remainder, for width 1 and where the kernel does not apply. All
-// give the same bits.
+// one AVX-512 packets, two or one AVX2 packets), trace_field() for the remainder, for width 1 and
+// where the kernel does not apply. All give the same bits.
 
 // GCC 12 reports the undefined-value operands of its own avx512fintrin.h (`__Y = __Y` in _mm512_undefined_*) as
 // uninitialised once the kernel is inlined: a false positive of the compiler's headers.

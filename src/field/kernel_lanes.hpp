@@ -1,9 +1,10 @@
 #pragma once
 // Lanes for the ObjectField batch kernel (field_kernel.hpp): float lanes, 32-bit integer lanes and
 // native masks, with gathers, in two backends of one interface — 16 lanes on AVX-512 and 8 on AVX2 —
-// and Pair, two packets of either side by side, so the kernel is written once. The triangle tests' lanes (src/accel/simd/lanes.hpp) stay
-// float-only with bit masks; this kernel computes table indices and reads tables, which needs
-// integer lanes, gathers and masks that select without a round trip through bits.
+// and Pair, two packets of either side by side, so the kernel is written once. The triangle tests'
+// lanes (src/accel/simd/lanes.hpp) stay float-only with bit masks; this kernel computes table
+// indices and reads tables, which needs integer lanes, gathers and masks that select without a
+// round trip through bits.
 //
 // Every float operation is the IEEE single operation, and fma() the IEEE fused multiply-add that
 // field_query.hpp writes as hd::fma, so a lane computes exactly what it computes for one ray. The
