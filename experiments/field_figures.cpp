@@ -289,6 +289,39 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       out << " |\n";
     }
   }
+  // The same memory spent on directions: 1-bit cells (the paper's Figure 7 variant) have room for
+  // about √8 times the directions a side of the u8 table.
+  out << "\nAt the paper's memory: 1-bit cells (a hit bit a cell and one mean hit distance a sample, the paper's Figure 7 "
+         "variant) at the most directions whose table is no larger than the u8 table's, image RMS (0-255) read through the far "
+         "end / through + bilinear + blend, and the precompute s; the paper's RMS (u8) below. The corner's rays are unlimited, so "
+         "from outside the caster's sphere only the hit bit matters; the floor's vertices inside it compare distances, which one mean "
+         "a sample answers coarsely (so do an object's own AO rays: the lookups figure).\n\n"
+      << "| positions | memory of 32x32 u8 | memory of 64x64 u8 |\n|---|---|---|\n";
+  for (int p = 0; p < 3; ++p) {
+    out << "| " << positions[p];
+    for (const int n : {32, 64}) {
+      field::ObjectFieldConfig u8;
+      u8.positions = positions[p];
+      u8.directions = n;
+      field::ObjectFieldConfig bits = u8;
+      bits.storage = field::CellStorage::bit;
+      while (field::ObjectField::table_bytes(bits) <= field::ObjectField::table_bytes(u8)) ++bits.directions;
+      --bits.directions;
+      const std::string spec = "field:positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(bits.directions) + ",storage=bit";
+      const Run through = run(spec + ",cache=" + cache.string(), geometry, rays);
+      const Run best = run(spec + ",cache=" + cache.string() + ",through=1,bilinear=1,blend=1", geometry, rays);
+      out << " | " << bits.directions << "x" << bits.directions << " bits, "
+          << format_bytes(field::ObjectField::table_bytes(bits)) << " (u8 " << format_bytes(field::ObjectField::table_bytes(u8)) << "): "
+          << format("%.3f / %.3f / %.2f s", rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image), through.build_s);
+    }
+    std::filesystem::remove_all(cache);
+    out << " |\n| paper";
+    for (int n = 0; n < 2; ++n) {
+      const std::string cell = kPaperFigure6[p][n];
+      out << " | " << cell.substr(cell.rfind('/') + 2);
+    }
+    out << " |\n";
+  }
 }
 
 void figure5(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream& out) {
@@ -344,7 +377,7 @@ void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostre
     row("three together", corner_scene({found[0], found[1], found[2]}, {{0.6f, 0.8f, 0.8f}, {0.6f, 2.2f, 0.8f}, {0.6f, 0.8f, 2.2f}}));
 }
 
-// The lookup options at equal memory (4226 x 32^2 and 1090 x 64^2 u8 tables): inter-object error on
+// The lookup options at equal memory (4226 x 32^2 and 1090 x 64^2 u8 tables, 4226 x 90^2 bits): inter-object error on
 // the corner's rays, intra-object error on AO rays from the caster's own surface, and the time per
 // query of each; the error x time product picks the defaults.
 void lookups(const std::string& caster_path, SceneGeometry& corner, const std::vector<Ray>& corner_rays, std::ostream& out) {
@@ -368,7 +401,7 @@ void lookups(const std::string& caster_path, SceneGeometry& corner, const std::v
       << "fraction of occlusion answers that differ from the exact ones. ns: wall time per ray over the threads.\n\n"
       << "| table | lookup | inter RMS | inter ns/ray | intra differ | intra ns/ray | RMS x ns | differ x ns |\n"
       << "|---|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const char* table : {"positions=4226,directions=32", "positions=1090,directions=64"})
+  for (const char* table : {"positions=4226,directions=32", "positions=1090,directions=64", "positions=4226,directions=90,storage=bit"})
     for (const char* lookup : {",through=0", ",through=0,bilinear=1", ",through=0,blend=1", ",through=0,bilinear=1,blend=1", ",through=1",
                                ",through=1,bilinear=1", ",through=1,blend=1", ",through=1,bilinear=1,blend=1"}) {
       const std::string spec = std::string("field:") + table + lookup;
