@@ -197,10 +197,9 @@ inline constexpr std::size_t kTraversalRun = 64;
 /// walk started between other walks' steps would wait for it.
 template <class Run>
 void with_traversal_rays(std::span<const Ray> rays, Run&& run) {
-  constexpr std::size_t kRun = kTraversalRun;
-  std::array<std::optional<TraversalRay>, kRun> traversal_rays;
-  for (std::size_t first = 0; first < rays.size(); first += kRun) {
-    const std::size_t count = std::min(kRun, rays.size() - first);
+  std::array<std::optional<TraversalRay>, kTraversalRun> traversal_rays;
+  for (std::size_t first = 0; first < rays.size(); first += kTraversalRun) {
+    const std::size_t count = std::min(kTraversalRun, rays.size() - first);
     for (std::size_t i = 0; i < count; ++i) traversal_rays[i].emplace(rays[first + i]);
     run(first, count, traversal_rays.data());
   }

@@ -281,7 +281,7 @@ TEST(ObjectField, ReadingThroughTheFarEndLowersTheErrors) {
 // Object-space rays as rows (structure of arrays): half from outside towards the object, half from
 // inside in any direction, some with a raised tmin or a short tmax, and a few invalid ones (NaN
 // origin, zero direction, tmin above tmax).
-struct RayRows {
+struct ProbeRows {
   std::vector<float> rows[8];
   ObjectRays view() const {
     return {rows[0].data(), rows[1].data(), rows[2].data(), rows[3].data(), rows[4].data(), rows[5].data(), rows[6].data(), rows[7].data(),
@@ -291,9 +291,9 @@ struct RayRows {
   Vec3f dir(std::size_t q) const { return {rows[3][q], rows[4][q], rows[5][q]}; }
 };
 
-RayRows probe_rows(const BoundingSphere& s, std::size_t count, std::uint64_t seed) {
+ProbeRows probe_rows(const BoundingSphere& s, std::size_t count, std::uint64_t seed) {
   Rng rng(seed);
-  RayRows r;
+  ProbeRows r;
   for (auto& row : r.rows) row.resize(count);
   for (std::size_t q = 0; q < count; ++q) {
     const bool outside = q % 2 == 0;
@@ -342,7 +342,7 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
   }
   for (const ObjectFieldConfig& config : configs) {
     const ObjectField field = ObjectField::build(set, config);
-    const RayRows rows = probe_rows(field.sphere(), 20011, 41);  // not a multiple of 16: the tail runs trace()
+    const ProbeRows rows = probe_rows(field.sphere(), 20011, 41);  // not a multiple of 16: the tail runs trace()
     const std::string what = mapping_name(config.mapping) + " " + storage_name(config.storage) + " " + normals_name(config.normals) +
                              (config.direction_lookup == DirectionLookup::bilinear ? " bilinear" : "") +
                              (config.position_lookup == PositionLookup::blend ? " blend" : "") +
@@ -384,7 +384,7 @@ TEST(ObjectField, WorldRaysThroughATransformAnswerAsTraceDoes) {
   transform.translation = {3.0f, -1.0f, 0.5f};
   transform.scale = 1.7f;
   const InverseTransform to_object = transform.inverse();
-  const RayRows rows = probe_rows(field.sphere(), 4001, 43);
+  const ProbeRows rows = probe_rows(field.sphere(), 4001, 43);
   std::vector<Ray> rays(rows.rows[0].size());
   std::vector<float> limit(rays.size());
   for (std::size_t q = 0; q < rays.size(); ++q) {
