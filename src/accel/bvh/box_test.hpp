@@ -91,6 +91,17 @@ struct BoxRays16 {
     tmin = _mm512_loadu_ps(columns[6] + at);
     tmax = _mm512_loadu_ps(columns[7] + at);
   }
+  /// Loads 16 rays' origins and reciprocals from columns 0 .. 5 at `at`; every ray's interval is
+  /// (shared_tmin, shared_tmax).
+  void load(const float* const columns[6], std::size_t at, float shared_tmin, float shared_tmax) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = _mm512_loadu_ps(columns[a] + at);
+      inv[a] = _mm512_loadu_ps(columns[3 + a] + at);
+      negative[a] = _mm512_movepi32_mask(_mm512_castps_si512(inv[a]));
+    }
+    tmin = _mm512_set1_ps(shared_tmin);
+    tmax = _mm512_set1_ps(shared_tmax);
+  }
 };
 
 /// test_children() with the roles turned: 16 rays against the box of one child `slot`. The same

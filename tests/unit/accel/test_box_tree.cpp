@@ -2,7 +2,7 @@
 // the single-ray query gives (items_met), at each width this build runs, on boxes and rays chosen
 // to meet the box test's edge cases (origins on slab planes with zero direction components, rays
 // that touch a box at their origin alone, flat and nested boxes, finite and shifted ray intervals,
-// skipped rays).
+// rays that all share one interval, skipped rays).
 
 #include <algorithm>
 #include <cstdint>
@@ -115,10 +115,19 @@ TEST(BoxTree, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
   for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
   const Pairs expected = one_ray_at_a_time(tree, rays, skip);
   ASSERT_GT(expected.size(), rays.size());  // rays meet several boxes each: the grouping is exercised
+  // Every open ray with one interval (the columns' batch carries tmin and tmax as constants then);
+  // a skipped ray's own interval does not count.
+  std::vector<Ray> same_interval = rays;
+  for (std::size_t i = 0; i < same_interval.size(); ++i) {
+    same_interval[i].tmin = skip[i] ? 0.5f : 0.125f;
+    same_interval[i].tmax = skip[i] ? 1.0f : 4.0f;
+  }
+  const Pairs expected_same = one_ray_at_a_time(tree, same_interval, skip);
   std::set<int> widths{BoxTree::batch_width(1), BoxTree::batch_width(16)};
   for (const int width : widths) {
     ItemRays out;
     EXPECT_EQ(grouped(tree, rays, skip, width, out), expected) << "width " << width;
+    EXPECT_EQ(grouped(tree, same_interval, skip, width, out), expected_same) << "width " << width << ", one interval";
     // The buffers are reused: a second, smaller call gives its own pairs, nothing of the first.
     const std::vector<Ray> fewer(rays.begin(), rays.begin() + 777);
     const std::vector<std::uint8_t> none(fewer.size(), 0);
