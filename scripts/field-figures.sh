@@ -161,6 +161,13 @@ with the BVH's interleaved walks)."
   echo "|---|---|---|"
   echo "| the tree pass's interior regions in a scratch stack reused depth first (a node's children start at its mark, above which only finished subtrees lie), instead of one buffer grown for every node (3.8 MB a block of 16384 rays, 7.7 regions a ray: more than a core's L2) | 1024 bunnies, 4 rounds: 3.06-3.59x (median 3.26x) -> 3.44-3.87x (median 3.53x) Embree's instancing; 1 thread, 3 rounds: 3.42-3.56x -> 3.83-4.18x | yes |"
   echo "| from outside (no lane inside the sphere), the through read's chord, shift and limit left out (a root and two quotients a packet) | fig8, 5 rounds of 15 runs: medians level within the noise (cow 3.34 -> 3.01 ms, bunny 4.02 -> 3.41, dragon 3.10 -> 3.96, Igea 3.43 -> 3.46) | no: not measurable here |"
+  echo "| (a later session, the same kind of machine; 1024 bunnies, ratios to Embree's instancing) a block whose open rays share tmin and tmax carries them as constants, not as two columns moved at every node | 6 rounds: 3.59-3.83x (median 3.74x) -> 3.70-4.22x (median 3.97x) | yes |"
+  echo "| an interior child's rays moved by one compress of the lane numbers and a permute a column (one micro-op) instead of a compress a column (two) | 6 rounds, same runs: 3.97x -> 3.81-4.19x (median 4.14x) | yes |"
+  echo "| one pass a node (each child's region sized for all the node's rays, each chunk tested and moved at once, leaves' ids closed up after) instead of masks first, then the moves | 3 rounds: 3.76-4.00x -> 3.43-3.52x | no: the sparse regions cost more than the second pass |"
+  echo "| a full node's eight box tests unrolled | 8 rounds: medians 3.87x -> 3.97x (5 rounds ahead, 2 behind) | no: within the noise |"
+  echo "| the setup's reciprocals 16 at a time; then also its rays written without a branch on the skipped ones | 8 rounds each: medians 3.95x -> 3.97x; 3.92x -> 3.81x | no |"
+  echo "| the rows' compress once and permutes in \`append_meeting_sphere\` too | 3 rounds: 9 bunnies 5.98-6.23x -> 5.72-5.93x, 1024 bunnies 3.59-4.18x -> 3.61-3.95x | no |"
+  echo "| an object's rays read where they lie in the block (16 rows through their ids, transposed) instead of copied side by side first | 3 rounds: 1024 bunnies 3.40-3.89x -> 3.46-3.66x, 9 bunnies 5.09-5.65x -> 4.44-5.62x | no |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
