@@ -83,24 +83,26 @@ struct BoxRays16 {
 
   /// Loads 16 rays from columns: org x, y, z, reciprocals x, y, z, tmin, tmax, each at `at`.
   void load(const float* const columns[8], std::size_t at) {
-    for (int a = 0; a < 3; ++a) {
-      org[a] = _mm512_loadu_ps(columns[a] + at);
-      inv[a] = _mm512_loadu_ps(columns[3 + a] + at);
-      negative[a] = _mm512_movepi32_mask(_mm512_castps_si512(inv[a]));
-    }
+    load_lines(columns, at);
     tmin = _mm512_loadu_ps(columns[6] + at);
     tmax = _mm512_loadu_ps(columns[7] + at);
   }
   /// Loads 16 rays' origins and reciprocals from columns 0 .. 5 at `at`; every ray's interval is
   /// (shared_tmin, shared_tmax).
   void load(const float* const columns[6], std::size_t at, float shared_tmin, float shared_tmax) {
+    load_lines(columns, at);
+    tmin = _mm512_set1_ps(shared_tmin);
+    tmax = _mm512_set1_ps(shared_tmax);
+  }
+
+ private:
+  /// The origins, reciprocals and their signs from columns 0 .. 5 at `at`.
+  void load_lines(const float* const columns[6], std::size_t at) {
     for (int a = 0; a < 3; ++a) {
       org[a] = _mm512_loadu_ps(columns[a] + at);
       inv[a] = _mm512_loadu_ps(columns[3 + a] + at);
       negative[a] = _mm512_movepi32_mask(_mm512_castps_si512(inv[a]));
     }
-    tmin = _mm512_set1_ps(shared_tmin);
-    tmax = _mm512_set1_ps(shared_tmax);
   }
 };
 

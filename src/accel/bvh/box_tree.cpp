@@ -195,12 +195,11 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
   constexpr int kLanes = 16;
   // An interior node's rays, in a scratch stack: columns (origin x, y, z, the direction's
   // reciprocals x, y, z, tmin and tmax widened as a walk's, the last two only where the block's rays
-  // differ in them) and ids. A node taken from the pending
-  // stack finds every region above its mark dead (its earlier siblings' subtrees are done), so the
-  // scratch is reused depth first and stays in cache: growing it for every node instead touched
-  // 3.8 MB a block of 16384 rays on 1024 bunnies, 7.7 regions a ray. A leaf's rays become its
-  // items' lists, their ids alone in out.rays. Every region has kLanes places to spare, for
-  // whole-register stores.
+  // differ in them) and ids. A node taken from the pending stack finds every region above its mark
+  // dead (its earlier siblings' subtrees are done), so the scratch is reused depth first and stays
+  // in cache: growing it for every node instead touched 3.8 MB a block of 16384 rays on 1024
+  // bunnies, 7.7 regions a ray. A leaf's rays become its items' lists, their ids alone in out.rays.
+  // Every region has kLanes places to spare, for whole-register stores.
   thread_local std::vector<float> columns[8];
   thread_local std::vector<std::uint32_t> ids;
   thread_local std::vector<std::uint16_t> masks;  // a node's: chunk k, child c at 8 k + c
