@@ -356,9 +356,17 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
   };
   thread_local Scratch s;
   // The block's rays go down the tree together and arrive grouped by object (each object's in
-  // ascending order); the objects are then taken in index order, as without the tree.
+  // ascending order). Closest hits take the objects in index order, as without the tree (a tie in
+  // distance goes to the lower index). Occlusion, whose answer is the same in any order, takes the
+  // objects with the most rays first: mostly those the rays leave, which occlude the most, so that
+  // their flushes settle rays before the objects the rays merely pass are traced (1024 bunnies' AO
+  // rays: 5% fewer pairs traced; ratio to Embree's instancing, medians of 8 interleaved rounds,
+  // 3.88x -> 4.02x).
   tree_.rays_by_item(rays, closest ? nullptr : occluded, s.by_object);
-  std::sort(s.by_object.lists.begin(), s.by_object.lists.end(), [](const ItemRays::List& a, const ItemRays::List& b) { return a.item < b.item; });
+  std::sort(s.by_object.lists.begin(), s.by_object.lists.end(), [closest](const ItemRays::List& a, const ItemRays::List& b) {
+    if (!closest && a.count != b.count) return a.count > b.count;
+    return a.item < b.item;
+  });
   // Occlusion: the (ray, object) pairs of objects sharing a field are mapped into object space and
   // traced together, as one stream of consecutive rays through the field's kernel: an object's own
   // few rays would fill few packets, gathered from its list and transformed per packet, with the
