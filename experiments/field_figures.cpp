@@ -362,7 +362,8 @@ constexpr int kFigure8Rounds = 15;
 // Figure 8: each model of `folder` alone in the corner, then three of them together, at 4226 x 32^2.
 void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostream& out) {
   const char* const models[] = {"cow.obj", "bun_zipper.ply", "igea-triangles.ply", "dragon_vrip_res2.ply", "Armadillo.ply"};
-  out << "4226 positions x 32x32 concentric u8 cells; " << rays.size() << " AO rays from the corner per model.\n\n"
+  out << "4226 positions x 32x32 concentric u8 cells; " << rays.size() << " AO rays from the corner per model. Times: medians of "
+      << kFigure8Rounds << " rounds, each running the BVH, the field and Embree in turn, after one warm-up.\n\n"
       << "| model | triangles | exact AO s (BVH) | exact AO s (Embree) | precompute s | field AO s | field vs Embree | RMS (0-255) | paper: triangles / ray casting s / precompute s / AO s |\n"
       << "|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
   const auto row = [&](const std::string& name, const Scene& scene) {

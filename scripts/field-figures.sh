@@ -30,7 +30,7 @@ copies_tables() {
   echo "# ObjectField measurements"
   echo
   echo "Written by \`scripts/field-figures.sh MODELS_DIR\` on $(date -u +%Y-%m-%d), $threads threads, $(lscpu | sed -n 's/^Model name: *//p' | head -1)."
-  echo "Times are medians of three runs after a warm-up; on a shared machine single figures read up to 10% apart."
+  echo "Times are medians of three runs after a warm-up (fig8: of 15 rounds, interleaved); on a shared machine single figures read up to 10% apart."
   echo "The README's ObjectField section says what they mean."
   echo
   echo "## Speed against Embree on the same rays"
@@ -168,6 +168,13 @@ with the BVH's interleaved walks)."
   echo "| the setup's reciprocals 16 at a time; then also its rays written without a branch on the skipped ones | 8 rounds each: medians 3.95x -> 3.97x; 3.92x -> 3.81x | no |"
   echo "| the rows' compress once and permutes in \`append_meeting_sphere\` too | 3 rounds: 9 bunnies 5.98-6.23x -> 5.72-5.93x, 1024 bunnies 3.59-4.18x -> 3.61-3.95x | no |"
   echo "| an object's rays read where they lie in the block (16 rows through their ids, transposed) instead of copied side by side first | 3 rounds: 1024 bunnies 3.40-3.89x -> 3.46-3.66x, 9 bunnies 5.09-5.65x -> 4.44-5.62x | no |"
+  echo "| (2026-11-28, a later session; 1024 bunnies, ratios to Embree's instancing) occlusion through the tree takes the objects with the most rays first, not in index order (the answer is the same in any order; the objects the rays leave occlude the most, and their flushes settle rays before the objects the rays merely pass are traced) | 8 rounds: medians 3.88x -> 4.02x; 5% fewer (ray, object) pairs traced (854,569 -> 812,740 a million rays) | yes |"
+  echo "| the spheres tested at the tree's leaves as well as their boxes (a loose line-to-centre test on the columns, the directions from the reciprocals by one division a chunk), so that the objects' lists hold only rays near their spheres | 5 rounds: medians 3.76x -> 3.65x (with rcp14 instead of the division, timing only: 3.65x); pairs in the lists 1.64M -> 1.05M a million rays | no: the tests and divisions in the tree pass cost more than the copies and sphere tests they spare |"
+  echo "| each ray's near objects first: a tree pass of the rays cut at 0.5-4 times the largest radius, traced, then the full pass for the rays still open | 2 rounds: 3.89-3.94x -> 2.35-2.86x | no: 20% of the rays settle on the ground, 32% after the near pass, 40% in all; the open 60% pay for both passes |"
+  echo "| flushes every 512 or 2048 pairs instead of 1024 (with the order above) | 6 rounds: medians 3.97x (1024), 4.06x (512), 4.11x (2048) | no: within the noise |"
+  echo "| the rays of an object's list prefetched 16 ids ahead as they are copied | 6 rounds: medians 4.05x -> 3.83x | no |"
+  echo "| fig8, cow: the kernel's rays prefetched 0, 8 or 16 packets ahead instead of 4 | 2 rounds: 4 and 8 level (6.1-6.4x), 0 worse (5.3x) | no |"
+  echo "| fig8, cow, parts taken out one at a time (temporary switches, timing only): every ray culled (no lookups); then also no mapping to object space; then the rays loaded without transposing | field AO 2.8-3.4 ms -> 1.3-1.4 ms -> 1.1-1.2 ms -> 1.1-1.4 ms | the bound: reading the 27 MB of rays takes ~1.2 ms and the lookups of the 29% that meet the cow's sphere ~1.5 ms, so 10x Embree's 18-23 ms (1.8-2.3 ms) is out of reach on this machine |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
