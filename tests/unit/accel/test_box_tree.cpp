@@ -2,9 +2,11 @@
 // the single-ray query gives (items_met), at each width this build runs, on boxes and rays chosen
 // to meet the box test's edge cases (origins on slab planes with zero direction components, rays
 // that touch a box at their origin alone, flat and nested boxes, finite and shifted ray intervals,
-// rays that all share one interval, skipped rays).
+// intervals that end just before a box or start just after it, so that only their widening lets
+// the box in, rays that all share one interval, skipped rays).
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <set>
@@ -40,7 +42,7 @@ std::vector<Ray> adversarial_rays(Rng& rng, const std::vector<Bounds3f>& boxes) 
     Ray ray;
     ray.org = {rng.uniform() * 24 - 12, rng.uniform() * 6 - 3, rng.uniform() * 24 - 12};
     ray.dir = {rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1};
-    switch (i % 6) {
+    switch (i % 8) {
       case 1:  // a zero direction component, the origin on a box's slab plane on that axis
       {
         const Bounds3f& b = boxes[rng.next_u32() % (boxes.size() - 1)];
@@ -68,6 +70,32 @@ std::vector<Ray> adversarial_rays(Rng& rng, const std::vector<Bounds3f>& boxes) 
         const bool high = i % 12 == 5;
         ray.org[axis] = high ? b.hi[axis] : b.lo[axis];
         ray.dir[axis] = high ? 0.5f + rng.uniform() : -0.5f - rng.uniform();
+        break;
+      }
+      case 6:  // an interval that ends a hair before the ray reaches a box: met through its widening alone
+      case 7:  // an interval that starts a hair after the ray leaves a box: the same
+      {
+        const Bounds3f& b = boxes[rng.next_u32() % (boxes.size() - 1)];
+        ray.dir = b.center() - ray.org;
+        double entry = 0.0, exit = std::numeric_limits<double>::infinity();
+        int entry_axis = 0, exit_axis = 0;
+        for (int a = 0; a < 3; ++a) {
+          const double t0 = (static_cast<double>(b.lo[a]) - ray.org[a]) / ray.dir[a], t1 = (static_cast<double>(b.hi[a]) - ray.org[a]) / ray.dir[a];
+          if (std::min(t0, t1) > entry) entry = std::min(t0, t1), entry_axis = a;
+          if (std::max(t0, t1) < exit) exit = std::max(t0, t1), exit_axis = a;
+        }
+        // The tree's boxes are grown by 2^-16 of their largest extent (x times 2^-16 of the
+        // distance, in t), the far end of the box test by 2^-16 more, and the interval by 2^-16 of
+        // itself: a hair of 2^-16 (x + 3/2) misses the grown box unless the interval is widened.
+        const double extent = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
+        if (i % 8 == 6 && entry > 0.0 && entry < exit) {
+          const double x = extent / (std::fabs(ray.dir[entry_axis]) * entry);
+          ray.tmax = static_cast<float>(entry * (1.0 - 0x1p-16 * (x + 1.5)));
+        }
+        if (i % 8 == 7 && exit > 0.0 && entry < exit) {
+          const double x = extent / (std::fabs(ray.dir[exit_axis]) * exit);
+          ray.tmin = static_cast<float>(exit * (1.0 + 0x1p-16 * (x + 1.5)));
+        }
         break;
       }
       default:
