@@ -89,7 +89,7 @@ M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* ra
 }
 
 /// may_meet_sphere() on rays in columns (origin, direction, tmin, tmax).
-M meets_sphere(const Vec3f& centre, float radius, const F c[8]) {
+[[gnu::always_inline]] inline M meets_sphere(const Vec3f& centre, float radius, const F c[8]) {
   const F dx = c[3], dy = c[4], dz = c[5];
   const float wide = radius * 1.001f;
   const F ocx = L::splat(centre.x) - c[0], ocy = L::splat(centre.y) - c[1], ocz = L::splat(centre.z) - c[2];
