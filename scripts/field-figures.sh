@@ -10,6 +10,10 @@ cd "$(dirname "$0")/.."
 root=$(pwd)
 models=${1:?usage: scripts/field-figures.sh MODELS_DIR [OUT.md]}
 out=${2:-docs/objectfield-measurements.md}
+if [[ ! -f "$models/bun_zipper.ply" ]]; then
+  echo "field-figures: error: $models holds no bun_zipper.ply (usage: scripts/field-figures.sh MODELS_DIR [OUT.md])" >&2
+  exit 2
+fi
 bin=build/bin
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -173,6 +177,10 @@ with the BVH's interleaved walks)."
   echo "| each ray's near objects first: a tree pass of the rays cut at 0.5-4 times the largest radius, traced, then the full pass for the rays still open | 2 rounds: 3.89-3.94x -> 2.35-2.86x | no: 20% of the rays settle on the ground, 32% after the near pass, 40% in all; the open 60% pay for both passes |"
   echo "| flushes every 512 or 2048 pairs instead of 1024 (with the order above) | 6 rounds: medians 3.97x (1024), 4.06x (512), 4.11x (2048) | no: within the noise |"
   echo "| the rays of an object's list prefetched 16 ids ahead as they are copied | 6 rounds: medians 4.05x -> 3.83x | no |"
+  echo "| the tree pass's setup 16 rays at a time: read as rows, turned into columns in registers (the field kernel's transpose, now shared), reciprocals on lanes, skipped rays left out by one compress of lane numbers and a permute a column | 6 rounds: medians 3.89x -> 4.06x; 4 more after the transpose was shared: 3.96x -> 4.05x | yes |"
+  echo "| (then) \`meets_sphere\` forced inline: the shared transpose had made GCC call it from \`append_meeting_sphere\` (9 bunnies 5.96x -> 5.42x) | 6 rounds against the session's first build: 9 bunnies 5.80x -> 5.99x, 1024 bunnies 3.92x -> 4.22x | yes |"
+  echo "| leaves of 2 or 4 objects instead of 1 (the tree's visited nodes hold 3.3 children on average) | 5 rounds: medians 3.94x (1), 3.91x (2), 3.92x (4) | no: level |"
+  echo "| blocks of 8192 rays instead of 16384 | 5 rounds: 1024 bunnies 4.19x -> 3.95x | no |"
   echo "| fig8, cow: the kernel's rays prefetched 0, 8 or 16 packets ahead instead of 4 | 2 rounds: 4 and 8 level (6.1-6.4x), 0 worse (5.3x) | no |"
   echo "| fig8, cow, parts taken out one at a time (temporary switches, timing only): every ray culled (no lookups); then also no mapping to object space; then the rays loaded without transposing | field AO 2.8-3.4 ms -> 1.3-1.4 ms -> 1.1-1.2 ms -> 1.1-1.4 ms | the bound: reading the 27 MB of rays takes ~1.2 ms and the lookups of the 29% that meet the cow's sphere ~1.5 ms, so 10x Embree's 18-23 ms (1.8-2.3 ms) is out of reach on this machine |"
   echo
@@ -218,5 +226,7 @@ with the BVH's interleaved walks)."
     echo '```'
     echo
   done
-} | sed -e "s|$models|MODELS_DIR|g" -e "s|$work/||g" > "$out"
+} | sed -e "s|$models|MODELS_DIR|g" -e "s|$work/||g" > "$work/out.md"
+# Written whole or not at all: a run that fails part way leaves the last document as it was.
+mv "$work/out.md" "$out"
 echo "wrote $out"
