@@ -354,7 +354,7 @@ struct PaperRow {
   const char* model;
   const char* figures;
 };
-constexpr PaperRow kPaperFigure8[] = {{"bunny", "39,000 / 331.10 / 54.79 / 0.228"}, {"igea", "67,200 / 616.35 / 243.76 / 0.204"}};
+constexpr PaperRow kPaperFigure8[] = {{"bun_zipper", "39,000 / 331.10 / 54.79 / 0.228"}, {"igea", "67,200 / 616.35 / 243.76 / 0.204"}};
 
 /// Timed rounds of Figure 8's structures (bvh, field, Embree interleaved; the median of each).
 constexpr int kFigure8Rounds = 15;

@@ -4,7 +4,7 @@
 # visfield-experiments --figure, and the GPU paper's Figures 3 and 5 on the CPU.
 # Usage: [SNOWDEN=BUST.ply] scripts/field-figures.sh MODELS_DIR [OUT.md]   (MODELS_DIR holds bun_zipper.ply, cow.obj, ...)
 # With SNOWDEN (written by scripts/snowden-mesh.sh: a scanned mesh not among the shared models) the
-# many-copies measurement runs on its copies too. Takes about 8 minutes on 2 cores.
+# many-copies measurement runs on its copies too. Takes 8-12 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
