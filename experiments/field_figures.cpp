@@ -368,7 +368,7 @@ void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostre
       << "|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
   const auto row = [&](const std::string& name, const Scene& scene) {
     SceneGeometry geometry(scene);
-    // The field's run is a few milliseconds: 15 interleaved rounds keep a moment's machine load from
+    // The field's run is a few milliseconds: interleaved rounds keep a moment's machine load from
     // deciding its ratio to Embree.
     std::vector<std::string> specs = {"bvh", "field"};
     if (kHaveEmbree) specs.push_back(kEmbreeName);
