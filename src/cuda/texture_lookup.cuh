@@ -33,7 +33,7 @@ __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTable
   const int sample = field::nearest_position(v.point, f.lattice_n, f.upper);
   const field::SampleRead r = field::sample_read(f, v, sample);
   float s, t;
-  field::square_of(f, sample, r.q, s, t);
+  field::square_of(f, r.frame, r.q, s, t);
   const field::FieldAnswer a =
       texture_cell(tex, stack, sample, field::cell_of(s, f.directions), field::cell_of(t, f.directions), f.directions);
   return field::place_answer(f, v, field::shifted_answer(r, a));

@@ -427,13 +427,13 @@ class FieldKernel {
     }
   };
 
-  /// read_direction on lanes: sample `sample` with inward normal `w`, direction `d`.
-  /// The square point (s, t) of unit direction `d` in the table of the sample with inward normal `w`.
-  [[gnu::always_inline]] static void square_point(const FieldTables& f, const Vec& w, const Vec& d, M m, F& s, F& t) {
+  /// square_of on lanes: the square point (s, t) of unit direction `d` in the table of the sample
+  /// with inward normal `w`, whose frame is orthonormal_basis(w, inverse) (inverse = 1 / basis_denominator(w)).
+  [[gnu::always_inline]] static void square_point(const FieldTables& f, const Vec& w, F inverse, const Vec& d, M m, F& s, F& t) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
-    // orthonormal_basis(w)
+    // orthonormal_basis(w, inverse)
     const F sign = copysign(one, w.z);
-    const F a = L::splat(-1.0f) / (sign + w.z);
+    const F a = -inverse;
     const F b = w.x * w.y * a;
     const Vec u{one + sign * w.x * w.x * a, sign * b, -sign * w.x};
     const Vec v{b, sign + w.y * w.y * a, -w.y};
@@ -449,11 +449,12 @@ class FieldKernel {
     to_square(f.mapping, local, s, t);
   }
 
-  /// read_direction on lanes: sample `sample` with inward normal `w`, direction `d`.
-  [[gnu::always_inline]] static Answer read_direction(const FieldTables& f, I sample, const Vec& w, const Vec& d, M m) {
+  /// read_direction on lanes: sample `sample` with inward normal `w` (its frame's `inverse` as
+  /// square_point's), direction `d`.
+  [[gnu::always_inline]] static Answer read_direction(const FieldTables& f, I sample, const Vec& w, F inverse, const Vec& d, M m) {
     const F one = L::splat(1.0f);
     F s, t;
-    square_point(f, w, d, m, s, t);
+    square_point(f, w, inverse, d, m, s, t);
     const int n = f.directions;
     if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n), m);
     const F n_f = L::splat(static_cast<float>(n)), half = L::splat(0.5f);
@@ -513,7 +514,7 @@ class FieldKernel {
     c.magnitude_point = {abs(e.x), abs(e.y), ez};
     const F r = sqrt(max(one - ez, zero));
     const F phi = atan2(abs(e.y), abs(e.x));
-    const F v = r * phi / L::splat(hd::kPi<float> / 2), u = r - v;
+    const F v = r * phi * L::splat(2 / hd::kPi<float>), u = r - v;
     const F n_f = L::splat(static_cast<float>(n)), minus_n_f = L::splat(static_cast<float>(-n));
     const F la = select(e.x > zero, n_f * u, select(e.x < zero, minus_n_f * u, zero));
     const F lb = select(e.y > zero, n_f * v, select(e.y < zero, minus_n_f * v, zero));
@@ -586,28 +587,37 @@ class FieldKernel {
   };
 
   /// sample_read on lanes: the sample with inward normal `w`, the lanes' Geometry `g` and their
-  /// parallel direction `q`; the direction to read in, the shift of a hit's distance and its limit.
+  /// parallel direction `q`; the direction to read in, the shift of a hit's distance and its limit,
+  /// and 1 / basis_denominator(w) for the sample's frame (shared with the line's 1 / len, as there).
   [[gnu::always_inline]] static void sample_read(const FieldTables& f, const Geometry& g, const Vec& w, const Vec& q, Vec& read, F& shift,
-                                                 F& limit) {
-    const F zero = L::splat(0.0f), beyond = L::splat(2.0f);
+                                                 F& limit, F& inverse) {
+    const F zero = L::splat(0.0f), one = L::splat(1.0f), beyond = L::splat(2.0f);
+    const F denominator = copysign(one, w.z) + w.z;
+    shift = zero;
+    limit = beyond;
     if (f.sample_line == SampleLine::parallel) {
       read = q;
-      shift = zero;
-      limit = beyond;
+      inverse = one / denominator;
       return;
     }
     const F radius = L::splat(f.radius);
     const Vec line{fma(w.x, radius, g.far.x), fma(w.y, radius, g.far.y), fma(w.z, radius, g.far.z)};
     const F len = sqrt(dot(line, line));
     const M long_enough = len > L::splat(kShortestLine * f.radius);
-    const F inv = L::splat(1.0f) / len;
+    // hd::reciprocals(len, denominator) where the line is long enough; elsewhere 1 / (1 · denominator)
+    // and 1 · that, the frame's own quotient.
+    const F len_or_one = select(long_enough, len, one);
+    const F p = one / (len_or_one * denominator);
+    const F inv = denominator * p;
+    inverse = len_or_one * p;
     read = {select(long_enough, line.x * inv, q.x), select(long_enough, line.y * inv, q.y), select(long_enough, line.z * inv, q.z)};
     const M from_inside = long_enough & g.inside;
-    const F diameter = L::splat(2.0f * f.radius);
-    shift = select(from_inside, (g.s_exit - len) / diameter, zero);
+    if (!any(from_inside)) return;  // from outside (the corner's rays): neither a shift nor a limit
+    const F inv_diameter = L::splat(inverse_diameter(f));
+    shift = select(from_inside, (g.s_exit - len) * inv_diameter, zero);
     const Vec apart{read.x - q.x, read.y - q.y, read.z - q.z};
     const F chord = sqrt(dot(apart, apart));
-    limit = select(from_inside, len / diameter - max(L::splat(f.self_offset), L::splat(kChordShare) * chord), beyond);
+    limit = select(from_inside, len * inv_diameter - max(L::splat(f.self_offset), L::splat(kChordShare) * chord), beyond);
   }
 
   /// shifted_answer on lanes.
@@ -619,9 +629,9 @@ class FieldKernel {
   /// read_sample on lanes: the sample `sample` with inward normal `w`.
   [[gnu::always_inline]] static Answer read_sample(const FieldTables& f, const Geometry& g, I sample, const Vec& w, const Vec& q, M m) {
     Vec read;
-    F shift, limit;
-    sample_read(f, g, w, q, read, shift, limit);
-    Answer a = read_direction(f, sample, w, read, m);
+    F shift, limit, inverse;
+    sample_read(f, g, w, q, read, shift, limit, inverse);
+    Answer a = read_direction(f, sample, w, inverse, read, m);
     shift_answer(a, shift, limit);
     return a;
   }
@@ -736,9 +746,10 @@ class FieldKernel {
     l.g = geometry(f, r, valid, e, q);
     nearest_sample(f, corners(f, e), l.g.active, l.sample, w);
     Vec read;
-    sample_read(f, l.g, w, q, read, l.shift, l.limit);
+    F inverse;
+    sample_read(f, l.g, w, q, read, l.shift, l.limit, inverse);
     F s, t;
-    square_point(f, w, read, l.g.active, s, t);
+    square_point(f, w, inverse, read, l.g.active, s, t);
     l.i = cell_of(s, f.directions);
     l.j = cell_of(t, f.directions);
   }

@@ -22,10 +22,11 @@ constexpr double kTraceFlops = 34 + 40 + 48 + 7;
 constexpr double kTraceIntOps = 40;        // lattice indices, point_index, the cell address
 constexpr double kDirectionFlops = 48;     // one more read_direction (bilinear, blend)
 // sample_read() through the far end, per positional sample read: the exit point 3, the line 3, its
-// length (dot product, sqrt) 4, the unit direction (division, 3 products) 4, the shift 3; from
-// inside, the limit: the two directions apart 3, its length 4, the share, max, division, subtraction
-// and the test against it 5.
-constexpr double kThroughFlops = 29;
+// length (dot product, sqrt) 4, the unit direction and the frame's reciprocal from one division
+// (hd::reciprocals: 4, then 3 products) 7 less the frame's own division 1, the shift 3; from inside,
+// the limit: the two directions apart 3, its length 4, the share, max, product, subtraction and the
+// test against it 5.
+constexpr double kThroughFlops = 31;
 constexpr double kTransformFlops = 18;     // world-to-object ray (two 3x3 products, a subtraction)
 // ao_ray(): the generator's two numbers (integer), concentric_disk 14, sincos_eighth 19,
 // Malley's lift 5, the frame 15.

@@ -54,6 +54,13 @@ VF_HOST_DEVICE inline double copysign(double x, double s) { return ::copysign(x,
 VF_HOST_DEVICE inline float fma(float a, float b, float c) { return ::fmaf(a, b, c); }
 /// a·b + c rounded once, double; host and device.
 VF_HOST_DEVICE inline double fma(double a, double b, double c) { return ::fma(a, b, c); }
+/// 1/x and 1/y from one division, 1/(x·y) times y and times x (within 1.5 ulp of the quotients;
+/// x·y must neither overflow nor vanish): the SIMD field lookup's divider is its busiest unit.
+VF_HOST_DEVICE inline void reciprocals(float x, float y, float& inv_x, float& inv_y) {
+  const float p = 1.0f / (x * y);
+  inv_x = y * p;
+  inv_y = x * p;
+}
 
 /// atan(x) for |x| <= 1 as the field lookups compute it in float: an odd minimax polynomial of
 /// degree 11 (|error| < 2e-6 rad) evaluated by Horner's rule in explicit fused multiply-adds, which

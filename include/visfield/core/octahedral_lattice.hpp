@@ -50,7 +50,9 @@ template <class Real>
 VF_HOST_DEVICE inline void coordinates(const hd::Vec3<Real>& d, int n, Real& a, Real& b) {
   const Real r = hd::sqrt(hd::max(Real(0), Real(1) - d.z));
   const Real phi = hd::lookup_atan2(hd::abs(d.y), hd::abs(d.x));
-  const Real v = r * phi / (hd::kPi<Real> / 2), u = r - v;
+  // A product by the constant 2/π, not a division by π/2: lookups run on lanes whose divider is
+  // their busiest unit (docs/objectfield-measurements.md).
+  const Real v = r * phi * (2 / hd::kPi<Real>), u = r - v;
   a = d.x > 0 ? n * u : (d.x < 0 ? -n * u : Real(0));
   b = d.y > 0 ? n * v : (d.y < 0 ? -n * v : Real(0));
 }

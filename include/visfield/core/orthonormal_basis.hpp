@@ -15,13 +15,26 @@ struct OrthonormalBasis {
   hd::Vec3<Real> u, v, w;
 };
 
+/// sign(w.z) + w.z, +0 counting as positive: what orthonormal_basis(w) divides by (magnitude in [1, 2]).
+template <class Real>
+VF_HOST_DEVICE inline Real basis_denominator(const hd::Vec3<Real>& w) {
+  return hd::copysign(Real(1), w.z) + w.z;
+}
+
+/// orthonormal_basis(w) given `inverse` = 1 / basis_denominator(w), for a caller that gets the
+/// reciprocal from a division it shares (hd::reciprocals); the same bits when it is the quotient.
+template <class Real>
+VF_HOST_DEVICE inline OrthonormalBasis<Real> orthonormal_basis(const hd::Vec3<Real>& w, Real inverse) {
+  const Real sign = hd::copysign(Real(1), w.z);
+  const Real a = -inverse;
+  const Real b = w.x * w.y * a;
+  return {{Real(1) + sign * w.x * w.x * a, sign * b, -sign * w.x}, {b, sign + w.y * w.y * a, -w.y}, w};
+}
+
 /// The basis around unit `w` (the sign of w.z picks the construction; +0 counts as upper).
 template <class Real>
 VF_HOST_DEVICE inline OrthonormalBasis<Real> orthonormal_basis(const hd::Vec3<Real>& w) {
-  const Real sign = hd::copysign(Real(1), w.z);
-  const Real a = Real(-1) / (sign + w.z);
-  const Real b = w.x * w.y * a;
-  return {{Real(1) + sign * w.x * w.x * a, sign * b, -sign * w.x}, {b, sign + w.y * w.y * a, -w.y}, w};
+  return orthonormal_basis(w, Real(1) / basis_denominator(w));
 }
 
 }  // namespace vf

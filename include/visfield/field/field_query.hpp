@@ -166,13 +166,12 @@ VF_HOST_DEVICE inline bool bilinear_cell(const FieldTables& f, int& i, int& j) {
   return cell_used<float>(f.mapping, i, j, n);
 }
 
-/// Where unit direction `d` (pointing into the sphere) falls in the table of `sample`: the direction
-/// in the sample's hemisphere frame (built from its inward normal as the precompute built it),
-/// mapped to the unit square (s, t).
-VF_HOST_DEVICE inline void square_of(const FieldTables& f, int sample, const hd::Vec3<float>& d, float& s, float& t) {
-  const hd::Vec3<float> w = sample_inward(f, sample);
-  const OrthonormalBasis<float> basis = orthonormal_basis(w);
-  hd::Vec3<float> local{hd::fused_dot(basis.u, d), hd::fused_dot(basis.v, d), hd::fused_dot(w, d)};
+/// Where unit direction `d` (pointing into the sphere) falls in a sample's table: the direction in
+/// the sample's hemisphere frame (orthonormal_basis of its inward normal, as the precompute built
+/// it; SampleRead::frame), mapped to the unit square (s, t).
+VF_HOST_DEVICE inline void square_of(const FieldTables& f, const OrthonormalBasis<float>& frame, const hd::Vec3<float>& d, float& s,
+                                     float& t) {
+  hd::Vec3<float> local{hd::fused_dot(frame.u, d), hd::fused_dot(frame.v, d), hd::fused_dot(frame.w, d)};
   if (local.z < 0.0f) {  // grazing: the sample's pole differs a little from the entry point's normal
     const float planar = hd::sqrt(hd::fma(local.x, local.x, local.y * local.y));
     local = planar > 0.0f ? hd::Vec3<float>{local.x / planar, local.y / planar, 0.0f} : hd::Vec3<float>{0.0f, 0.0f, 1.0f};
@@ -180,11 +179,12 @@ VF_HOST_DEVICE inline void square_of(const FieldTables& f, int sample, const hd:
   direction_to_square(f.mapping, local, s, t);
 }
 
-/// The table of `sample` read in unit direction `d` (pointing into the sphere): the cell square_of()
-/// finds, or the bilinear vote of the four cells around it.
-VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sample, const hd::Vec3<float>& d) {
+/// The table of `sample` (hemisphere frame `frame`) read in unit direction `d` (pointing into the
+/// sphere): the cell square_of() finds, or the bilinear vote of the four cells around it.
+VF_HOST_DEVICE inline FieldAnswer read_direction(const FieldTables& f, int sample, const OrthonormalBasis<float>& frame,
+                                                 const hd::Vec3<float>& d) {
   float s, t;
-  square_of(f, sample, d, s, t);
+  square_of(f, frame, d, s, t);
   const int n = f.directions;
   if (f.direction_lookup == DirectionLookup::nearest) return read_cell(f, sample, cell_of(s, n), cell_of(t, n));
   const float fx = hd::fma(s, static_cast<float>(n), -0.5f), fy = hd::fma(t, static_cast<float>(n), -0.5f);
@@ -234,23 +234,31 @@ inline constexpr float kChordShare = 0.25f;
 struct SampleRead {
   hd::Vec3<float> q{0.0f, 0.0f, 0.0f};
   float shift = 0.0f;
-  float limit = 2.0f;  // beyond any stored distance
+  float limit = 2.0f;            // beyond any stored distance
+  OrthonormalBasis<float> frame;  // the sample's hemisphere frame, which square_of() reads q in
 };
 
-/// The read of `sample` for visit `v` (O(1); two square roots and a division when through).
+/// 1 / 2R: distances along a read are divided by the diameter as products by this constant (the
+/// SIMD lookup's divider is its busiest unit; every implementation rounds it alike).
+VF_HOST_DEVICE inline float inverse_diameter(const FieldTables& f) { return 1.0f / (2.0f * f.radius); }
+
+/// The read of `sample` for visit `v` (O(1); two square roots and a division when through: the
+/// line's length and the frame share one, hd::reciprocals).
 VF_HOST_DEVICE inline SampleRead sample_read(const FieldTables& f, const SphereVisit& v, int sample) {
-  if (f.sample_line == SampleLine::parallel) return {v.read, 0.0f, 2.0f};
   const hd::Vec3<float> w = sample_inward(f, sample);  // the sample's point is −R·w
+  if (f.sample_line == SampleLine::parallel) return {v.read, 0.0f, 2.0f, orthonormal_basis(w)};
   const hd::Vec3<float> g{hd::fma(w.x, f.radius, v.far.x), hd::fma(w.y, f.radius, v.far.y), hd::fma(w.z, f.radius, v.far.z)};
   const float len = hd::sqrt(hd::fused_dot(g, g));
-  if (!(len > kShortestLine * f.radius)) return {v.read, 0.0f, 2.0f};
-  const float inv = 1.0f / len;
+  if (!(len > kShortestLine * f.radius)) return {v.read, 0.0f, 2.0f, orthonormal_basis(w)};
+  float inv, inv_denominator;
+  hd::reciprocals(len, basis_denominator(w), inv, inv_denominator);
+  const OrthonormalBasis<float> frame = orthonormal_basis(w, inv_denominator);
   const hd::Vec3<float> q{g.x * inv, g.y * inv, g.z * inv};
-  if (!v.inside) return {q, 0.0f, 2.0f};
-  const float diameter = 2.0f * f.radius;
+  if (!v.inside) return {q, 0.0f, 2.0f, frame};
+  const float inv_diameter = inverse_diameter(f);
   const hd::Vec3<float> apart{q.x - v.read.x, q.y - v.read.y, q.z - v.read.z};
   const float chord = hd::sqrt(hd::fused_dot(apart, apart));
-  return {q, (v.s_exit - len) / diameter, len / diameter - hd::max(f.self_offset, kChordShare * chord)};
+  return {q, (v.s_exit - len) * inv_diameter, len * inv_diameter - hd::max(f.self_offset, kChordShare * chord), frame};
 }
 
 /// Answer `a` of the table read `r` describes: a miss where its hit is not short of r.limit,
@@ -265,7 +273,7 @@ VF_HOST_DEVICE inline FieldAnswer shifted_answer(const SampleRead& r, FieldAnswe
 /// The table of `sample` read for visit `v` along sample_read()'s line (shifted_answer()).
 VF_HOST_DEVICE inline FieldAnswer read_sample(const FieldTables& f, const SphereVisit& v, int sample) {
   const SampleRead r = sample_read(f, v, sample);
-  return shifted_answer(r, read_direction(f, sample, r.q));
+  return shifted_answer(r, read_direction(f, sample, r.frame, r.q));
 }
 
 /// The answer for visit `v`: at the sample nearest to v.point, or the blend of the three around it.
