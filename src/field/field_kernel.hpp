@@ -4,8 +4,10 @@
 // operations, so every lane's answer is bit for bit trace_field()'s (tests/unit/field checks it):
 // the arctangents are field_query's polynomial, the table reads are gathers, branches are masks.
 // Cycles go to the gathers (three candidate samples × three coordinates, one cell code, and the
-// ray itself when it is gathered from an array of Rays) and to the arithmetic of the two
-// arctangents and the hemisphere frame; see docs/objectfield-measurements.md.
+// ray itself when it is gathered from an array of Rays), to the arithmetic of the two
+// arctangents and the hemisphere frame, and on Intel's cores to the divider (a packet read from
+// inside takes four divisions and six square roots; the query shares and avoids divisions for
+// it); see docs/objectfield-measurements.md.
 
 #include <bit>
 #include <cstddef>
