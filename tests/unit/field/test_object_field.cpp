@@ -14,6 +14,7 @@
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
+#include "visfield/core/octahedral_lattice.hpp"
 #include "visfield/core/orthonormal_basis.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/rng.hpp"
@@ -280,7 +281,10 @@ TEST(ObjectField, ReadingThroughTheFarEndLowersTheErrors) {
 
 // Object-space rays as rows (structure of arrays): half from outside towards the object, half from
 // inside in any direction, some with a raised tmin or a short tmax, and a few invalid ones (NaN
-// origin, zero direction, tmin above tmax).
+// origin, zero direction, tmin above tmax). One outside ray in seven grazes the sphere a hair inside
+// a positional sample of the coarsest lattice (half-width 8, whose points every finer one shares):
+// the line from that sample through its exit is too short to have a direction (kShortestLine), so
+// a packet mixes reads through the far end with parallel ones.
 struct ProbeRows {
   std::vector<float> rows[8];
   ObjectRays view() const {
@@ -297,9 +301,18 @@ ProbeRows probe_rows(const BoundingSphere& s, std::size_t count, std::uint64_t s
   for (auto& row : r.rows) row.resize(count);
   for (std::size_t q = 0; q < count; ++q) {
     const bool outside = q % 2 == 0;
-    const Vec3f org = s.centre + uniform_sphere(rng.uniform(), rng.uniform()) * (outside ? 2.0f * s.radius : 0.5f * s.radius);
+    Vec3f org = s.centre + uniform_sphere(rng.uniform(), rng.uniform()) * (outside ? 2.0f * s.radius : 0.5f * s.radius);
     const Vec3f target = s.centre + uniform_sphere(rng.uniform(), rng.uniform()) * (0.8f * s.radius);
-    const Vec3f dir = outside ? (target - org) * 0.37f : uniform_sphere(rng.uniform(), rng.uniform()) * 3.0f;
+    Vec3f dir = outside ? (target - org) * 0.37f : uniform_sphere(rng.uniform(), rng.uniform()) * 3.0f;
+    if (outside && q % 7 == 3) {
+      const int i = static_cast<int>(rng.uniform() * 17.0f) - 8, room = 8 - (i < 0 ? -i : i);
+      const int j = static_cast<int>(rng.uniform() * static_cast<float>(2 * room + 1)) - room;
+      const hd::Vec3<float> p = octa::point_direction<float>(i, j, 8);
+      const Vec3f at{p.x, p.y, q % 4 == 0 ? -p.z : p.z};
+      const Vec3f along = normalize(cross(at, std::fabs(at.z) < 0.9f ? Vec3f{0.0f, 0.0f, 1.0f} : Vec3f{1.0f, 0.0f, 0.0f}));
+      org = s.centre + at * (s.radius * (1.0f - 1e-7f)) - along * (2.0f * s.radius);
+      dir = along * 0.37f;
+    }
     float values[8] = {org.x, org.y, org.z, dir.x, dir.y, dir.z, q % 5 == 0 ? 0.1f * s.radius : 0.0f, q % 3 == 0 ? 1.2f * s.radius : 1e30f};
     if (q % 997 == 1) values[0] = std::numeric_limits<float>::quiet_NaN();
     if (q % 997 == 2) values[3] = values[4] = values[5] = 0.0f;
