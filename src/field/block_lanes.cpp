@@ -176,40 +176,57 @@ void mark_rows(const ObjectField& field, RayRows& rows, std::vector<std::uint8_t
   rows.count = 0;
 }
 
-std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
-                                  const InverseTransform& to_object, RayRows& out, const std::uint8_t* skip) {
-  const std::size_t need = out.count + rays.size() + kRowsSlack;
-  for (std::vector<float>& row : out.row)
-    if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
-  if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));
-  std::size_t at = out.count, i = 0;
+void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
+                            const std::uint8_t* skip) {
+  for (const SphereTarget& t : targets) {
+    RayRows& out = *t.out;
+    const std::size_t need = out.count + rays.size() + kRowsSlack;
+    for (std::vector<float>& row : out.row)
+      if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
+    if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));
+  }
+  std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   using Kernel = FieldKernel<L>;
-  float* rows[8];
-  for (int r = 0; r < 8; ++r) rows[r] = out.row[r].data();
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    // A block's rays come from memory on this pass (fields alone: nothing read them before): ask for
+    // those 8 packets on now (the corner's three models: 7.5-8.0x -> 9.4-9.6x Embree; 4 packets 9.2-9.4x, 16 level with 8).
+    for (std::size_t line = 0; line < L::kWidth * sizeof(Ray); line += 64)
+      __builtin_prefetch(reinterpret_cast<const char*>(rays.data() + i + 8 * L::kWidth) + line);
     F c[8];
     L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
-    M meets = meets_sphere(centre, radius, c);
-    if (L::bits(meets) == 0) continue;
-    if (skip) meets = meets & open_lanes(skip + i);
-    if (L::bits(meets) == 0) continue;
-    const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, to_object);
-    const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
-    for (int k = 0; k < 8; ++k) L::compress(rows[k] + at, *column[k], meets);
-    at += static_cast<std::size_t>(L::compress(out.id.data() + at, L::load(ids + i), meets));
+    const M open = skip ? open_lanes(skip + i) : L::all();
+    if (L::bits(open) == 0) continue;
+    for (const SphereTarget& t : targets) {
+      const M meets = meets_sphere(t.centre, t.radius, c) & open;
+      if (L::bits(meets) == 0) continue;
+      const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, *t.to_object);
+      const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
+      RayRows& out = *t.out;
+      for (int k = 0; k < 8; ++k) L::compress(out.row[k].data() + out.count, *column[k], meets);
+      out.count += static_cast<std::size_t>(L::compress(out.id.data() + out.count, L::load(ids + i), meets));
+    }
   }
 #endif
   for (; i < rays.size(); ++i) {
-    if ((skip && skip[i]) || !may_meet_sphere(centre, radius, rays[i])) continue;
-    const Ray r = to_object.apply(rays[i]);
-    const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
-    for (int k = 0; k < 8; ++k) out.row[k][at] = values[k];
-    out.id[at++] = ids[i];
+    if (skip && skip[i]) continue;
+    for (const SphereTarget& t : targets) {
+      if (!may_meet_sphere(t.centre, t.radius, rays[i])) continue;
+      const Ray r = t.to_object->apply(rays[i]);
+      const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
+      RayRows& out = *t.out;
+      for (int k = 0; k < 8; ++k) out.row[k][out.count] = values[k];
+      out.id[out.count++] = ids[i];
+    }
   }
-  const std::size_t added = at - out.count;
-  out.count = at;
-  return added;
+}
+
+std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
+                                  const InverseTransform& to_object, RayRows& out, const std::uint8_t* skip) {
+  const std::size_t before = out.count;
+  const SphereTarget target{centre, radius, &to_object, &out};
+  append_meeting_spheres(std::span<const SphereTarget>(&target, 1), rays, ids, skip);
+  return out.count - before;
 }
 
 }  // namespace vf::field

@@ -54,6 +54,20 @@ struct RayRows {
 /// Rows a RayRows keeps free past its rays: whole-packet stores and padding to whole packets (32 lanes at most).
 inline constexpr std::size_t kRowsSlack = 32;
 
+/// A sphere a block's rays are culled against, the map into its object's space, and the rows its
+/// rays go to.
+struct SphereTarget {
+  Vec3f centre;
+  float radius;
+  const InverseTransform* to_object;
+  RayRows* out;
+};
+
+/// append_meeting_sphere() for each of `targets` in one pass over `rays`: a packet is read and
+/// transposed once for all of them (the same rows, bit for bit, as a call per target).
+void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
+                            const std::uint8_t* skip = nullptr);
+
 /// Appends to `out` the rays of `rays` that may meet the sphere (centre, radius) by may_meet_sphere()
 /// (bit for bit), in order, leaving out rays[k] where skip[k] != 0 when `skip` is given, mapped by
 /// `to_object` as InverseTransform::apply() maps them (bit for bit), with ids[k] as the id of

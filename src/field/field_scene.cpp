@@ -298,13 +298,18 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   }
   if (cull && !closest) {
     // A few objects, occlusion: each object's open rays that may meet its sphere, mapped into object
-    // space as rows in one pass over the block, then traced in whole packets (as among many objects).
-    thread_local RayRows rows;
+    // space as its rows, all objects in one pass over the block (a packet read and transposed once,
+    // not once an object: the corner's three models 6.9-7.1x -> 7.8-8.2x Embree, 9 bunnies 6.0x -> 7.2x),
+    // then each object's rows traced in whole packets (as among many objects).
+    thread_local std::vector<RayRows> rows;
+    thread_local std::vector<SphereTarget> targets;
     thread_local std::vector<std::uint8_t> marks;
-    for (const Object& o : objects_) {
-      append_meeting_sphere(o.centre, o.radius, rays, every_ray().data(), o.to_object, rows, occluded);
-      mark_rows(*o.field, rows, marks, occluded);
-    }
+    rows.resize(objects_.size());
+    targets.clear();
+    for (std::size_t k = 0; k < objects_.size(); ++k)
+      targets.push_back({objects_[k].centre, objects_[k].radius, &objects_[k].to_object, &rows[k]});
+    append_meeting_spheres(targets, rays, every_ray().data(), occluded);
+    for (std::size_t k = 0; k < objects_.size(); ++k) mark_rows(*objects_[k].field, rows[k], marks, occluded);
     return;
   }
   std::vector<std::uint32_t> index;
