@@ -88,18 +88,26 @@ M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* ra
   return hit;
 }
 
-/// may_meet_sphere() on rays in columns (origin, direction, tmin, tmax).
-[[gnu::always_inline]] inline M meets_sphere(const Vec3f& centre, float radius, const F c[8]) {
+/// What may_meet_sphere() computes of a ray alone: made once a packet for every sphere.
+struct LineTerms {
+  F dd, root;  // |dir|^2 and |dir|
+};
+
+[[gnu::always_inline]] inline LineTerms line_terms(const F c[8]) {
+  const F dd = c[3] * c[3] + c[4] * c[4] + c[5] * c[5];
+  return {dd, sqrt(dd)};
+}
+
+/// may_meet_sphere() on rays in columns (origin, direction, tmin, tmax), with their line_terms().
+[[gnu::always_inline]] inline M meets_sphere(const Vec3f& centre, float radius, const F c[8], const LineTerms& line) {
   const F dx = c[3], dy = c[4], dz = c[5];
   const float wide = radius * 1.001f;
   const F ocx = L::splat(centre.x) - c[0], ocy = L::splat(centre.y) - c[1], ocz = L::splat(centre.z) - c[2];
-  const F dd = dx * dx + dy * dy + dz * dz;
+  const F sx = ocy * dz - ocz * dy, sy = ocz * dx - ocx * dz, sz = ocx * dy - ocy * dx;
+  const M near = ~(sx * sx + sy * sy + sz * sz > L::splat(wide * wide) * line.dd);
   const F along = ocx * dx + ocy * dy + ocz * dz;
-  const F q = along / dd;
-  const F px = ocx - dx * q, py = ocy - dy * q, pz = ocz - dz * q;
-  const M near = ~(px * px + py * py + pz * pz > L::splat(wide * wide));
-  const F reach = L::splat(wide) * sqrt(dd);
-  return near & (along + reach >= c[6] * dd) & (along - reach <= c[7] * dd);
+  const F reach = L::splat(wide) * line.root;
+  return near & (along + reach >= c[6] * line.dd) & (along - reach <= c[7] * line.dd);
 }
 
 /// The lanes whose byte of skip[0 .. L::kWidth) is 0.
@@ -120,7 +128,7 @@ M open_lanes(const std::uint8_t* skip) {
 M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
   F c[8];
   L::transpose_rows(reinterpret_cast<const float*>(rays), c);
-  return meets_sphere(centre, radius, c);
+  return meets_sphere(centre, radius, c, line_terms(c));
 }
 #endif
 
@@ -197,8 +205,9 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<con
     L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
     const M open = skip ? open_lanes(skip + i) : L::all();
     if (L::bits(open) == 0) continue;
+    const LineTerms line = line_terms(c);
     for (const SphereTarget& t : targets) {
-      const M meets = meets_sphere(t.centre, t.radius, c) & open;
+      const M meets = meets_sphere(t.centre, t.radius, c, line) & open;
       if (L::bits(meets) == 0) continue;
       const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, *t.to_object);
       const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};

@@ -67,7 +67,9 @@ TEST(BlockLanes, OnePassForSeveralSpheresAppendsTheRowsOfTheScalarTests) {
       EXPECT_EQ(at, rows[k].count) << "object " << k << ", " << n << " rays";
       met += at;
     }
-    if (n > 1000) EXPECT_GT(met, n / 4);  // the spheres do meet a share of the rays
+    if (n > 1000) {
+      EXPECT_GT(met, n / 4);  // the spheres do meet a share of the rays
+    }
   }
 }
 
