@@ -249,8 +249,9 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
   if (kHaveEmbree) out << ", Embree: " << format("%.3f s", run(kEmbreeName, geometry, rays).ao_s);
   out << " for " << rays.size() << " rays.\n\n";
   out << "Each cell: precompute s / AO s / RMS (0-255) of the per-vertex AO with the paper's lookup (one sample, one cell, read "
-         "parallel to the ray) / with bilinear + blend / read through the far end (our default) / through + bilinear + blend; "
-         "the paper's figures (precompute / AO / RMS, its machine) below ours.\n\n";
+         "parallel to the ray) / with bilinear + blend / read through the far end (our default) / through + bilinear + blend / "
+         "the ten stored lines nearest to each ray's chord voting (`lines=1`); the paper's figures (precompute / AO / RMS, its "
+         "machine) below ours.\n\n";
   out << "| positions | 32x32 | 64x64 | 128x128 | 256x256 |\n|---|---|---|---|---|\n";
   const int positions[] = {290, 1090, 4226, 16642};
   // The first read of each table builds it (its precompute time); the other lookups of the same
@@ -269,10 +270,13 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       const Run blended = run(cached + ",through=0,bilinear=1,blend=1", geometry, rays);
       const Run through = run(cached + ",through=1", geometry, rays);
       const Run best = run(cached + ",through=1,bilinear=1,blend=1", geometry, rays);
+      const Run lines = run(cached + ",through=1,lines=1", geometry, rays);
       out << " | " << format("%.2f / %.4f / ", paper.build_s, through.ao_s)
-          << format("%.3f / %.3f / %.3f / %.3f", rms(paper.ao, exact.ao), rms(blended.ao, exact.ao), rms(through.ao, exact.ao), rms(best.ao, exact.ao));
+          << format("%.3f / %.3f / %.3f / %.3f", rms(paper.ao, exact.ao), rms(blended.ao, exact.ao), rms(through.ao, exact.ao), rms(best.ao, exact.ao))
+          << format(" / %.3f", rms(lines.ao, exact.ao));
       image_rows.push_back(format("%.3f / %.3f / %.3f / %.3f", rms(view.image(paper.ao), exact_image), rms(view.image(blended.ao), exact_image),
-                                  rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image)));
+                                  rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image)) +
+                           format(" / %.3f", rms(view.image(lines.ao), exact_image)));
     }
     std::filesystem::remove_all(cache);
     out << " |\n";
@@ -286,7 +290,7 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       << " image of the corner (per-vertex AO interpolated over its triangles; the caster and the background drawn alike in both "
          "images; the corner fills "
       << format("%.0f", 100.0 * static_cast<double>(view.receiver_pixels()) / (FigureView::kSize * FigureView::kSize))
-      << "% of the pixels), with the paper's lookup / bilinear + blend / through / through + bilinear + blend; the paper's RMS below.\n\n"
+      << "% of the pixels), with the paper's lookup / bilinear + blend / through / through + bilinear + blend / lines; the paper's RMS below.\n\n"
       << "| positions | 32x32 | 64x64 | 128x128 | 256x256 |\n|---|---|---|---|---|\n";
   for (int p = 0; p < 4; ++p) {
     out << "| " << positions[p];
@@ -423,7 +427,8 @@ void lookups(const std::string& caster_path, SceneGeometry& corner, const std::v
       << "|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const char* table : {"positions=4226,directions=32", "positions=1090,directions=64", "positions=4226,directions=90,storage=bit"})
     for (const char* lookup : {",through=0", ",through=0,bilinear=1", ",through=0,blend=1", ",through=0,bilinear=1,blend=1", ",through=1",
-                               ",through=1,bilinear=1", ",through=1,blend=1", ",through=1,bilinear=1,blend=1"}) {
+                               ",through=1,bilinear=1", ",through=1,blend=1", ",through=1,bilinear=1,blend=1", ",through=1,lines=1",
+                               ",through=1,bilinear=1,lines=1"}) {
       const std::string spec = std::string("field:") + table + lookup;
       const Run inter = run(spec, corner, corner_rays), intra = run(spec, caster, own);
       const double inter_ns = inter.ao_s * 1e9 / static_cast<double>(corner_rays.size());

@@ -63,7 +63,7 @@ std::size_t run_lanes(const FieldTables& f, int width, std::size_t count, std::s
   std::size_t done = 0;
   const auto run = [&]<class L>(L) {
     using Kernel = FieldKernel<L>;
-    if (!Kernel::reads(cell_bytes, normal_bytes)) return;
+    if (!Kernel::reads(cell_bytes, normal_bytes) || f.position_lookup == PositionLookup::lines) return;
     const std::size_t packets = count / Kernel::kWidth;
     Kernel::stream(
         f, packets, [&](std::size_t k) { return load(Kernel{}, k * Kernel::kWidth); },
@@ -84,7 +84,7 @@ void run_culled(const FieldTables& f, int width, const Ray* rays, const std::uin
   bool ran = false;
   const auto run = [&]<class L>(L) {
     using Kernel = FieldKernel<L>;
-    if (!Kernel::reads(cell_bytes, normal_bytes)) return;
+    if (!Kernel::reads(cell_bytes, normal_bytes) || f.position_lookup == PositionLookup::lines) return;
     std::uint32_t rest_index[2 * Kernel::kWidth + 16], rest_position[2 * Kernel::kWidth + 16];
     std::size_t rest = 0;
     Kernel::stream_culled(f, rays, index, count, limit, to_object, rest_index, rest_position, rest,

@@ -61,7 +61,7 @@ void ObjectFieldConfig::validate() const {
   if (static_cast<int>(normals) >= kNormalStorageCount) throw Error("field normals: unknown value");
   if (direction_lookup != DirectionLookup::nearest && direction_lookup != DirectionLookup::bilinear)
     throw Error("field direction lookup: unknown value");
-  if (position_lookup != PositionLookup::nearest && position_lookup != PositionLookup::blend)
+  if (position_lookup != PositionLookup::nearest && position_lookup != PositionLookup::blend && position_lookup != PositionLookup::lines)
     throw Error("field position lookup: unknown value");
   if (sample_line != SampleLine::parallel && sample_line != SampleLine::through) throw Error("field sample line: unknown value");
 }
@@ -97,8 +97,9 @@ double ObjectField::table_bytes(const ObjectFieldConfig& config) {
   const double averages = config.storage == CellStorage::bit ? 4.0 : 0.0;
   const double padding = config.normals == NormalStorage::none ? 4.0 : 8.0;
   const double lattice_side = static_cast<double>((1 << config.position_level()) + 1);
+  const double centres = config.position_lookup == PositionLookup::lines ? 12.0 * config.directions * config.directions : 0.0;
   return positions * (static_cast<double>(cell_stride_of(config) + normal_stride_of(config)) + averages + 6.0) + padding +
-         8.0 * lattice_side * lattice_side;
+         8.0 * lattice_side * lattice_side + centres;
 }
 
 double ObjectField::estimate_build_bytes(std::size_t triangles, const ObjectFieldConfig& config) {
@@ -120,6 +121,15 @@ ObjectField::ObjectField(const ObjectFieldConfig& config, const BoundingSphere& 
       quadrant_[static_cast<std::size_t>(i * side + j)] =
           std::bit_cast<std::uint32_t>(w.x) | static_cast<unsigned long long>(std::bit_cast<std::uint32_t>(w.y)) << 32;
     }
+  if (config.position_lookup == PositionLookup::lines) {
+    const int n = config.directions;
+    cell_centres_.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const hd::Vec3<double> l = cell_direction<double>(config.mapping, i, j, n);
+        cell_centres_.push_back({static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z)});
+      }
+  }
   self_offset_ = 0.5f / static_cast<float>(config.directions) + 0.25f * (std::numbers::pi_v<float> / 2.0f) / static_cast<float>(lattice_n_);
 }
 
@@ -133,6 +143,7 @@ FieldTables ObjectField::tables() const {
   t.normals = config_.normals;
   t.direction_lookup = config_.direction_lookup;
   t.position_lookup = config_.position_lookup;
+  t.cell_centres = cell_centres_.empty() ? nullptr : cell_centres_.data();
   t.sample_line = config_.sample_line;
   t.centre = {sphere_.centre.x, sphere_.centre.y, sphere_.centre.z};
   t.radius = sphere_.radius;

@@ -40,11 +40,13 @@ FieldSlot pack_field(const field::ObjectField& f, std::vector<unsigned char>& bu
   slot.cells = append(buffer, f.cell_table().data(), f.cell_table().size(), 4);
   slot.averages = append(buffer, f.averages().data(), f.averages().size() * sizeof(float));
   slot.normal_cells = append(buffer, f.normal_table().data(), f.normal_table().size(), 4);
+  slot.cell_centres = append(buffer, t.cell_centres, static_cast<std::size_t>(t.directions) * static_cast<std::size_t>(t.directions) * sizeof(hd::Vec3<float>));
   slot.tables.upper = nullptr;
   slot.tables.quadrant = nullptr;
   slot.tables.cells = nullptr;
   slot.tables.averages = nullptr;
   slot.tables.normal_cells = nullptr;
+  slot.tables.cell_centres = nullptr;
   return slot;
 }
 

@@ -227,11 +227,15 @@ double estimate_beam(const ParamValues& p, const SceneGeometry& geometry) {
 
 // The field's table parameters (field_params.hpp), then how it is looked up and cached, and which meshes it takes.
 constexpr auto kFieldParams = [] {
-  std::array<ParamSpec, field::kTableParams.size() + 6> params{};
+  std::array<ParamSpec, field::kTableParams.size() + 7> params{};
   for (std::size_t i = 0; i < field::kTableParams.size(); ++i) params[i] = field::kTableParams[i];
   std::size_t i = field::kTableParams.size();
   params[i++] = {"bilinear", ParamType::boolean, "0", "interpolate between the four nearest direction cells", 0, 0};
   params[i++] = {"blend", ParamType::boolean, "0", "blend the three positional samples around the entry point", 0, 0};
+  params[i++] = {"lines", ParamType::boolean, "0",
+                 "from outside, the ten stored lines nearest to the ray's chord vote (both chord ends, 3 x 3 cells each): lowest error, "
+                 "slowest; replaces blend",
+                 0, 0};
   params[i++] = {"through", ParamType::boolean, "1",
                  "read each sample along the line through the ray's far end in the sphere (origin from inside, exit from outside), not parallel to the ray",
                  0, 0};
@@ -248,7 +252,10 @@ constexpr auto kFieldParams = [] {
 field::ObjectFieldConfig field_config(const ParamValues& p) {
   field::ObjectFieldConfig c = field::with_table_params({}, p);
   c.direction_lookup = p.boolean("bilinear") ? field::DirectionLookup::bilinear : field::DirectionLookup::nearest;
-  c.position_lookup = p.boolean("blend") ? field::PositionLookup::blend : field::PositionLookup::nearest;
+  if (p.boolean("lines") && p.boolean("blend")) throw Error("field: lines=1 and blend=1 are two position lookups; give one");
+  c.position_lookup = p.boolean("lines")   ? field::PositionLookup::lines
+                      : p.boolean("blend") ? field::PositionLookup::blend
+                                           : field::PositionLookup::nearest;
   c.sample_line = p.boolean("through") ? field::SampleLine::through : field::SampleLine::parallel;
   return c;
 }

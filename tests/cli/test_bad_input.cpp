@@ -275,6 +275,8 @@ std::vector<Row> catalogue() {
        "k.json: meshes[0].field: unknown key \"resolution\" (expected one of: path, positions, directions, mapping, storage, normals)"},
       {"OccludersExactWithAField", {}, render + "builtin:cornell --occluders exact --occluder field", 2,
        "--occluder: field: --occluders exact needs an exact structure"},
+      {"FieldTwoPositionLookups", {}, render + "builtin:cornell --occluder field:lines=1,blend=1", 1,
+       "field: lines=1 and blend=1 are two position lookups; give one"},
       {"FieldOverMaxMemory", {}, render + "builtin:cornell --occluder field:positions=16642,directions=256,storage=f32 --max-memory 100M", 1,
        "--occluder field:positions=16642,directions=256,storage=f32: the build would need about 12.19 GiB, more than --max-memory 100.00 MiB"},
       // Resources and output.

@@ -198,6 +198,7 @@ TEST(Cuda, FieldBatchEqualsFieldSceneBitForBit) {
                     .direction_lookup = field::DirectionLookup::bilinear}});
   cases.push_back({"sphere bit blend", make_builtin_scene("sphere", {.size = 5000}),
                    {.positions = 1090, .storage = field::CellStorage::bit, .position_lookup = field::PositionLookup::blend}});
+  cases.push_back({"boxes u8 lines", make_builtin_scene("boxes", {.size = 27}), {.positions = 1090, .position_lookup = field::PositionLookup::lines}});
   if (std::optional<Scene> bunny = shared_model("bun_zipper.ply"))
     cases.push_back({"bunny on a ground, 16642 x 64^2 oct32", on_ground(*bunny),
                      {.positions = 16642, .directions = 64, .normals = field::NormalStorage::oct32}});

@@ -99,7 +99,7 @@ class ObjectField {
   /// Bytes held (table_bytes() of the config).
   std::size_t memory_bytes() const {
     return cells_.capacity() + normals_.capacity() + averages_.capacity() * sizeof(float) + upper_.capacity() * sizeof(upper_[0]) +
-           quadrant_.capacity() * sizeof(quadrant_[0]);
+           quadrant_.capacity() * sizeof(quadrant_[0]) + cell_centres_.capacity() * sizeof(cell_centres_[0]);
   }
   /// Wall-clock precompute time in milliseconds.
   double build_ms() const { return build_ms_; }
@@ -179,6 +179,7 @@ class ObjectField {
   std::vector<float> averages_;        // 1-bit variant: mean normalised hit distance per sample
   std::vector<hd::Vec3<float>> upper_; // upper hemisphere's sample directions, by octa::point_index
   std::vector<unsigned long long> quadrant_;  // their |x|, |y| by (|i|, |j|) (FieldTables::quadrant)
+  std::vector<hd::Vec3<float>> cell_centres_;  // PositionLookup::lines only (FieldTables::cell_centres)
   float self_offset_ = 0.0f;
   double build_ms_ = 0.0;
   std::size_t rays_traced_ = 0;

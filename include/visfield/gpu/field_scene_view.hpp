@@ -24,7 +24,8 @@ inline constexpr unsigned long long kNoTable = ~0ull;
 /// (bytes from the buffer's start, or kNoTable).
 struct FieldSlot {
   field::FieldTables tables;
-  unsigned long long upper = kNoTable, quadrant = kNoTable, cells = kNoTable, averages = kNoTable, normal_cells = kNoTable;
+  unsigned long long upper = kNoTable, quadrant = kNoTable, cells = kNoTable, averages = kNoTable, normal_cells = kNoTable,
+                     cell_centres = kNoTable;
 
   /// The tables with pointers into the buffer at `base` (host or device memory). O(1).
   VF_HOST_DEVICE field::FieldTables rebase(const unsigned char* base) const {
@@ -34,6 +35,7 @@ struct FieldSlot {
     t.cells = cells == kNoTable ? nullptr : base + cells;
     t.averages = averages == kNoTable ? nullptr : reinterpret_cast<const float*>(base + averages);
     t.normal_cells = normal_cells == kNoTable ? nullptr : base + normal_cells;
+    t.cell_centres = cell_centres == kNoTable ? nullptr : reinterpret_cast<const hd::Vec3<float>*>(base + cell_centres);
     return t;
   }
 };

@@ -257,6 +257,21 @@ TEST(ObjectField, InterpolationLowersTheInterObjectError) {
   }
 }
 
+// The stored lines nearest to the ray's chord voting (PositionLookup::lines) against one sample's
+// nearest cell read through the far end (the default): fewer wrong inter-object answers.
+TEST(ObjectField, TheChordLinesLowerTheInterObjectError) {
+  for (const bool knot : {true, false}) {
+    const TriangleSet set = knot ? knot_object() : cornell_object();
+    const Bvh bvh = Bvh::build(set);
+    const ObjectField through = ObjectField::build(set, {.positions = 4226, .directions = 32});
+    const ObjectField lines = ObjectField::build(set, {.positions = 4226, .directions = 32, .position_lookup = PositionLookup::lines});
+    const Errors a = inter_object_errors(through, bvh, 20000), b = inter_object_errors(lines, bvh, 20000);
+    // wrong answers knot 0.048 -> 0.027, Cornell 0.019 -> 0.011; distance RMS 0.052 -> 0.042, 0.043 -> 0.035
+    EXPECT_LT(b.disagreement(), 0.7 * a.disagreement()) << (knot ? "knot" : "cornell");
+    EXPECT_LT(b.rms(), 0.9 * a.rms()) << (knot ? "knot" : "cornell");
+  }
+}
+
 // Reading each sample along the line through the ray's far end instead of parallel to the ray: the
 // line meets the ray where its answer matters (the origin, from inside), so fewer answers are wrong.
 TEST(ObjectField, ReadingThroughTheFarEndLowersTheErrors) {
@@ -348,6 +363,11 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
                            .position_lookup = blend ? PositionLookup::blend : PositionLookup::nearest});
   configs.push_back({.positions = 290, .directions = 8, .mapping = HemisphereMapping::rejection_malley,
                      .direction_lookup = DirectionLookup::bilinear, .position_lookup = PositionLookup::blend});
+  // The chord lines: polar tables wrap their cells' ring, normals come from the heaviest voter.
+  configs.push_back({.positions = 1090, .directions = 16, .mapping = HemisphereMapping::polar, .normals = NormalStorage::oct16,
+                     .position_lookup = PositionLookup::lines});
+  configs.push_back({.positions = 290, .directions = 8, .storage = CellStorage::bit, .direction_lookup = DirectionLookup::bilinear,
+                     .position_lookup = PositionLookup::lines});
   // Every configuration above read both ways.
   for (std::size_t k = 0, n = configs.size(); k < n; ++k) {
     configs.push_back(configs[k]);
@@ -359,6 +379,7 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
     const std::string what = mapping_name(config.mapping) + " " + storage_name(config.storage) + " " + normals_name(config.normals) +
                              (config.direction_lookup == DirectionLookup::bilinear ? " bilinear" : "") +
                              (config.position_lookup == PositionLookup::blend ? " blend" : "") +
+                             (config.position_lookup == PositionLookup::lines ? " lines" : "") +
                              (config.sample_line == SampleLine::through ? " through" : " parallel");
     std::vector<FieldAnswer> single(rows.rows[0].size());
     std::size_t hits = 0;

@@ -68,6 +68,7 @@ TEST(PackedFieldScene, OneBufferOffsetsAlignedAndFieldsSharedByTheirInstances) {
       EXPECT_LT(offset, packed.buffer().size());
     }
     EXPECT_EQ(slot.averages, gpu::kNoTable);  // u8 cells keep no averages
+    EXPECT_EQ(slot.cell_centres, gpu::kNoTable);  // nor nearest lookups the cells' directions
     EXPECT_EQ(slot.tables.cells, nullptr);    // pointers live only in rebased copies
   }
   // Rebasing a copy of the buffer elsewhere points into that copy, at the same offsets.
@@ -95,6 +96,11 @@ TEST(PackedFieldScene, AnswersAsFieldSceneBitForBit) {
   expect_same_answers(sphere, {.positions = 290, .directions = 16, .mapping = field::HemisphereMapping::rejection_malley,
                                .direction_lookup = field::DirectionLookup::bilinear, .position_lookup = field::PositionLookup::blend},
                       "sphere rejection bilinear blend");
+  // The chord lines read the cells' directions from the buffer too.
+  expect_same_answers(boxes, {.positions = 290, .directions = 16, .position_lookup = field::PositionLookup::lines}, "boxes u8 lines");
+  expect_same_answers(sphere, {.positions = 1090, .directions = 16, .mapping = field::HemisphereMapping::polar,
+                               .normals = field::NormalStorage::oct16, .position_lookup = field::PositionLookup::lines},
+                      "sphere polar oct16 lines");
 }
 
 TEST(PackedFieldScene, KnowsTheFormItsQueriesAreCompiledFor) {
