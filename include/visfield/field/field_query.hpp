@@ -334,9 +334,8 @@ VF_HOST_DEVICE inline FieldAnswer read_lines(const FieldTables& f, const SphereV
         const hd::Vec3<float> b{hd::fma(-c.x, b_along, from_exit.x), hd::fma(-c.y, b_along, from_exit.y), hd::fma(-c.z, b_along, from_exit.z)};
         const float e = hd::fused_dot(a, a) + hd::fused_dot(b, b) + hd::fused_dot(a, b);
         // Insertion into the nearest kLineVoters.
-        int k = voters < kLineVoters ? voters++ : kLineVoters;
-        if (k == kLineVoters && !(e < nearest_e[kLineVoters - 1])) continue;
-        if (k == kLineVoters) k = kLineVoters - 1;
+        if (voters == kLineVoters && !(e < nearest_e[kLineVoters - 1])) continue;
+        int k = voters < kLineVoters ? voters++ : kLineVoters - 1;  // the last place, or the farthest voter's
         for (; k > 0 && e < nearest_e[k - 1]; --k) {
           nearest_e[k] = nearest_e[k - 1];
           voter_sample[k] = voter_sample[k - 1];
