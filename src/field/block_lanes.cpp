@@ -188,7 +188,9 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<con
                             const std::uint8_t* skip) {
   for (const SphereTarget& t : targets) {
     RayRows& out = *t.out;
-    const std::size_t need = out.count + rays.size() + kRowsSlack;
+    // Targets may share their rows: room for every one of them to append every ray.
+    const auto sharing = static_cast<std::size_t>(std::count_if(targets.begin(), targets.end(), [&](const SphereTarget& u) { return u.out == t.out; }));
+    const std::size_t need = out.count + sharing * rays.size() + kRowsSlack;
     for (std::vector<float>& row : out.row)
       if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
     if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));

@@ -64,7 +64,8 @@ struct SphereTarget {
 };
 
 /// append_meeting_sphere() for each of `targets` in one pass over `rays`: a packet is read and
-/// transposed once for all of them (the same rows, bit for bit, as a call per target).
+/// transposed once for all of them (the same rows, bit for bit, as a call per target, but where
+/// targets share their rows, each packet's rays for one target after another's).
 void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
                             const std::uint8_t* skip = nullptr);
 

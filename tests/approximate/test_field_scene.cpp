@@ -195,13 +195,35 @@ TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
 // so the answers are the same bit for bit, single rays and batches, closest hits and occlusion: on
 // 400 boxes, some rotated and scaled, with rays from surfaces, random rays through the scene and rays
 // from far outside it.
-TEST(FieldScene, TheTreeOverObjectsAnswersAsTestingEverySphere) {
-  const Scene scene = turned_boxes(400);
+/// turned_boxes(400) with every third box made of a second mesh (the box flattened to 60% of its
+/// height, so a field of its own): the tree's leaves hold objects of either field, side by side.
+Scene boxes_of_two_meshes() {
+  Scene scene = turned_boxes(400);
+  std::uint32_t box_mesh = 0;
+  while (scene.meshes[box_mesh].occluder == MeshOccluder::exact) ++box_mesh;
+  TriangleMesh flat = scene.meshes[box_mesh];
+  flat.name += " flattened";
+  for (Vec3f& p : flat.positions) p.y *= 0.6f;
+  scene.meshes.push_back(flat);
+  const auto flat_mesh = static_cast<std::uint32_t>(scene.meshes.size() - 1);
+  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
+    if (object.mesh != box_mesh || object.id % 3 != 1) continue;
+    scene.remove_instance(object.id);
+    scene.add_instance(flat_mesh, object.transform);
+  }
+  return scene;
+}
+
+class FieldSceneTree : public ::testing::TestWithParam<int> {};
+
+TEST_P(FieldSceneTree, AnswersAsTestingEverySphere) {
+  const Scene scene = GetParam() == 1 ? turned_boxes(400) : boxes_of_two_meshes();
   const TriangleSet set = flatten(scene);
   const field::ObjectFieldConfig config{.positions = 290, .directions = 16};
   const FieldScene tree = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::tree);
   const FieldScene each = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::each);
   ASSERT_GT(tree.stats().leaf_count, 300u);
+  ASSERT_EQ(tree.stats().node_count, static_cast<std::size_t>(GetParam()));  // fields
   EXPECT_GT(tree.stats().memory_bytes, each.stats().memory_bytes);  // the tree's nodes
   std::vector<Ray> rays = surface_origin_rays(set, 11, 20000);
   for (Ray& ray : rays) ray.tmin = 1e-4f * length(set.bounds.extent());
@@ -241,6 +263,8 @@ TEST(FieldScene, TheTreeOverObjectsAnswersAsTestingEverySphere) {
   EXPECT_GT(field_hits, rays.size() / 20);
   EXPECT_EQ(differ, 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Fields, FieldSceneTree, ::testing::Values(1, 2));
 
 // The batch queries run in parallel over blocks (the ThreadSanitizer step runs this test): the
 // answers do not depend on the thread count.

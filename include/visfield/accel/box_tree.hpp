@@ -15,7 +15,8 @@
 namespace vf {
 
 /// Rays grouped by the item whose box they meet (BoxTree::rays_by_item): list k holds
-/// rays[lists[k].begin .. + lists[k].count), the rays of item lists[k].item. Reused between calls.
+/// rays[lists[k].begin .. + lists[k].count), the rays of item lists[k].item; the items of one leaf
+/// share their rays (lists with the same begin, side by side). Reused between calls.
 struct ItemRays {
   /// One item's rays.
   struct List {
@@ -28,8 +29,10 @@ struct ItemRays {
 /// An immutable 8-wide BVH over boxes, one per item. Queries are const and thread-safe. Move-only.
 class BoxTree {
  public:
-  /// Builds over `boxes` (item k's box is boxes[k]; an empty box is never met). O(N log N).
-  static BoxTree build(std::span<const Bounds3f> boxes);
+  /// Builds over `boxes` (item k's box is boxes[k]; an empty box is never met), with at most
+  /// `leaf_items` items (in [1, 128]) a leaf; the SAH counts a leaf of up to `leaf_items` as one
+  /// test, so leaves fill up where their items lie together. O(N log N).
+  static BoxTree build(std::span<const Bounds3f> boxes, int leaf_items = 1);
   BoxTree();
   BoxTree(BoxTree&&) noexcept;
   BoxTree& operator=(BoxTree&&) noexcept;

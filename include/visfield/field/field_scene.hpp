@@ -111,6 +111,10 @@ class FieldScene {
     Vec3f centre;
     float radius;
   };
+  /// Closest hits: trace_block_by_tree()'s step for object `o` and its list of `count` rays, rays[ids[k]]
+  /// (copied side by side at `copies`): those its sphere lets in traced, each answer kept where it is
+  /// nearer than best[ids[k]].
+  void trace_closest(const Object& o, std::span<const Ray> rays, const std::uint32_t* ids, const Ray* copies, std::size_t count, Hit* best) const;
   /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
   static bool may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
   /// Indices of the objects whose spheres `ray` may meet (may_meet), ascending, into `out`; every

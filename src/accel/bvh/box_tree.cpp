@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <string>
 
 #if defined(__AVX512F__)
 #include <immintrin.h>
@@ -13,6 +14,7 @@
 #include "bvh/collapse.hpp"
 #include "bvh/wide_traversal.hpp"
 #include "visfield/accel/aligned_vector.hpp"
+#include "visfield/core/error.hpp"
 #include "visfield/core/row_transpose.hpp"
 
 namespace vf {
@@ -27,7 +29,8 @@ BoxTree::BoxTree(BoxTree&&) noexcept = default;
 BoxTree& BoxTree::operator=(BoxTree&&) noexcept = default;
 BoxTree::~BoxTree() = default;
 
-BoxTree BoxTree::build(std::span<const Bounds3f> boxes) {
+BoxTree BoxTree::build(std::span<const Bounds3f> boxes, int leaf_items) {
+  if (leaf_items < 1 || leaf_items > 128) throw Error("box tree: leaf_items must be in [1, 128], got " + std::to_string(leaf_items));
   BoxTree tree;
   tree.layout_ = std::make_unique<Layout>();
   std::vector<std::uint32_t> kept;
@@ -39,8 +42,8 @@ BoxTree BoxTree::build(std::span<const Bounds3f> boxes) {
   }
   if (kept.empty()) return tree;
   BvhConfig config;
-  config.max_leaf_size = 1;  // one item per leaf: a leaf met is an item met
-  const bvh::BinaryTree binary = bvh::build_binary_tree(kept_boxes, config, 1);
+  config.max_leaf_size = leaf_items;
+  const bvh::BinaryTree binary = bvh::build_binary_tree(kept_boxes, config, leaf_items);
   AccelStats stats;
   Layout& l = *tree.layout_;
   bvh::collapse_to_wide(binary, l.nodes, stats, [&](const bvh::BinaryNode& leaf) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <set>
 #include <utility>
 #include <vector>
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "visfield/accel/box_tree.hpp"
+#include "visfield/core/error.hpp"
 #include "visfield/core/rng.hpp"
 
 namespace vf {
@@ -134,10 +136,12 @@ Pairs grouped(const BoxTree& tree, const std::vector<Ray>& rays, const std::vect
   return pairs;
 }
 
-TEST(BoxTree, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
+class BoxTreeLeaves : public ::testing::TestWithParam<int> {};
+
+TEST_P(BoxTreeLeaves, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
   Rng rng(41);
   const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
-  const BoxTree tree = BoxTree::build(boxes);
+  const BoxTree tree = BoxTree::build(boxes, GetParam());
   const std::vector<Ray> rays = adversarial_rays(rng, boxes);
   std::vector<std::uint8_t> skip(rays.size(), 0);
   for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
@@ -160,7 +164,28 @@ TEST(BoxTree, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
     const std::vector<Ray> fewer(rays.begin(), rays.begin() + 777);
     const std::vector<std::uint8_t> none(fewer.size(), 0);
     EXPECT_EQ(grouped(tree, fewer, none, width, out), one_ray_at_a_time(tree, fewer, none)) << "width " << width;
+    // A leaf's items share one list of rays, side by side: lists with one begin have one count.
+    grouped(tree, rays, skip, width, out);
+    std::map<std::uint32_t, std::uint32_t> count_at;
+    for (const ItemRays::List& list : out.lists) {
+      const auto place = count_at.emplace(list.begin, list.count).first;
+      EXPECT_EQ(place->second, list.count) << "width " << width;
+    }
+    if (GetParam() == 1) {
+      EXPECT_EQ(count_at.size(), out.lists.size()) << "width " << width;
+    } else {
+      EXPECT_LT(count_at.size(), out.lists.size()) << "width " << width;  // some leaves hold several items
+    }
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(ItemsALeaf, BoxTreeLeaves, ::testing::Values(1, 4));
+
+TEST(BoxTree, RefusesLeavesOfNoItemOrTooMany) {
+  const std::vector<Bounds3f> boxes{Bounds3f{Vec3f{0.0f}, Vec3f{1.0f}}};
+  EXPECT_THROW(BoxTree::build(boxes, 0), Error);
+  EXPECT_THROW(BoxTree::build(boxes, 129), Error);
+  EXPECT_NO_THROW(BoxTree::build(boxes, 128));
 }
 
 TEST(BoxTree, RaysByItemOfNoRaysOrNoBoxesIsEmpty) {

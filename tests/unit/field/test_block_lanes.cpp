@@ -1,8 +1,11 @@
 // A FieldScene block's sphere pass on lanes: the rows it appends for several objects in one pass
 // are, bit for bit, what may_meet_sphere() and InverseTransform::apply() give ray by ray, in order,
-// settled rays left out; on counts that leave a partial packet for the scalar tail.
+// settled rays left out; on counts that leave a partial packet for the scalar tail; into rows of
+// their own or shared.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -30,16 +33,63 @@ std::vector<Ray> rays_around(std::size_t n, std::uint64_t seed) {
   return rays;
 }
 
+/// Three objects' maps, centres and radii: one turned, scaled and moved, one moved and shrunk, one as is.
+struct ThreeObjects {
+  InverseTransform maps[3];
+  Vec3f centres[3] = {{1.0f, -0.5f, 0.25f}, {-1.0f, 0.5f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  float radii[3] = {0.9f, 0.5f, 0.7f};
+
+  ThreeObjects() {
+    Transform a, b;
+    a.rotation = Mat3::rotation(normalize(Vec3f{1.0f, 2.0f, -0.5f}), 37.0f);
+    a.translation = {1.0f, -0.5f, 0.25f};
+    a.scale = 1.7f;
+    b.translation = {-1.0f, 0.5f, 0.0f};
+    b.scale = 0.6f;
+    maps[0] = a.inverse(), maps[1] = b.inverse(), maps[2] = Transform{}.inverse();
+  }
+};
+
+/// Row k of `rows` as its id and 8 floats' bits.
+std::array<std::uint32_t, 9> row_bits(const RayRows& rows, std::size_t k) {
+  std::array<std::uint32_t, 9> bits{rows.id[k]};
+  for (int c = 0; c < 8; ++c) std::memcpy(&bits[1 + static_cast<std::size_t>(c)], &rows.row[static_cast<std::size_t>(c)][k], sizeof(float));
+  return bits;
+}
+
+TEST(BlockLanes, TargetsSharingTheirRowsGetTheRowsOfTheirOwn) {
+  const ThreeObjects objects;
+  for (const std::size_t n : {std::size_t{5003}, std::size_t{5}}) {
+    const std::vector<Ray> rays = rays_around(n, 29 + n);
+    std::vector<std::uint32_t> ids(n);
+    for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::uint32_t>(7 * i);
+    RayRows own[3], shared;
+    std::vector<SphereTarget> targets, into_shared;
+    for (int k = 0; k < 3; ++k) {
+      targets.push_back({objects.centres[k], objects.radii[k], &objects.maps[k], &own[k]});
+      into_shared.push_back({objects.centres[k], objects.radii[k], &objects.maps[k], &shared});
+    }
+    append_meeting_spheres(targets, rays, ids.data());
+    append_meeting_spheres(into_shared, rays, ids.data());
+    // The same rows, each packet's for one object after another's (and room made for all of them).
+    std::vector<std::array<std::uint32_t, 9>> expected, got;
+    for (int k = 0; k < 3; ++k)
+      for (std::size_t r = 0; r < own[k].count; ++r) expected.push_back(row_bits(own[k], r));
+    for (std::size_t r = 0; r < shared.count; ++r) got.push_back(row_bits(shared, r));
+    std::sort(expected.begin(), expected.end());
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << n << " rays";
+    if (n > 1000) {
+      EXPECT_GT(expected.size(), n / 4);  // the spheres do meet a share of the rays
+    }
+  }
+}
+
 TEST(BlockLanes, OnePassForSeveralSpheresAppendsTheRowsOfTheScalarTests) {
-  Transform a, b;
-  a.rotation = Mat3::rotation(normalize(Vec3f{1.0f, 2.0f, -0.5f}), 37.0f);
-  a.translation = {1.0f, -0.5f, 0.25f};
-  a.scale = 1.7f;
-  b.translation = {-1.0f, 0.5f, 0.0f};
-  b.scale = 0.6f;
-  const InverseTransform maps[3] = {a.inverse(), b.inverse(), Transform{}.inverse()};
-  const Vec3f centres[3] = {{1.0f, -0.5f, 0.25f}, {-1.0f, 0.5f, 0.0f}, {0.0f, 0.0f, 1.0f}};
-  const float radii[3] = {0.9f, 0.5f, 0.7f};
+  const ThreeObjects objects;
+  const auto& maps = objects.maps;
+  const auto& centres = objects.centres;
+  const auto& radii = objects.radii;
   for (const std::size_t n : {std::size_t{4001}, std::size_t{16}, std::size_t{7}}) {
     const std::vector<Ray> rays = rays_around(n, 11 + n);
     std::vector<std::uint8_t> skip(n);
