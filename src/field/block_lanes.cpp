@@ -232,12 +232,4 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<con
   }
 }
 
-std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
-                                  const InverseTransform& to_object, RayRows& out, const std::uint8_t* skip) {
-  const std::size_t before = out.count;
-  const SphereTarget target{centre, radius, &to_object, &out};
-  append_meeting_spheres(std::span<const SphereTarget>(&target, 1), rays, ids, skip);
-  return out.count - before;
-}
-
 }  // namespace vf::field

@@ -6,8 +6,8 @@
 //   root node of 8 boxes, a leaf), and in a mixed scene every ray makes one; here a triangle costs a
 //   few operations a ray;
 // - which rays of a block may meet an object's sphere (may_meet_sphere), for scenes of a few objects;
-// - among many objects, an object's rays that may meet its sphere, mapped into object space and
-//   added to the pending (ray, object) pairs in the same pass.
+// - among many objects, a tree leaf's rays that may meet its objects' spheres, mapped into object
+//   space and added to the pending (ray, object) pairs in the same pass.
 
 #include <array>
 #include <cstdint>
@@ -63,19 +63,14 @@ struct SphereTarget {
   RayRows* out;
 };
 
-/// append_meeting_sphere() for each of `targets` in one pass over `rays`: a packet is read and
-/// transposed once for all of them (the same rows, bit for bit, as a call per target, but where
-/// targets share their rows, each packet's rays for one target after another's).
+/// For each of `targets`, the rays of `rays` that may meet its sphere by may_meet_sphere() (bit for
+/// bit), leaving out rays[k] where skip[k] != 0 when `skip` is given, mapped by its `to_object` as
+/// InverseTransform::apply() maps them (bit for bit), appended to its rows in order with ids[k] as the
+/// id of rays[k]. One pass: a packet of lanes is read and transposed once for all targets, then tested,
+/// mapped and compressed into each target's rows; where targets share their rows, each packet's rays
+/// for one target follow another's. O(rays · targets).
 void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
                             const std::uint8_t* skip = nullptr);
-
-/// Appends to `out` the rays of `rays` that may meet the sphere (centre, radius) by may_meet_sphere()
-/// (bit for bit), in order, leaving out rays[k] where skip[k] != 0 when `skip` is given, mapped by
-/// `to_object` as InverseTransform::apply() maps them (bit for bit), with ids[k] as the id of
-/// rays[k]; returns how many. A packet of lanes at a time: tested, mapped and compressed into the
-/// rows in one pass. O(rays).
-std::size_t append_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, const std::uint32_t* ids,
-                                  const InverseTransform& to_object, RayRows& out, const std::uint8_t* skip = nullptr);
 
 /// Occlusion of the object-space rays of `rows` by `field`: occluded[rows.id[k]] = 1 where trace()
 /// of row k hits, other entries left as they are; the rows are then emptied. Whole packets (the last

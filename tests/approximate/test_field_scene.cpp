@@ -191,10 +191,6 @@ TEST(FieldScene, FieldHitsCarryTheSurfaceNormal) {
   EXPECT_GT(static_cast<double>(close) / static_cast<double>(compared), 0.9) << close << " of " << compared;
 }
 
-// The tree over the objects' spheres gives each ray the objects that testing every sphere gives it,
-// so the answers are the same bit for bit, single rays and batches, closest hits and occlusion: on
-// 400 boxes, some rotated and scaled, with rays from surfaces, random rays through the scene and rays
-// from far outside it.
 /// turned_boxes(400) with every third box made of a second mesh (the box flattened to 60% of its
 /// height, so a field of its own): the tree's leaves hold objects of either field, side by side.
 Scene boxes_of_two_meshes() {
@@ -215,6 +211,11 @@ Scene boxes_of_two_meshes() {
 }
 
 class FieldSceneTree : public ::testing::TestWithParam<int> {};
+
+// The tree over the objects' spheres gives each ray the objects that testing every sphere gives it,
+// so the answers are the same bit for bit, single rays and batches, closest hits and occlusion: on
+// 400 boxes, some rotated and scaled, with rays from surfaces, random rays through the scene and rays
+// from far outside it; with one field (1) and with two among the tree's leaves (2).
 
 TEST_P(FieldSceneTree, AnswersAsTestingEverySphere) {
   const Scene scene = GetParam() == 1 ? turned_boxes(400) : boxes_of_two_meshes();
