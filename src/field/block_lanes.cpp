@@ -110,6 +110,9 @@ struct LineTerms {
   return near & (along + reach >= c[6] * line.dd) & (along - reach <= c[7] * line.dd);
 }
 
+/// The lanes whose bit of `bits` is set.
+M lanes_of_bits(std::uint32_t bits) { return ((L::splat(static_cast<int>(bits)) >> L::lane_index()) & L::splat(1)) == L::splat(1); }
+
 /// The lanes whose byte of skip[0 .. L::kWidth) is 0.
 M open_lanes(const std::uint8_t* skip) {
   std::uint32_t open = 0;
@@ -121,7 +124,31 @@ M open_lanes(const std::uint8_t* skip) {
     const std::uint64_t set = (((x & low7) + low7) | x) & ~low7;
     open |= static_cast<std::uint32_t>(~((set >> 7) * 0x0102040810204080ull >> 56) & 0xFFu) << (8 * word);
   }
-  return ((L::splat(static_cast<int>(open)) >> L::lane_index()) & L::splat(1)) == L::splat(1);
+  return lanes_of_bits(open);
+}
+
+/// The lanes k < `lanes` whose settled[ids[k]] is 0.
+M open_by_ids(const std::uint8_t* settled, const std::uint32_t* ids, int lanes) {
+  std::uint32_t open = 0;
+  for (int lane = 0; lane < lanes; ++lane) open |= static_cast<std::uint32_t>(settled[ids[lane]] == 0) << lane;
+  return lanes_of_bits(open);
+}
+
+/// The packet of world-space rays in columns `c` (origin, direction, tmin, tmax) on the lanes `open`,
+/// whose ids are ids[0 .. L::kWidth): for each target, the lanes that may meet its sphere, mapped into
+/// its object's space and compressed onto its rows.
+[[gnu::always_inline]] inline void append_packet(std::span<const SphereTarget> targets, const F c[8], M open, const std::uint32_t* ids) {
+  using Kernel = FieldKernel<L>;
+  const LineTerms line = line_terms(c);
+  for (const SphereTarget& t : targets) {
+    const M meets = meets_sphere(t.centre, t.radius, c, line) & open;
+    if (L::bits(meets) == 0) continue;
+    const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, *t.to_object);
+    const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
+    RayRows& out = *t.out;
+    for (int k = 0; k < 8; ++k) L::compress(out.row[k].data() + out.count, *column[k], meets);
+    out.count += static_cast<std::size_t>(L::compress(out.id.data() + out.count, L::load(ids), meets));
+  }
 }
 
 /// may_meet_sphere() on the L::kWidth consecutive rays at `rays`.
@@ -184,51 +211,77 @@ void mark_rows(const ObjectField& field, RayRows& rows, std::vector<std::uint8_t
   rows.count = 0;
 }
 
-void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
-                            const std::uint8_t* skip) {
+namespace {
+
+/// Room in each target's rows for `count` more rays from every target sharing them.
+void make_room(std::span<const SphereTarget> targets, std::size_t count) {
   for (const SphereTarget& t : targets) {
     RayRows& out = *t.out;
-    // Targets may share their rows: room for every one of them to append every ray.
     const auto sharing = static_cast<std::size_t>(std::count_if(targets.begin(), targets.end(), [&](const SphereTarget& u) { return u.out == t.out; }));
-    const std::size_t need = out.count + sharing * rays.size() + kRowsSlack;
+    const std::size_t need = out.count + sharing * count + kRowsSlack;
     for (std::vector<float>& row : out.row)
       if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
     if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));
   }
+}
+
+/// The one ray `ray` (world space) with id `id`: appended, mapped, to the rows of each target whose
+/// sphere it may meet.
+void append_one(std::span<const SphereTarget> targets, const Ray& ray, std::uint32_t id) {
+  for (const SphereTarget& t : targets) {
+    if (!may_meet_sphere(t.centre, t.radius, ray)) continue;
+    const Ray r = t.to_object->apply(ray);
+    const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
+    RayRows& out = *t.out;
+    for (int k = 0; k < 8; ++k) out.row[k][out.count] = values[k];
+    out.id[out.count++] = id;
+  }
+}
+
+}  // namespace
+
+void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
+                            const std::uint8_t* skip) {
+  make_room(targets, rays.size());
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
-  using Kernel = FieldKernel<L>;
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
     // A block's rays come from memory on this pass (fields alone: nothing read them before): ask for
     // those 8 packets on now (the corner's three models: 7.5-8.0x -> 9.4-9.6x Embree; 4 packets 9.2-9.4x, 16 level with 8).
     for (std::size_t line = 0; line < L::kWidth * sizeof(Ray); line += 64)
       __builtin_prefetch(reinterpret_cast<const char*>(rays.data() + i + 8 * L::kWidth) + line);
-    F c[8];
-    L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
     const M open = skip ? open_lanes(skip + i) : L::all();
     if (L::bits(open) == 0) continue;
-    const LineTerms line = line_terms(c);
-    for (const SphereTarget& t : targets) {
-      const M meets = meets_sphere(t.centre, t.radius, c, line) & open;
-      if (L::bits(meets) == 0) continue;
-      const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, *t.to_object);
-      const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
-      RayRows& out = *t.out;
-      for (int k = 0; k < 8; ++k) L::compress(out.row[k].data() + out.count, *column[k], meets);
-      out.count += static_cast<std::size_t>(L::compress(out.id.data() + out.count, L::load(ids + i), meets));
-    }
+    F c[8];
+    L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
+    append_packet(targets, c, open, ids + i);
   }
 #endif
-  for (; i < rays.size(); ++i) {
-    if (skip && skip[i]) continue;
-    for (const SphereTarget& t : targets) {
-      if (!may_meet_sphere(t.centre, t.radius, rays[i])) continue;
-      const Ray r = t.to_object->apply(rays[i]);
-      const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
-      RayRows& out = *t.out;
-      for (int k = 0; k < 8; ++k) out.row[k][out.count] = values[k];
-      out.id[out.count++] = ids[i];
-    }
+  for (; i < rays.size(); ++i)
+    if (!skip || !skip[i]) append_one(targets, rays[i], ids[i]);
+}
+
+void append_meeting_spheres(std::span<const SphereTarget> targets, const float* const columns[8], std::size_t count, const std::uint32_t* ids,
+                            const std::uint8_t* settled) {
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  static_assert(kColumnsSlack >= L::kWidth - 1, "a last partial packet reads whole registers");
+#endif
+  make_room(targets, count);
+  std::size_t i = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  // The last packet too (its spare lanes off): every column and the ids are readable past count.
+  for (; i < count; i += L::kWidth) {
+    const M open = open_by_ids(settled, ids + i, static_cast<int>(std::min<std::size_t>(L::kWidth, count - i)));
+    if (L::bits(open) == 0) continue;
+    F c[8];
+    for (int k = 0; k < 8; ++k) c[k] = L::load(columns[k] + i);
+    append_packet(targets, c, open, ids + i);
+  }
+#endif
+  for (; i < count; ++i) {
+    if (settled[ids[i]]) continue;
+    const Ray ray{{columns[0][i], columns[1][i], columns[2][i]}, {columns[3][i], columns[4][i], columns[5][i]}, columns[6][i], columns[7][i]};
+    append_one(targets, ray, ids[i]);
   }
 }
 

@@ -20,6 +20,9 @@
 
 namespace vf::field {
 
+/// Places past their count that append_meeting_spheres() reads of its columns and ids.
+inline constexpr std::size_t kColumnsSlack = 16;
+
 /// Exact parts of at most this many triangles are tested triangle by triangle (more go through their BVH).
 inline constexpr std::size_t kSmallExactTriangles = 64;
 
@@ -71,6 +74,12 @@ struct SphereTarget {
 /// for one target follow another's. O(rays · targets).
 void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
                             const std::uint8_t* skip = nullptr);
+/// append_meeting_spheres() for rays given as columns (origin x, y, z, direction x, y, z, tmin, tmax;
+/// `count` values each, readable up to kColumnsSlack places past count, as BoxTree::LeafRays holds them): ray k
+/// has the id ids[k] and is left out where settled[ids[k]] != 0. The same rows, bit for bit, as for
+/// those rays as Rays. O(count · targets).
+void append_meeting_spheres(std::span<const SphereTarget> targets, const float* const columns[8], std::size_t count, const std::uint32_t* ids,
+                            const std::uint8_t* settled);
 
 /// Occlusion of the object-space rays of `rows` by `field`: occluded[rows.id[k]] = 1 where trace()
 /// of row k hits, other entries left as they are; the rows are then emptied. Whole packets (the last

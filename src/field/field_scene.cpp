@@ -22,7 +22,7 @@ namespace vf::field {
 namespace {
 
 // Objects a leaf of the tree over them: a level fewer to go down, and a leaf's objects take its rays in
-// one pass of sphere tests (measured where the leaves' objects are traced, trace_block_by_tree).
+// one pass of sphere tests (measured where the leaves' objects are traced, occluded_by_tree).
 constexpr int kObjectsPerLeaf = 4;
 
 bool is_exact(const TriangleMesh& mesh, FieldMeshes meshes) {
@@ -254,9 +254,10 @@ namespace {
 constexpr std::size_t kBlock = 4096;
 constexpr std::size_t kObjectsBlock = 16384;
 // Occlusion through the tree: (ray, object) pairs traced in one stream once this many are pending.
-// Between flushes the rays they settle leave the later objects' lists. 1024 bunnies, AO, 4 interleaved
-// rounds: per-object streams 29.1-32.9 Mrays/s; 512 pairs 28.7-35.4, 1024 32.7-36.2, 2048 30.5-35.5;
-// one flush at the block's end (no rays settled in between) was level with per-object streams.
+// Between flushes the rays they settle leave the later leaves and the tree's walk. 1024 bunnies, AO, 4
+// interleaved rounds: per-object streams 29.1-32.9 Mrays/s; 512 pairs 28.7-35.4, 1024 32.7-36.2, 2048
+// 30.5-35.5; one flush at the block's end (no rays settled in between) was level with per-object
+// streams. Leaves visited in the walk (5 rounds): 256 and 4096 level with 1024.
 constexpr std::size_t kFlushPairs = 1024;
 
 /// 0, 1, …, kObjectsBlock − 1: the candidate list of an object every ray of a block may meet.
@@ -297,7 +298,10 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   // block's rays in order.
   const bool cull = objects_.size() > 1;
   if (cull && uses_tree()) {
-    trace_block_by_tree(rays, closest, best, occluded);
+    if (closest)
+      closest_by_tree(rays, best);
+    else
+      occluded_by_tree(rays, occluded);
     return;
   }
   if (cull && !closest) {
@@ -354,49 +358,40 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   }
 }
 
-void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const {
+void FieldScene::closest_by_tree(std::span<const Ray> rays, Hit* best) const {
   // Kept from block to block: a thread's blocks allocate nothing once its first has grown them.
   struct Scratch {
     ItemRays by_object;
-    std::vector<std::uint32_t> open;
-    std::vector<Ray> copies;
-    std::vector<std::uint8_t> marks;
-    std::vector<Ray> leaf_copies;  // closest: each leaf's rays, at their region's place in by_object.rays
-    std::vector<SphereTarget> targets;
-    RayRows local;  // occlusion: the pending pairs' object-space rays, with their rays' places in the block as ids
+    std::vector<Ray> leaf_copies;  // each leaf's rays, at their region's place in by_object.rays
   };
   thread_local Scratch s;
   // The block's rays go down the tree together and arrive grouped by object (each object's in
   // ascending order). Closest hits take the objects in index order, as without the tree (a tie in
-  // distance goes to the lower index). Occlusion, whose answer is the same in any order, takes the
-  // objects with the most rays first: mostly those the rays leave, which occlude the most, so that
-  // their flushes settle rays before the objects the rays merely pass are traced (1024 bunnies' AO
-  // rays: 5% fewer pairs traced; ratio to Embree's instancing, medians of 8 interleaved rounds,
-  // 3.88x -> 4.02x).
-  tree_.rays_by_item(rays, closest ? nullptr : occluded, s.by_object);
+  // distance goes to the lower index).
+  tree_.rays_by_item(rays, nullptr, s.by_object);
   std::vector<ItemRays::List>& lists = s.by_object.lists;
-  if (closest) {
-    // Each leaf's rays copied side by side once, at their place in by_object.rays, for all its objects
-    // (whose lists share them; a leaf's lists come side by side): read once here from the block, they
-    // are then read in order, by each object's sphere test and kernel, rather than gathered from all
-    // over the block by each.
-    if (s.leaf_copies.size() < s.by_object.rays.size()) s.leaf_copies.resize(s.by_object.rays.size());
-    for (std::size_t k = 0; k < lists.size(); ++k) {
-      if (k > 0 && lists[k].begin == lists[k - 1].begin) continue;
-      const std::uint32_t* ids = s.by_object.rays.data() + lists[k].begin;
-      for (std::uint32_t c = 0; c < lists[k].count; ++c) s.leaf_copies[lists[k].begin + c] = rays[ids[c]];
-    }
-    std::sort(lists.begin(), lists.end(), [](const ItemRays::List& a, const ItemRays::List& b) { return a.item < b.item; });
-    for (const ItemRays::List& list : lists)
-      trace_closest(objects_[list.item], rays, s.by_object.rays.data() + list.begin, s.leaf_copies.data() + list.begin, list.count, best);
-    return;
+  // Each leaf's rays copied side by side once, at their place in by_object.rays, for all its objects
+  // (whose lists share them; a leaf's lists come side by side): read once here from the block, they
+  // are then read in order, by each object's sphere test and kernel, rather than gathered from all
+  // over the block by each.
+  if (s.leaf_copies.size() < s.by_object.rays.size()) s.leaf_copies.resize(s.by_object.rays.size());
+  for (std::size_t k = 0; k < lists.size(); ++k) {
+    if (k > 0 && lists[k].begin == lists[k - 1].begin) continue;
+    const std::uint32_t* ids = s.by_object.rays.data() + lists[k].begin;
+    for (std::uint32_t c = 0; c < lists[k].count; ++c) s.leaf_copies[lists[k].begin + c] = rays[ids[c]];
   }
-  // A leaf's objects stay side by side (by the lists' shared begin).
-  std::sort(lists.begin(), lists.end(), [](const ItemRays::List& a, const ItemRays::List& b) {
-    if (a.count != b.count) return a.count > b.count;
-    if (a.begin != b.begin) return a.begin < b.begin;
-    return a.item < b.item;
-  });
+  std::sort(lists.begin(), lists.end(), [](const ItemRays::List& a, const ItemRays::List& b) { return a.item < b.item; });
+  for (const ItemRays::List& list : lists)
+    trace_closest(objects_[list.item], rays, s.by_object.rays.data() + list.begin, s.leaf_copies.data() + list.begin, list.count, best);
+}
+
+void FieldScene::occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occluded) const {
+  struct Scratch {
+    std::vector<std::uint8_t> marks;
+    std::vector<SphereTarget> targets;
+    RayRows local;  // the pending pairs' object-space rays, with their rays' places in the block as ids
+  };
+  thread_local Scratch s;
   // The (ray, object) pairs of objects sharing a field are mapped into object space and traced
   // together, as one stream of consecutive rays through the field's kernel: an object's own few rays
   // would fill few packets, gathered from its list and transformed per packet, with the pipeline
@@ -405,42 +400,38 @@ void FieldScene::trace_block_by_tree(std::span<const Ray> rays, bool closest, Hi
   const auto flush = [&] {
     if (s.local.count > 0) mark_rows(*pending_field, s.local, s.marks, occluded);
   };
-  for (std::size_t at = 0, end = 0; at < lists.size(); at = end) {
-    // The objects of one leaf that share a field (lists of the same rays, side by side) take their
-    // rays together: copied once, each packet tested against all their spheres in one pass (1024
-    // bunnies, leaves of 4 objects against 1, ratio to Embree's instancing, 3 interleaved rounds:
-    // medians 4.16x -> 4.36x; busts 4.31x -> 4.96x).
-    const ItemRays::List& list = lists[at];
-    const ObjectField* field = objects_[list.item].field;
-    end = at + 1;
-    while (end < lists.size() && lists[end].begin == list.begin && objects_[lists[end].item].field == field) ++end;
-    if (field != pending_field || s.local.count >= kFlushPairs) {
-      flush();
-      pending_field = field;
+  // The block's rays go down the tree together, their values with them, and each leaf takes its
+  // rays as soon as it is reached, in tree order, from where the walk left them: read in order by
+  // the sphere tests while still in cache. (Before: the rays grouped by object, the objects with the
+  // most rays first, each leaf's open rays copied from the block: that copy was 13% of 1024 bunnies'
+  // field time, mostly waiting on the block's rays, and writing the values beside each list for
+  // later cost more than it saved.)
+  static_assert(BoxTree::LeafRays::kSlack >= kColumnsSlack, "the sphere pass reads whole packets of a leaf's columns");
+  tree_.visit_leaves(rays, occluded, [&](const BoxTree::LeafRays& leaf) {
+    // The leaf's objects that share a field take its rays together, each packet tested against all
+    // their spheres in one pass (1024 bunnies, leaves of 4 objects against 1, ratio to Embree's
+    // instancing, 3 interleaved rounds: medians 4.16x -> 4.36x; busts 4.31x -> 4.96x): the rays still
+    // open (an earlier flush may have settled some) that each sphere lets in (the test the single-ray
+    // queries make, on the ray as given), mapped into object space and added to the pending pairs.
+    static_assert(kObjectsPerLeaf <= 64, "a leaf's items as bits of one word");
+    std::uint64_t taken = 0;  // bit k: leaf.items[k] is in a group already
+    for (std::size_t first = 0; first < leaf.items.size(); ++first) {
+      if ((taken >> first) & 1u) continue;
+      const ObjectField* field = objects_[leaf.items[first]].field;
+      if (field != pending_field || s.local.count >= kFlushPairs) {
+        flush();
+        pending_field = field;
+      }
+      s.targets.clear();
+      for (std::size_t k = first; k < leaf.items.size(); ++k) {
+        const Object& o = objects_[leaf.items[k]];
+        if (o.field != field) continue;
+        taken |= std::uint64_t{1} << k;
+        s.targets.push_back({o.centre, o.radius, &o.to_object, &s.local});
+      }
+      append_meeting_spheres(s.targets, leaf.columns, leaf.count, leaf.ids, occluded);
     }
-    // The rays still open (an earlier flush may have settled some), copied side by side: read once
-    // here from the block, they are then read in order by the sphere tests, rather than gathered from
-    // all over the block. Every ray is written and the settled ones overwritten by the next: a branch
-    // on occluded[i] would be mispredicted for a large share of the rays.
-    const std::uint32_t* ids = s.by_object.rays.data() + list.begin;
-    s.open.resize(list.count);
-    s.copies.resize(list.count);
-    std::size_t open = 0;
-    for (std::uint32_t c = 0; c < list.count; ++c) {
-      const std::uint32_t i = ids[c];
-      s.open[open] = i;
-      s.copies[open] = rays[i];
-      open += occluded[i] ? 0 : 1;
-    }
-    // Those each sphere lets in (the test the single-ray queries make, on the ray as given), tested,
-    // mapped into object space and added to the pending pairs in one pass over the copies.
-    s.targets.clear();
-    for (std::size_t k = at; k < end; ++k) {
-      const Object& o = objects_[lists[k].item];
-      s.targets.push_back({o.centre, o.radius, &o.to_object, &s.local});
-    }
-    append_meeting_spheres(s.targets, std::span<const Ray>(s.copies.data(), open), s.open.data());
-  }
+  });
   flush();
 }
 

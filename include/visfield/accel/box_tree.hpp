@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -51,6 +52,26 @@ class BoxTree {
   /// against a node's boxes, 0 the widest this build has: the same lists either way.
   /// O(nodes met by some ray + pairs).
   void rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width = 0) const;
+
+  /// A leaf's rays as visit_leaves() hands them on: valid during the call.
+  struct LeafRays {
+    /// Places past `count` that every column and `ids` can be read at (whole-register loads).
+    static constexpr std::size_t kSlack = 16;
+    std::span<const std::uint32_t> items;  // the leaf's items
+    /// The rays as columns: origin x, y, z, direction x, y, z, tmin, tmax, `count` values each (bit
+    /// for bit the rays' own), ids[k] the index of ray k, ascending.
+    const float* columns[8];
+    const std::uint32_t* ids;
+    std::size_t count;
+  };
+  using LeafVisitor = std::function<void(const LeafRays&)>;
+  /// rays_by_item() leaf by leaf, the rays' values with their indices: visit(leaf) for each leaf whose
+  /// box some ray with no skip[i] meets, in tree order, with the same (item, ray) pairs, except that
+  /// a ray the visits settle (skip[i] set by the visitor) may be left out of the leaves visited after.
+  /// At 16 lanes the values go down the tree with the rays, settled rays stop where the walk next
+  /// reads their skip, and a leaf is visited as soon as it is reached, while its rays are in cache.
+  /// O(nodes met by some ray + pairs).
+  void visit_leaves(std::span<const Ray> rays, const std::uint8_t* skip, const LeafVisitor& visit, int width = 0) const;
   /// The rays a rays_by_item() step tests together for `width` in this build: 16 or 1.
   static int batch_width(int width = 0);
   /// Bytes of its nodes and item list.

@@ -99,8 +99,12 @@ class FieldScene {
   /// Answers for the rays of one block (at most block_size()), into best (closest hits, when `closest`) or
   /// occluded; the batch queries run it per block in parallel.
   void trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const;
-  /// trace_block()'s field part when the objects are found through the tree.
-  void trace_block_by_tree(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const;
+  /// trace_block()'s field part for closest hits when the objects are found through the tree:
+  /// best[i] replaced where an object's field answers nearer.
+  void closest_by_tree(std::span<const Ray> rays, Hit* best) const;
+  /// trace_block()'s field part for occlusion when the objects are found through the tree:
+  /// occluded[i] set where some object's field occludes rays[i] (rays already occluded left out).
+  void occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occluded) const;
 
   /// One object: its field, its world-to-object map, its rotation (for normals) and its world-space sphere.
   struct Object {
@@ -111,7 +115,7 @@ class FieldScene {
     Vec3f centre;
     float radius;
   };
-  /// Closest hits: trace_block_by_tree()'s step for object `o` and its list of `count` rays, rays[ids[k]]
+  /// Closest hits: closest_by_tree()'s step for object `o` and its list of `count` rays, rays[ids[k]]
   /// (copied side by side at `copies`): those its sphere lets in traced, each answer kept where it is
   /// nearer than best[ids[k]].
   void trace_closest(const Object& o, std::span<const Ray> rays, const std::uint32_t* ids, const Ray* copies, std::size_t count, Hit* best) const;

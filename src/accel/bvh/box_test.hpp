@@ -76,19 +76,19 @@ inline simd::LaneBits test_children(const Node8& node, const BoxRay& r, const V8
 
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
 /// A ray in each of 16 lanes, as columns: origin x, y, z, the direction's reciprocals x, y, z (+-inf
-/// for +-0), and [tmin, tmax] already widened.
+/// for +-0), and [tmin, tmax] widened.
 struct BoxRays16 {
   __m512 org[3], inv[3], tmin, tmax;
   __mmask16 negative[3];  // lanes whose reciprocal on the axis is negative (its sign bit)
 
-  /// Loads 16 rays from columns: org x, y, z, reciprocals x, y, z, tmin, tmax, each at `at`.
+  /// Loads 16 rays from columns: org x, y, z, dir x, y, z, tmin, tmax (as given: widened here), each at `at`.
   void load(const float* const columns[8], std::size_t at) {
     load_lines(columns, at);
-    tmin = _mm512_loadu_ps(columns[6] + at);
-    tmax = _mm512_loadu_ps(columns[7] + at);
+    tmin = widen16(_mm512_loadu_ps(columns[6] + at), -1.0f);
+    tmax = widen16(_mm512_loadu_ps(columns[7] + at), 1.0f);
   }
-  /// Loads 16 rays' origins and reciprocals from columns 0 .. 5 at `at`; every ray's interval is
-  /// (shared_tmin, shared_tmax).
+  /// Loads 16 rays' origins and directions from columns 0 .. 5 at `at`; every ray's interval is
+  /// (shared_tmin, shared_tmax), already widened.
   void load(const float* const columns[6], std::size_t at, float shared_tmin, float shared_tmax) {
     load_lines(columns, at);
     tmin = _mm512_set1_ps(shared_tmin);
@@ -96,11 +96,19 @@ struct BoxRays16 {
   }
 
  private:
-  /// The origins, reciprocals and their signs from columns 0 .. 5 at `at`.
+  /// widen_down() (`sign` −1) or widen_up() (+1) on 16 lanes, bit for bit: the same product and sum
+  /// where t is finite.
+  static __m512 widen16(__m512 t, float sign) {
+    const __mmask16 finite = static_cast<__mmask16>(~_mm512_fpclass_ps_mask(t, 0x99));  // 0x99: NaN or +-inf
+    const __m512 slack = _mm512_mul_ps(_mm512_abs_ps(t), _mm512_set1_ps(kIntervalSlack));
+    return sign < 0.0f ? _mm512_mask_sub_ps(t, finite, t, slack) : _mm512_mask_add_ps(t, finite, t, slack);
+  }
+  /// The origins from columns 0 .. 2 at `at`, and the reciprocals (1 / x, as BoxRay::set's) of the
+  /// directions in columns 3 .. 5, with their signs.
   void load_lines(const float* const columns[6], std::size_t at) {
     for (int a = 0; a < 3; ++a) {
       org[a] = _mm512_loadu_ps(columns[a] + at);
-      inv[a] = _mm512_loadu_ps(columns[3 + a] + at);
+      inv[a] = _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_loadu_ps(columns[3 + a] + at));  // +-inf for +-0
       negative[a] = _mm512_movepi32_mask(_mm512_castps_si512(inv[a]));
     }
   }

@@ -90,24 +90,27 @@ struct Pending {
 /// block's growth costs O(final size).
 std::size_t grown(std::size_t size, std::size_t need) { return std::max(need, 2 * size); }
 
-/// Takes the tree's nodes from the root's `count` rays down: a leaf's rays become each of its items'
-/// list; `split(node, p, pending)` hands an interior node's rays to its children, pushing a Pending
-/// for each child that gets some, last to first (so that children are taken in tree order). The
-/// root's rays are at 0 .. count, its mark `mark`.
-template <class Split>
-void down_the_tree(const bvh::Node8* nodes, const std::uint32_t* order, std::uint32_t count, std::uint32_t mark, ItemRays& out,
-                   Split&& split) {
+/// Takes the tree's nodes from the root's `count` rays down: `split(node, p, pending)` hands an
+/// interior node's rays to its children, pushing a Pending for each child that gets some, last to
+/// first (so that children are taken in tree order); `leaf(p)` takes a leaf's. The root's rays are at
+/// 0 .. count, its mark `mark`.
+template <class Split, class Leaf>
+void down_the_tree(const bvh::Node8* nodes, std::uint32_t count, std::uint32_t mark, Split&& split, Leaf&& leaf) {
   std::vector<Pending> pending{{bvh::node_ref(0), 0, count, mark}};
   while (!pending.empty()) {
     const Pending p = pending.back();
     pending.pop_back();
-    if (!bvh::is_leaf(p.ref)) {
+    if (bvh::is_leaf(p.ref))
+      leaf(p);
+    else
       split(bvh::node_at(nodes, p.ref), p, pending);
-      continue;
-    }
-    const std::uint32_t first = bvh::leaf_first_item(p.ref), items = bvh::leaf_item_count(p.ref);
-    for (std::uint32_t k = 0; k < items; ++k) out.lists.push_back({order[first + k], p.begin, p.count});
   }
+}
+
+/// A leaf's rays (places p.begin .. of out.rays) become each of its items' list.
+void add_lists(const std::uint32_t* order, const Pending& p, ItemRays& out) {
+  const std::uint32_t first = bvh::leaf_first_item(p.ref), items = bvh::leaf_item_count(p.ref);
+  for (std::uint32_t k = 0; k < items; ++k) out.lists.push_back({order[first + k], p.begin, p.count});
 }
 
 /// kSpread[b]: bit k of b moved to byte k (a child's count in a byte of one word).
@@ -147,7 +150,7 @@ void partition_by_rows(const bvh::Node8* nodes, const std::uint32_t* order, std:
     out.rays[used++] = static_cast<std::uint32_t>(i);
   }
   if (used == 0) return;
-  down_the_tree(nodes, order, static_cast<std::uint32_t>(used), 0, out, [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
+  const auto split = [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
     // The children each ray meets, and how many rays each gets.
     if (lanes_of.size() < p.count) lanes_of.resize(p.count);
     std::uint32_t met[8] = {};
@@ -190,19 +193,26 @@ void partition_by_rows(const bvh::Node8* nodes, const std::uint32_t* order, std:
     }
     for (int child = 7; child >= 0; --child)
       if (met[child] > 0) pending.push_back({node.child[child], cursor[child] - met[child], met[child]});
-  });
+  };
+  down_the_tree(nodes, static_cast<std::uint32_t>(used), 0, split, [&](const Pending& p) { add_lists(order, p, out); });
 }
 
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
+/// The columns walk: with `out`, a leaf's rays become its items' lists (their ids alone); with `visit`
+/// (and no `out`), a leaf's rays stay in the scratch as columns and visit takes them there.
 void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, std::span<const Ray> rays, const std::uint8_t* skip,
-                          ItemRays& out) {
+                          ItemRays* out, const BoxTree::LeafVisitor* visit) {
   constexpr int kLanes = 16;
-  // An interior node's rays, in a scratch stack: columns (origin x, y, z, the direction's
-  // reciprocals x, y, z, tmin and tmax widened as a walk's, the last two only where the block's rays
-  // differ in them) and ids. A node taken from the pending stack finds every region above its mark
-  // dead (its earlier siblings' subtrees are done), so the scratch is reused depth first and stays
-  // in cache: growing it for every node instead touched 3.8 MB a block of 16384 rays on 1024
-  // bunnies, 7.7 regions a ray. A leaf's rays become its items' lists, their ids alone in out.rays.
+  static_assert(kLanes >= BoxTree::LeafRays::kSlack, "a visited leaf's region has kLanes places to spare");
+  // An interior node's rays, in a scratch stack: columns (origin x, y, z, direction x, y, z, tmin and
+  // tmax, the last two only where the block's rays differ in them) and ids. The directions, not their
+  // reciprocals, go down: each node's load divides again (as the walk does, so the same bits), which
+  // costs nothing measurable (1024 bunnies, 6 interleaved rounds: medians 4.54x both), and a leaf can
+  // then hand on the rays themselves. A node taken from the pending stack finds every region above its
+  // mark dead (its earlier siblings' subtrees are done), so the scratch is reused depth first and
+  // stays in cache: growing it for every node instead touched 3.8 MB a block of 16384 rays on 1024
+  // bunnies, 7.7 regions a ray. A leaf's rays become its items' lists, their ids alone in out->rays,
+  // or stay in the scratch for `visit`.
   // Every region has kLanes places to spare, for whole-register stores.
   thread_local std::vector<float> columns[8];
   thread_local std::vector<std::uint32_t> ids;
@@ -214,7 +224,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
     for (std::vector<float>& column : columns) column.resize(size);
   };
   const auto leaf_room = [&](std::size_t need) {
-    if (out.rays.size() < need) out.rays.resize(grown(out.rays.size(), need));
+    if (out && out->rays.size() < need) out->rays.resize(grown(out->rays.size(), need));
   };
   scratch_room(rays.size() + kLanes);
   // The open rays into the columns, sixteen at a time: read as rows and turned into columns, the
@@ -240,7 +250,6 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       }
       __m512 v[8];
       simd::rows_to_columns16(row + 8 * i, v);
-      for (int a = 0; a < 3; ++a) v[3 + a] = _mm512_div_ps(_mm512_set1_ps(1.0f), v[3 + a]);  // +-inf for +-0
       const __m512i from = _mm512_maskz_compress_epi32(open, iota);
       for (int k = 0; k < 8; ++k) _mm512_storeu_ps(column[k] + used, _mm512_maskz_permutexvar_ps(0xffff, from, v[k]));
       const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(i)), iota);
@@ -252,7 +261,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       const Ray& ray = rays[i];
       for (int a = 0; a < 3; ++a) {
         column[a][used] = ray.org[a];
-        column[3 + a][used] = 1.0f / ray.dir[a];
+        column[3 + a][used] = ray.dir[a];
       }
       column[6][used] = ray.tmin;
       column[7][used] = ray.tmax;
@@ -263,27 +272,40 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
   const auto count = static_cast<std::uint32_t>(used);
   // A block whose rays share tmin and tmax (AO rays of one length, say) carries them as constants:
   // two columns fewer to move at every node (1024 bunnies, ratio to Embree's instancing, medians of
-  // six interleaved rounds: 3.74x -> 3.97x). Otherwise every ray's interval is widened in place.
+  // six interleaved rounds: 3.74x -> 3.97x). Otherwise every ray's interval goes down as given and is
+  // widened at each node's load.
   bool shared = true;
   for (std::size_t k = 1; k < used && shared; ++k)
     shared = std::bit_cast<std::uint32_t>(columns[6][k]) == std::bit_cast<std::uint32_t>(columns[6][0]) &&
              std::bit_cast<std::uint32_t>(columns[7][k]) == std::bit_cast<std::uint32_t>(columns[7][0]);
   const float tmin = bvh::widen_down(columns[6][0]), tmax = bvh::widen_up(columns[7][0]);
-  if (!shared)
-    for (std::size_t k = 0; k < used; ++k) {
-      columns[6][k] = bvh::widen_down(columns[6][k]);
-      columns[7][k] = bvh::widen_up(columns[7][k]);
+  // A visit's rays have their intervals as columns either way: the shared one in columns of its own.
+  thread_local std::vector<float> shared_interval[2];
+  if (visit && shared)
+    for (int k = 0; k < 2; ++k) shared_interval[k].assign(used + BoxTree::LeafRays::kSlack, columns[6 + k][0]);
+  // A visit may settle rays (skip[i] set) while the walk goes on: the lanes of a chunk whose rays are
+  // still open, so that settled rays go no further down.
+  const auto unsettled = [&](const std::uint32_t* chunk_ids, __mmask16 live) -> __mmask16 {
+    if (live == 0) return 0;
+    const int last = 15 - std::countl_zero(static_cast<std::uint16_t>(live));
+    if (std::size_t{chunk_ids[last]} + 4 <= rays.size()) {  // ascending ids: the last the largest; 4 bytes a lane read
+      const __m512i settled = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, _mm512_loadu_si512(chunk_ids), skip, 1);
+      return _mm512_testn_epi32_mask(settled, _mm512_set1_epi32(0xff));
     }
+    __mmask16 open = 0;
+    for (int lane = 0; lane <= last; ++lane) open |= static_cast<__mmask16>((skip[chunk_ids[lane]] == 0 ? 1u : 0u) << lane);
+    return open;
+  };
   std::size_t leaf_used = 0;
   // kCarried: the columns that move down the tree with the rays (6: tmin and tmax are constants).
   const auto walk = [&](auto carried) {
     constexpr int kCarried = decltype(carried)::value;
-    down_the_tree(nodes, order, count, count + kLanes, out, [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
+    const auto split = [&](const bvh::Node8& node, const Pending& p, std::vector<Pending>& pending) {
       std::size_t top = p.mark;
       int slots[8], children = 0;
-      bool leaf[8];
+      bool leaf[8];  // a leaf whose ids alone go to out->rays
       for (int slot = 0; slot < 8; ++slot) {
-        leaf[slot] = bvh::is_leaf(node.child[slot]);
+        leaf[slot] = out && bvh::is_leaf(node.child[slot]);
         if (node.bounds[bvh::kLoX][slot] <= node.bounds[bvh::kHiX][slot]) slots[children++] = slot;  // unused slots are empty boxes
       }
       const std::uint32_t chunks = (p.count + kLanes - 1) / kLanes;
@@ -294,7 +316,8 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       std::uint16_t* const node_masks = masks.data();
       for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) {
         const std::uint32_t at = chunk * kLanes;
-        const __mmask16 live = p.count - at >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (p.count - at)) - 1u);
+        __mmask16 live = p.count - at >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (p.count - at)) - 1u);
+        if (visit && skip) live &= unsettled(ids.data() + p.begin + at, live);
         bvh::BoxRays16 r;
         if constexpr (kCarried == 8) {
           r.load(column, at);
@@ -322,7 +345,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       float* base[8];
       for (int k = 0; k < 8; ++k) base[k] = columns[k].data();
       std::uint32_t* const id_base = ids.data();
-      std::uint32_t* const leaf_ids = out.rays.data();
+      std::uint32_t* const leaf_ids = out ? out->rays.data() : nullptr;
       const std::uint16_t* const mask = masks.data();
       const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
       for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) {
@@ -354,6 +377,22 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
         const int slot = slots[c];
         if (met[slot] > 0) pending.push_back({node.child[slot], cursor[slot] - met[slot], met[slot], static_cast<std::uint32_t>(top)});
       }
+    };
+    down_the_tree(nodes, count, count + kLanes, split, [&](const Pending& p) {
+      if (out) {
+        add_lists(order, p, *out);
+        return;
+      }
+      BoxTree::LeafRays leaf;
+      leaf.items = {order + bvh::leaf_first_item(p.ref), bvh::leaf_item_count(p.ref)};
+      for (int k = 0; k < 8; ++k) leaf.columns[k] = columns[k].data() + p.begin;
+      if constexpr (kCarried == 6) {
+        leaf.columns[6] = shared_interval[0].data();
+        leaf.columns[7] = shared_interval[1].data();
+      }
+      leaf.ids = ids.data() + p.begin;
+      leaf.count = p.count;
+      (*visit)(leaf);
     });
   };
   if (shared) {
@@ -380,12 +419,55 @@ void BoxTree::rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, 
   if (!layout_ || layout_->nodes.empty()) return;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   if (batch_width(width) == 16) {
-    partition_by_columns(layout_->nodes.data(), layout_->items.data(), rays, skip, out);
+    partition_by_columns(layout_->nodes.data(), layout_->items.data(), rays, skip, &out, nullptr);
     return;
   }
 #endif
   (void)width;
   partition_by_rows(layout_->nodes.data(), layout_->items.data(), rays, skip, out);
+}
+
+void BoxTree::visit_leaves(std::span<const Ray> rays, const std::uint8_t* skip, const LeafVisitor& visit, int width) const {
+  if (!layout_ || layout_->nodes.empty()) return;
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+  if (batch_width(width) == 16) {
+    partition_by_columns(layout_->nodes.data(), layout_->items.data(), rays, skip, nullptr, &visit);
+    return;
+  }
+#endif
+  // A ray at a time: the lists, then each leaf's rays still open copied into columns (a leaf's lists
+  // come side by side and share their rays).
+  thread_local ItemRays by_item;
+  thread_local std::array<std::vector<float>, 8> columns;
+  thread_local std::vector<std::uint32_t> ids;
+  by_item.lists.clear();
+  partition_by_rows(layout_->nodes.data(), layout_->items.data(), rays, skip, by_item);
+  for (std::size_t at = 0, end = 0; at < by_item.lists.size(); at = end) {
+    const ItemRays::List& list = by_item.lists[at];
+    end = at + 1;
+    while (end < by_item.lists.size() && by_item.lists[end].begin == list.begin) ++end;
+    thread_local std::vector<std::uint32_t> items;
+    items.clear();
+    for (std::size_t k = at; k < end; ++k) items.push_back(by_item.lists[k].item);
+    for (std::vector<float>& column : columns) column.assign(list.count + LeafRays::kSlack, 0.0f);
+    ids.assign(list.count + LeafRays::kSlack, 0);
+    std::size_t open = 0;
+    for (std::uint32_t k = 0; k < list.count; ++k) {
+      const std::uint32_t i = by_item.rays[list.begin + k];
+      if (skip && skip[i]) continue;
+      const Ray& ray = rays[i];
+      const float values[8] = {ray.org.x, ray.org.y, ray.org.z, ray.dir.x, ray.dir.y, ray.dir.z, ray.tmin, ray.tmax};
+      for (int c = 0; c < 8; ++c) columns[c][open] = values[c];
+      ids[open++] = i;
+    }
+    if (open == 0) continue;
+    LeafRays leaf;
+    leaf.items = items;
+    for (int c = 0; c < 8; ++c) leaf.columns[c] = columns[c].data();
+    leaf.ids = ids.data();
+    leaf.count = open;
+    visit(leaf);
+  }
 }
 
 std::size_t BoxTree::memory_bytes() const {

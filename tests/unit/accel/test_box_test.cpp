@@ -160,10 +160,10 @@ TEST(BoxTest, SixteenRaysAgainstOneBoxDecideAsOneRayAgainstEight) {
       rays[lane] = ray;
       for (int a = 0; a < 3; ++a) {
         columns[a][lane] = ray.org[a];
-        columns[3 + a][lane] = 1.0f / ray.dir[a];
+        columns[3 + a][lane] = ray.dir[a];
       }
-      columns[6][lane] = widen_down(ray.tmin);
-      columns[7][lane] = widen_up(ray.tmax);
+      columns[6][lane] = ray.tmin;  // widened by the load
+      columns[7][lane] = ray.tmax;
     }
     const float* const column[8] = {columns[0], columns[1], columns[2], columns[3], columns[4], columns[5], columns[6], columns[7]};
     BoxRays16 packet;

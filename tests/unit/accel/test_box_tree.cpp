@@ -3,11 +3,14 @@
 // to meet the box test's edge cases (origins on slab planes with zero direction components, rays
 // that touch a box at their origin alone, flat and nested boxes, finite and shifted ray intervals,
 // intervals that end just before a box or start just after it, so that only their widening lets
-// the box in, rays that all share one interval, skipped rays).
+// the box in, rays that all share one interval, skipped rays); and the same pairs leaf by leaf
+// (visit_leaves), with the rays' own values, where rays a visit settles may leave later leaves.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -175,6 +178,89 @@ TEST_P(BoxTreeLeaves, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
       EXPECT_EQ(count_at.size(), out.lists.size()) << "width " << width;
     } else {
       EXPECT_LT(count_at.size(), out.lists.size()) << "width " << width;  // some leaves hold several items
+    }
+  }
+}
+
+/// visit_leaves()'s (item, ray) pairs, each leaf's rays checked against `rays` bit for bit, in
+/// ascending order, its items each in one leaf.
+Pairs visited(const BoxTree& tree, const std::vector<Ray>& rays, std::vector<std::uint8_t>& skip, int width,
+              const std::function<void(const BoxTree::LeafRays&)>& also = {}) {
+  Pairs pairs;
+  std::set<std::uint32_t> items;
+  tree.visit_leaves(rays, skip.data(), [&](const BoxTree::LeafRays& leaf) {
+    EXPECT_GT(leaf.count, 0u);
+    EXPECT_TRUE(std::is_sorted(leaf.ids, leaf.ids + leaf.count)) << "rays out of order";
+    for (std::size_t k = 0; k < leaf.count; ++k) {
+      const Ray& ray = rays[leaf.ids[k]];
+      const float want[8] = {ray.org.x, ray.org.y, ray.org.z, ray.dir.x, ray.dir.y, ray.dir.z, ray.tmin, ray.tmax};
+      for (int c = 0; c < 8; ++c)
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(leaf.columns[c][k]), std::bit_cast<std::uint32_t>(want[c])) << "ray " << leaf.ids[k] << " column " << c;
+    }
+    for (const std::uint32_t item : leaf.items) {
+      EXPECT_TRUE(items.insert(item).second) << "item " << item << " in two leaves";
+      for (std::size_t k = 0; k < leaf.count; ++k) pairs.emplace_back(item, leaf.ids[k]);
+    }
+    if (also) also(leaf);
+  }, width);
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+TEST_P(BoxTreeLeaves, VisitedLeavesArePairsOfTheSingleRayQueryWithTheRaysThemselves) {
+  Rng rng(43);
+  const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
+  const BoxTree tree = BoxTree::build(boxes, GetParam());
+  const std::vector<Ray> rays = adversarial_rays(rng, boxes);
+  std::vector<std::uint8_t> skip(rays.size(), 0);
+  for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
+  std::vector<Ray> same_interval = rays;
+  for (std::size_t i = 0; i < same_interval.size(); ++i) {
+    same_interval[i].tmin = skip[i] ? 0.5f : 0.125f;
+    same_interval[i].tmax = skip[i] ? 1.0f : 4.0f;
+  }
+  const Pairs expected = one_ray_at_a_time(tree, rays, skip);
+  const Pairs expected_same = one_ray_at_a_time(tree, same_interval, skip);
+  ASSERT_GT(expected.size(), rays.size());
+  std::set<int> widths{BoxTree::batch_width(1), BoxTree::batch_width(16)};
+  for (const int width : widths) {
+    EXPECT_EQ(visited(tree, rays, skip, width), expected) << "width " << width;
+    EXPECT_EQ(visited(tree, same_interval, skip, width), expected_same) << "width " << width << ", one interval";
+  }
+}
+
+TEST_P(BoxTreeLeaves, RaysSettledByAVisitAreLeftOutOfLaterLeavesOnly) {
+  Rng rng(47);
+  const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
+  const BoxTree tree = BoxTree::build(boxes, GetParam());
+  const std::vector<Ray> rays = adversarial_rays(rng, boxes);
+  const std::vector<std::uint8_t> none(rays.size(), 0);
+  const Pairs expected = one_ray_at_a_time(tree, rays, none);
+  std::set<int> widths{BoxTree::batch_width(1), BoxTree::batch_width(16)};
+  for (const int width : widths) {
+    // The first leaf settles every third ray: later leaves may leave those out, and only those.
+    std::vector<std::uint8_t> skip(rays.size(), 0);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> first_leaf;
+    bool first = true;
+    const Pairs got = visited(tree, rays, skip, width, [&](const BoxTree::LeafRays& leaf) {
+      if (!first) return;
+      first = false;
+      for (const std::uint32_t item : leaf.items)
+        for (std::size_t k = 0; k < leaf.count; ++k) first_leaf.emplace(item, leaf.ids[k]);
+      for (std::size_t i = 0; i < rays.size(); i += 3) skip[i] = 1;
+    });
+    std::size_t left_out = 0;
+    for (const auto& pair : expected) {
+      const bool present = std::binary_search(got.begin(), got.end(), pair);
+      if (pair.second % 3 != 0 || first_leaf.count(pair)) {
+        EXPECT_TRUE(present) << "width " << width << ": item " << pair.first << " ray " << pair.second;
+      } else {
+        left_out += present ? 0 : 1;
+      }
+    }
+    EXPECT_TRUE(std::includes(expected.begin(), expected.end(), got.begin(), got.end())) << "width " << width;
+    if (width == 16) {
+      EXPECT_GT(left_out, 0u) << "the walk never looked at the settled rays";
     }
   }
 }

@@ -1,7 +1,7 @@
 // A FieldScene block's sphere pass on lanes: the rows it appends for several objects in one pass
 // are, bit for bit, what may_meet_sphere() and InverseTransform::apply() give ray by ray, in order,
 // settled rays left out; on counts that leave a partial packet for the scalar tail; into rows of
-// their own or shared.
+// their own or shared; from rays as Rays or as columns.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -120,6 +120,50 @@ TEST(BlockLanes, OnePassForSeveralSpheresAppendsTheRowsOfTheScalarTests) {
     if (n > 1000) {
       EXPECT_GT(met, n / 4);  // the spheres do meet a share of the rays
     }
+  }
+}
+
+TEST(BlockLanes, RaysAsColumnsGetTheRowsOfRaysAsRays) {
+  const ThreeObjects objects;
+  for (const std::size_t n : {std::size_t{4001}, std::size_t{16}, std::size_t{7}}) {
+    const std::vector<Ray> rays = rays_around(n, 41 + n);
+    // The ids index a settled array of their own (as a tree leaf's rays index their block's).
+    std::vector<std::uint32_t> ids(n + kColumnsSlack, 0);
+    std::vector<std::uint8_t> settled(3 * n + 2, 0), skip(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      ids[i] = static_cast<std::uint32_t>(3 * i + 1);
+      settled[ids[i]] = i % 7 == 3 ? 1 : 0;
+      skip[i] = settled[ids[i]];
+    }
+    // Past the count: values that would meet every sphere, ids of rays not settled.
+    std::array<std::vector<float>, 8> columns;
+    for (auto& column : columns) column.assign(n + kColumnsSlack, 0.0f);
+    for (std::size_t i = 0; i < n; ++i) {
+      const float values[8] = {rays[i].org.x, rays[i].org.y, rays[i].org.z, rays[i].dir.x, rays[i].dir.y, rays[i].dir.z, rays[i].tmin, rays[i].tmax};
+      for (int c = 0; c < 8; ++c) columns[static_cast<std::size_t>(c)][i] = values[c];
+    }
+    for (std::size_t i = n; i < n + kColumnsSlack; ++i) {
+      columns[3][i] = 1.0f;
+      columns[7][i] = 1e30f;
+    }
+    const float* column[8];
+    for (int c = 0; c < 8; ++c) column[c] = columns[static_cast<std::size_t>(c)].data();
+    RayRows as_rays[3], as_columns[3];
+    std::vector<SphereTarget> from_rays, from_columns;
+    for (int k = 0; k < 3; ++k) {
+      from_rays.push_back({objects.centres[k], objects.radii[k], &objects.maps[k], &as_rays[k]});
+      from_columns.push_back({objects.centres[k], objects.radii[k], &objects.maps[k], &as_columns[k]});
+    }
+    append_meeting_spheres(from_rays, rays, ids.data(), skip.data());
+    append_meeting_spheres(from_columns, column, n, ids.data(), settled.data());
+    std::size_t met = 0;
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(as_columns[k].count, as_rays[k].count) << "object " << k << ", " << n << " rays";
+      for (std::size_t r = 0; r < as_rays[k].count; ++r)
+        EXPECT_EQ(row_bits(as_columns[k], r), row_bits(as_rays[k], r)) << "object " << k << " row " << r << ", " << n << " rays";
+      met += as_rays[k].count;
+    }
+    EXPECT_GT(met, n / 4);  // the spheres do meet a share of the rays
   }
 }
 
