@@ -139,24 +139,40 @@ Pairs grouped(const BoxTree& tree, const std::vector<Ray>& rays, const std::vect
   return pairs;
 }
 
+/// A tree over the adversarial boxes with `leaf_items` a leaf, its adversarial rays with every fifth
+/// skipped, and the same rays with one interval for every open ray (the columns' batch carries tmin
+/// and tmax as constants then; a skipped ray's own interval does not count).
+struct TreeCase {
+  std::vector<Bounds3f> boxes;
+  BoxTree tree;
+  std::vector<Ray> rays, same_interval;
+  std::vector<std::uint8_t> skip;
+
+  TreeCase(std::uint64_t seed, int leaf_items) {
+    Rng rng(seed);
+    boxes = adversarial_boxes(rng);
+    tree = BoxTree::build(boxes, leaf_items);
+    rays = adversarial_rays(rng, boxes);
+    skip.assign(rays.size(), 0);
+    for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
+    same_interval = rays;
+    for (std::size_t i = 0; i < same_interval.size(); ++i) {
+      same_interval[i].tmin = skip[i] ? 0.5f : 0.125f;
+      same_interval[i].tmax = skip[i] ? 1.0f : 4.0f;
+    }
+  }
+};
+
 class BoxTreeLeaves : public ::testing::TestWithParam<int> {};
 
 TEST_P(BoxTreeLeaves, RaysByItemArePairsOfTheSingleRayQueryAtEveryWidth) {
-  Rng rng(41);
-  const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
-  const BoxTree tree = BoxTree::build(boxes, GetParam());
-  const std::vector<Ray> rays = adversarial_rays(rng, boxes);
-  std::vector<std::uint8_t> skip(rays.size(), 0);
-  for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
+  TreeCase c(41, GetParam());
+  const BoxTree& tree = c.tree;
+  const std::vector<Ray>& rays = c.rays;
+  const std::vector<std::uint8_t>& skip = c.skip;
   const Pairs expected = one_ray_at_a_time(tree, rays, skip);
   ASSERT_GT(expected.size(), rays.size());  // rays meet several boxes each: the grouping is exercised
-  // Every open ray with one interval (the columns' batch carries tmin and tmax as constants then);
-  // a skipped ray's own interval does not count.
-  std::vector<Ray> same_interval = rays;
-  for (std::size_t i = 0; i < same_interval.size(); ++i) {
-    same_interval[i].tmin = skip[i] ? 0.5f : 0.125f;
-    same_interval[i].tmax = skip[i] ? 1.0f : 4.0f;
-  }
+  const std::vector<Ray>& same_interval = c.same_interval;
   const Pairs expected_same = one_ray_at_a_time(tree, same_interval, skip);
   std::set<int> widths{BoxTree::batch_width(1), BoxTree::batch_width(16)};
   for (const int width : widths) {
@@ -208,24 +224,14 @@ Pairs visited(const BoxTree& tree, const std::vector<Ray>& rays, std::vector<std
 }
 
 TEST_P(BoxTreeLeaves, VisitedLeavesArePairsOfTheSingleRayQueryWithTheRaysThemselves) {
-  Rng rng(43);
-  const std::vector<Bounds3f> boxes = adversarial_boxes(rng);
-  const BoxTree tree = BoxTree::build(boxes, GetParam());
-  const std::vector<Ray> rays = adversarial_rays(rng, boxes);
-  std::vector<std::uint8_t> skip(rays.size(), 0);
-  for (std::size_t i = 0; i < rays.size(); i += 5) skip[i] = 1;
-  std::vector<Ray> same_interval = rays;
-  for (std::size_t i = 0; i < same_interval.size(); ++i) {
-    same_interval[i].tmin = skip[i] ? 0.5f : 0.125f;
-    same_interval[i].tmax = skip[i] ? 1.0f : 4.0f;
-  }
-  const Pairs expected = one_ray_at_a_time(tree, rays, skip);
-  const Pairs expected_same = one_ray_at_a_time(tree, same_interval, skip);
-  ASSERT_GT(expected.size(), rays.size());
+  TreeCase c(43, GetParam());
+  const Pairs expected = one_ray_at_a_time(c.tree, c.rays, c.skip);
+  const Pairs expected_same = one_ray_at_a_time(c.tree, c.same_interval, c.skip);
+  ASSERT_GT(expected.size(), c.rays.size());
   std::set<int> widths{BoxTree::batch_width(1), BoxTree::batch_width(16)};
   for (const int width : widths) {
-    EXPECT_EQ(visited(tree, rays, skip, width), expected) << "width " << width;
-    EXPECT_EQ(visited(tree, same_interval, skip, width), expected_same) << "width " << width << ", one interval";
+    EXPECT_EQ(visited(c.tree, c.rays, c.skip, width), expected) << "width " << width;
+    EXPECT_EQ(visited(c.tree, c.same_interval, c.skip, width), expected_same) << "width " << width << ", one interval";
   }
 }
 
