@@ -78,8 +78,9 @@ namespace {
 //   its rays by a permute a column (1024 bunnies' AO rays, the whole field query: 23.6-23.8
 //   Mrays/s by rows, 25.0-25.4 by columns, four interleaved rounds).
 
-/// A node's rays, places begin .. begin + count of its region (a leaf's: of out.rays; an interior
-/// node's: of the split's ids and columns): pending until the node is tested. `mark`: where a
+/// A node's rays, places begin .. begin + count of its region (a listed leaf's: of out.rays; an
+/// interior node's, and a visited leaf's: of the split's ids and columns): pending until the node is
+/// taken. `mark`: where a
 /// split's scratch may start again once this node is taken (the columns split's; what lies above
 /// it belongs to subtrees already taken).
 struct Pending {
