@@ -66,10 +66,11 @@ class BoxTree {
   };
   using LeafVisitor = std::function<void(const LeafRays&)>;
   /// rays_by_item() leaf by leaf, the rays' values with their indices: visit(leaf) for each leaf whose
-  /// box some ray with no skip[i] meets, in tree order, with the same (item, ray) pairs, except that
-  /// a ray the visits settle (skip[i] set by the visitor) may be left out of the leaves visited after.
-  /// At 16 lanes the values go down the tree with the rays, settled rays stop where the walk next
-  /// reads their skip, and a leaf is visited as soon as it is reached, while its rays are in cache.
+  /// box some ray with no skip[i] meets, with the same (item, ray) pairs, except that a ray the visits
+  /// settle (skip[i] set by the visitor) may be left out of the leaves visited after. At 16 lanes the
+  /// values go down the tree with the rays, each node's children nearest its rays' mean origin first,
+  /// settled rays stop where the walk next reads their skip, and a leaf is visited as soon as it is
+  /// reached, while its rays are in cache; a ray at a time, leaves come in tree order.
   /// O(nodes met by some ray + pairs).
   void visit_leaves(std::span<const Ray> rays, const std::uint8_t* skip, const LeafVisitor& visit, int width = 0) const;
   /// The rays a rays_by_item() step tests together for `width` in this build: 16 or 1.

@@ -273,6 +273,35 @@ TEST_P(BoxTreeLeaves, RaysSettledByAVisitAreLeftOutOfLaterLeavesOnly) {
 
 INSTANTIATE_TEST_SUITE_P(ItemsALeaf, BoxTreeLeaves, ::testing::Values(1, 4));
 
+TEST(BoxTreeLeaves, AtSixteenLanesTheLeavesNearestTheRaysComeFirst) {
+  if (BoxTree::batch_width(16) != 16) GTEST_SKIP() << "this build walks a ray at a time (leaves in tree order)";
+  // A row of 64 boxes along x; rays from just beyond one end of the row along it, fanned out a little:
+  // the first leaf visited holds the box at that end, and from leaf to leaf the boxes only move away.
+  // From one of the two ends that is against the tree's own order, whichever way the builder laid it.
+  std::vector<Bounds3f> boxes;
+  for (int k = 0; k < 64; ++k) {
+    const float x = 2.0f * static_cast<float>(k);
+    boxes.push_back({Vec3f{x, -0.5f, -0.5f}, Vec3f{x + 1.0f, 0.5f, 0.5f}});
+  }
+  const BoxTree tree = BoxTree::build(boxes);
+  for (const float side : {-1.0f, 1.0f}) {
+    const float start = side < 0.0f ? -1.0f : 128.0f;  // just before box 0, or just after box 63
+    Rng rng(5);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 512; ++i)
+      rays.push_back(Ray{Vec3f{start, 0.0f, 0.0f}, Vec3f{-side, (rng.uniform() - 0.5f) * 0.02f, (rng.uniform() - 0.5f) * 0.02f}});
+    std::vector<float> distance;  // each visited leaf's box, from the rays' origin
+    tree.visit_leaves(rays, nullptr, [&](const BoxTree::LeafRays& leaf) {
+      ASSERT_EQ(leaf.items.size(), 1u);
+      const Bounds3f& box = boxes[leaf.items[0]];
+      distance.push_back(std::max(box.lo.x - start, start - box.hi.x));
+    }, 16);
+    ASSERT_EQ(distance.size(), 64u) << "from side " << side;
+    EXPECT_EQ(distance.front(), 1.0f) << "from side " << side;
+    EXPECT_TRUE(std::is_sorted(distance.begin(), distance.end())) << "from side " << side;
+  }
+}
+
 TEST(BoxTree, RefusesLeavesOfNoItemOrTooMany) {
   const std::vector<Bounds3f> boxes{Bounds3f{Vec3f{0.0f}, Vec3f{1.0f}}};
   EXPECT_THROW(BoxTree::build(boxes, 0), Error);
