@@ -127,8 +127,9 @@ M open_lanes(const std::uint8_t* skip) {
   return lanes_of_bits(open);
 }
 
-/// The lanes k < `lanes` whose settled[ids[k]] is 0.
+/// The lanes k < `lanes` whose settled[ids[k]] is 0 (every one of them when `settled` is null).
 M open_by_ids(const std::uint8_t* settled, const std::uint32_t* ids, int lanes) {
+  if (!settled) return lanes_of_bits(static_cast<std::uint32_t>((std::uint64_t{1} << lanes) - 1u));
   std::uint32_t open = 0;
   for (int lane = 0; lane < lanes; ++lane) open |= static_cast<std::uint32_t>(settled[ids[lane]] == 0) << lane;
   return lanes_of_bits(open);
@@ -147,6 +148,7 @@ M open_by_ids(const std::uint8_t* settled, const std::uint32_t* ids, int lanes) 
     const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
     RayRows& out = *t.out;
     for (int k = 0; k < 8; ++k) L::compress(out.row[k].data() + out.count, *column[k], meets);
+    if (out.tagged) L::compress(out.tag.data() + out.count, L::splat(static_cast<int>(t.tag)), meets);
     out.count += static_cast<std::size_t>(L::compress(out.id.data() + out.count, L::load(ids), meets));
   }
 }
@@ -196,6 +198,7 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
 void RayRows::pad_to(std::size_t width) {
   const std::size_t padded = (count + width - 1) / width * width;
   for (std::vector<float>& r : row) std::fill(r.data() + count, r.data() + padded, r[count - 1]);
+  if (tagged) std::fill(tag.data() + count, tag.data() + padded, tag[count - 1]);
   count = padded;
 }
 
@@ -222,6 +225,7 @@ void make_room(std::span<const SphereTarget> targets, std::size_t count) {
     for (std::vector<float>& row : out.row)
       if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
     if (out.id.size() < need) out.id.resize(std::max(need, 2 * out.id.size()));
+    if (out.tagged && out.tag.size() < need) out.tag.resize(std::max(need, 2 * out.tag.size()));
   }
 }
 
@@ -234,6 +238,7 @@ void append_one(std::span<const SphereTarget> targets, const Ray& ray, std::uint
     const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
     RayRows& out = *t.out;
     for (int k = 0; k < 8; ++k) out.row[k][out.count] = values[k];
+    if (out.tagged) out.tag[out.count] = t.tag;
     out.id[out.count++] = id;
   }
 }
@@ -279,7 +284,7 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, const float* 
   }
 #endif
   for (; i < count; ++i) {
-    if (settled[ids[i]]) continue;
+    if (settled && settled[ids[i]]) continue;
     const Ray ray{{columns[0][i], columns[1][i], columns[2][i]}, {columns[3][i], columns[4][i], columns[5][i]}, columns[6][i], columns[7][i]};
     append_one(targets, ray, ids[i]);
   }

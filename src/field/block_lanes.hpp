@@ -44,6 +44,9 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
 struct RayRows {
   std::array<std::vector<float>, 8> row;
   std::vector<std::uint32_t> id;
+  /// When `tagged`: each row's SphereTarget::tag (which object the ray went to); else left alone.
+  std::vector<std::uint32_t> tag;
+  bool tagged = false;
   std::size_t count = 0;
 
   /// The rows' rays for ObjectField::mark_occluded (valid until the next append).
@@ -64,6 +67,7 @@ struct SphereTarget {
   float radius;
   const InverseTransform* to_object;
   RayRows* out;
+  std::uint32_t tag = 0;  // written beside each of its rays where `out` is tagged
 };
 
 /// For each of `targets`, the rays of `rays` that may meet its sphere by may_meet_sphere() (bit for
@@ -76,8 +80,8 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<con
                             const std::uint8_t* skip = nullptr);
 /// append_meeting_spheres() for rays given as columns (origin x, y, z, direction x, y, z, tmin, tmax;
 /// `count` values each, readable up to kColumnsSlack places past count, as BoxTree::LeafRays holds them): ray k
-/// has the id ids[k] and is left out where settled[ids[k]] != 0. The same rows, bit for bit, as for
-/// those rays as Rays. O(count · targets).
+/// has the id ids[k] and is left out where `settled` is given and settled[ids[k]] != 0. The same rows,
+/// bit for bit, as for those rays as Rays. O(count · targets).
 void append_meeting_spheres(std::span<const SphereTarget> targets, const float* const columns[8], std::size_t count, const std::uint32_t* ids,
                             const std::uint8_t* settled);
 

@@ -15,6 +15,7 @@
 #include "visfield/core/memory.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/triangle_set.hpp"
+#include "visfield/field/closest_answer.hpp"
 #include "visfield/field/field_file.hpp"
 #include "visfield/field/field_params.hpp"
 
@@ -210,13 +211,17 @@ Hit FieldScene::field_hit(const Object& o, const FieldAnswer& a) {
 
 Hit FieldScene::intersect(const Ray& ray) const {
   Hit best = exact_ ? exact_->intersect(ray) : Hit{};
+  unsigned int best_object = kExactPart;
   thread_local std::vector<std::uint32_t> met;
   objects_met(ray, met);
   for (const std::uint32_t k : met) {
     const Object& o = objects_[k];
     const Ray local = o.to_object.apply(ray);
-    const FieldAnswer a = o.field->trace(local.org, local.dir, ray.tmin, best.found ? best.t : ray.tmax);
-    if (a.hit && (!best.found || a.t < best.t)) best = field_hit(o, a);
+    const FieldAnswer a = o.field->trace(local.org, local.dir, ray.tmin, ray.tmax);
+    if (a.hit && replaces_closest(a.t, k, best.found, best.t, best_object)) {
+      best = field_hit(o, a);
+      best_object = k;
+    }
   }
   return best;
 }
@@ -323,7 +328,6 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
     return;
   }
   std::vector<std::uint32_t> index;
-  std::vector<float> limit(closest ? n : 0);
   std::vector<FieldAnswer> answers(closest ? n : 0);
   for (std::size_t object = 0; object < objects_.size(); ++object) {
     const Object& o = objects_[object];
@@ -345,11 +349,9 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
       o.field->mark_occluded(rays.data(), candidates, m, o.to_object, occluded);
       continue;
     }
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::uint32_t i = candidates[k];
-      limit[i] = best[i].found ? best[i].t : rays[i].tmax;
-    }
-    o.field->trace_rays(rays.data(), candidates, m, o.to_object, limit.data(), answers.data());
+    // Each answer within its ray's own range; the objects come in index order, so that a nearer answer
+    // replacing the hit so far is replaces_closest()'s rule.
+    o.field->trace_rays(rays.data(), candidates, m, o.to_object, nullptr, answers.data());
     for (std::size_t k = 0; k < m; ++k) {
       if (!answers[k].hit) continue;
       const std::size_t i = candidates[k];
@@ -358,31 +360,66 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   }
 }
 
+template <class Group>
+void FieldScene::leaf_field_groups(std::span<const std::uint32_t> items, RayRows& out, std::vector<SphereTarget>& targets, Group&& group) const {
+  static_assert(kObjectsPerLeaf <= 64, "a leaf's items as bits of one word");
+  std::uint64_t taken = 0;  // bit k: items[k] is in a group already
+  for (std::size_t first = 0; first < items.size(); ++first) {
+    if ((taken >> first) & 1u) continue;
+    const ObjectField* field = objects_[items[first]].field;
+    targets.clear();
+    for (std::size_t k = first; k < items.size(); ++k) {
+      const Object& o = objects_[items[k]];
+      if (o.field != field) continue;
+      taken |= std::uint64_t{1} << k;
+      targets.push_back({o.centre, o.radius, &o.to_object, &out, items[k]});
+    }
+    group(field);
+  }
+}
+
 void FieldScene::closest_by_tree(std::span<const Ray> rays, Hit* best) const {
-  // Kept from block to block: a thread's blocks allocate nothing once its first has grown them.
   struct Scratch {
-    ItemRays by_object;
-    std::vector<Ray> leaf_copies;  // each leaf's rays, at their region's place in by_object.rays
+    std::vector<SphereTarget> targets;
+    RayRows local;  // the pending pairs' object-space rays: ids their rays' places in the block, tags their objects
+    std::vector<FieldAnswer> answers;
+    std::vector<std::uint32_t> best_object;  // the object of best[i] when a field answered it, else kExactPart
   };
   thread_local Scratch s;
-  // The block's rays go down the tree together and arrive grouped by object (each object's in
-  // ascending order). Closest hits take the objects in index order, as without the tree (a tie in
-  // distance goes to the lower index).
-  tree_.rays_by_item(rays, nullptr, s.by_object);
-  std::vector<ItemRays::List>& lists = s.by_object.lists;
-  // Each leaf's rays copied side by side once, at their place in by_object.rays, for all its objects
-  // (whose lists share them; a leaf's lists come side by side): read once here from the block, they
-  // are then read in order, by each object's sphere test and kernel, rather than gathered from all
-  // over the block by each.
-  if (s.leaf_copies.size() < s.by_object.rays.size()) s.leaf_copies.resize(s.by_object.rays.size());
-  for (std::size_t k = 0; k < lists.size(); ++k) {
-    if (k > 0 && lists[k].begin == lists[k - 1].begin) continue;
-    const std::uint32_t* ids = s.by_object.rays.data() + lists[k].begin;
-    for (std::uint32_t c = 0; c < lists[k].count; ++c) s.leaf_copies[lists[k].begin + c] = rays[ids[c]];
-  }
-  std::sort(lists.begin(), lists.end(), [](const ItemRays::List& a, const ItemRays::List& b) { return a.item < b.item; });
-  for (const ItemRays::List& list : lists)
-    trace_closest(objects_[list.item], rays, s.by_object.rays.data() + list.begin, s.leaf_copies.data() + list.begin, list.count, best);
+  s.local.tagged = true;
+  s.best_object.assign(rays.size(), kExactPart);
+  // As for occlusion: the block's rays go down the tree together and each leaf takes its rays where
+  // the walk reaches it; the pairs of objects sharing a field are traced together, in one stream. The
+  // objects come in the walk's order, not their index order: replaces_closest() makes the hit the
+  // same. (Before: each object's rays listed, copied and traced on their own, in index order: on
+  // 1024 bunnies a few dozen rays an object, mostly partial packets.)
+  const ObjectField* pending_field = nullptr;
+  const auto flush = [&] {
+    const std::size_t pairs = s.local.count;
+    if (pairs == 0) return;
+    s.local.pad_to(static_cast<std::size_t>(ObjectField::batch_width()));  // whole packets
+    if (s.answers.size() < s.local.count) s.answers.resize(s.local.count);
+    pending_field->trace_batch(s.local.view(), s.answers.data());
+    for (std::size_t k = 0; k < pairs; ++k) {
+      const FieldAnswer& a = s.answers[k];
+      if (!a.hit) continue;
+      const std::uint32_t i = s.local.id[k], object = s.local.tag[k];
+      if (!replaces_closest(a.t, object, best[i].found, best[i].t, s.best_object[i])) continue;
+      best[i] = field_hit(objects_[object], a);
+      s.best_object[i] = object;
+    }
+    s.local.count = 0;
+  };
+  tree_.visit_leaves(rays, nullptr, [&](const BoxTree::LeafRays& leaf) {
+    leaf_field_groups(leaf.items, s.local, s.targets, [&](const ObjectField* field) {
+      if (field != pending_field || s.local.count >= kFlushPairs) {
+        flush();
+        pending_field = field;
+      }
+      append_meeting_spheres(s.targets, leaf.columns, leaf.count, leaf.ids, nullptr);
+    });
+  });
+  flush();
 }
 
 void FieldScene::occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occluded) const {
@@ -413,49 +450,15 @@ void FieldScene::occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occlu
     // instancing, 3 interleaved rounds: medians 4.16x -> 4.36x; busts 4.31x -> 4.96x): the rays still
     // open (an earlier flush may have settled some) that each sphere lets in (the test the single-ray
     // queries make, on the ray as given), mapped into object space and added to the pending pairs.
-    static_assert(kObjectsPerLeaf <= 64, "a leaf's items as bits of one word");
-    std::uint64_t taken = 0;  // bit k: leaf.items[k] is in a group already
-    for (std::size_t first = 0; first < leaf.items.size(); ++first) {
-      if ((taken >> first) & 1u) continue;
-      const ObjectField* field = objects_[leaf.items[first]].field;
+    leaf_field_groups(leaf.items, s.local, s.targets, [&](const ObjectField* field) {
       if (field != pending_field || s.local.count >= kFlushPairs) {
         flush();
         pending_field = field;
       }
-      s.targets.clear();
-      for (std::size_t k = first; k < leaf.items.size(); ++k) {
-        const Object& o = objects_[leaf.items[k]];
-        if (o.field != field) continue;
-        taken |= std::uint64_t{1} << k;
-        s.targets.push_back({o.centre, o.radius, &o.to_object, &s.local});
-      }
       append_meeting_spheres(s.targets, leaf.columns, leaf.count, leaf.ids, occluded);
-    }
+    });
   });
   flush();
-}
-
-void FieldScene::trace_closest(const Object& o, std::span<const Ray> rays, const std::uint32_t* ids, const Ray* copies, std::size_t count,
-                               Hit* best) const {
-  thread_local std::vector<std::uint32_t> kept;
-  thread_local std::vector<float> limit;
-  thread_local std::vector<FieldAnswer> answers;
-  kept.resize(count);
-  const std::size_t m = rays_meeting_sphere(o.centre, o.radius, std::span<const Ray>(copies, count), kept.data());
-  if (m == 0) return;
-  limit.resize(count);
-  answers.resize(m);
-  for (std::size_t k = 0; k < m; ++k) {
-    const std::uint32_t i = ids[kept[k]];
-    limit[kept[k]] = best[i].found ? best[i].t : rays[i].tmax;
-  }
-  o.field->trace_rays(copies, kept.data(), m, o.to_object, limit.data(), answers.data());
-  for (std::size_t k = 0; k < m; ++k) {
-    const FieldAnswer& a = answers[k];
-    if (!a.hit) continue;
-    const std::uint32_t i = ids[kept[k]];
-    if (!best[i].found || a.t < best[i].t) best[i] = field_hit(o, a);
-  }
 }
 
 std::size_t FieldScene::block_size() const { return objects_.size() > 1 ? kObjectsBlock : kBlock; }

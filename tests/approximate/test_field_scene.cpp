@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -266,6 +267,48 @@ TEST_P(FieldSceneTree, AnswersAsTestingEverySphere) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Fields, FieldSceneTree, ::testing::Values(1, 2));
+
+// Two objects in one place answer with equal t: the closest hit is the first object's (the lower
+// index), whichever order the walk takes them in, single rays and batches, through the tree and
+// testing every sphere.
+TEST(FieldScene, CoincidentObjectsGiveTheFirstOfThem) {
+  Scene scene = turned_boxes(40);
+  std::set<ObjectId> first;
+  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end())) {
+    if (scene.meshes[object.mesh].occluder == MeshOccluder::exact) continue;
+    first.insert(object.id);
+    scene.add_instance(object.mesh, object.transform);
+  }
+  ASSERT_GT(first.size(), 30u);
+  const TriangleSet set = flatten(scene);
+  const field::ObjectFieldConfig config{.positions = 290, .directions = 16};
+  const FieldScene tree = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::tree);
+  const FieldScene each = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::each);
+  ASSERT_TRUE(tree.uses_tree());
+  // From 100 scene sizes away, towards points near the objects' centres.
+  std::vector<Ray> rays;
+  Rng rng(21);
+  const std::vector<Bounds3f> boxes = tree.object_boxes();
+  const float size = length(set.bounds.extent());
+  for (int k = 0; k < 20000; ++k) {
+    const Bounds3f& box = boxes[rng.next_u32() % boxes.size()];
+    const Vec3f to = box.center() + Vec3f{rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f} * (0.5f * box.extent().x);
+    const Vec3f from = to + uniform_sphere(rng.uniform(), rng.uniform()) * (100.0f * size);
+    rays.push_back(Ray{from, to - from, 0.0f, 2.0f});
+  }
+  std::vector<Hit> hits_tree(rays.size()), hits_each(rays.size());
+  field::intersect_batch(tree, rays, hits_tree);
+  field::intersect_batch(each, rays, hits_each);
+  std::size_t field_hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    for (const Hit& h : {hits_tree[i], hits_each[i], tree.intersect(rays[i]), each.intersect(rays[i])}) {
+      if (!h.found || h.has_triangle()) continue;
+      field_hits += h.instance == hits_each[i].instance ? 1 : 0;
+      ASSERT_TRUE(first.count(h.instance)) << "ray " << i << ": object " << h.instance << ", the second of two in one place";
+    }
+  }
+  EXPECT_GT(field_hits, rays.size() / 5);  // 4 answers a ray
+}
 
 // The batch queries run in parallel over blocks (the ThreadSanitizer step runs this test): the
 // answers do not depend on the thread count.

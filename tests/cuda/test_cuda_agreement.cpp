@@ -202,8 +202,8 @@ TEST(Cuda, FieldBatchEqualsFieldSceneBitForBit) {
   if (std::optional<Scene> bunny = shared_model("bun_zipper.ply"))
     cases.push_back({"bunny on a ground, 16642 x 64^2 oct32", on_ground(*bunny),
                      {.positions = 16642, .directions = 64, .normals = field::NormalStorage::oct32}});
-  // 80 boxes in a row and rays along it: each may meet more objects than a walk of the tree over
-  // them sorts on its stack (boxes u8 walks it too: 64 objects).
+  // 80 boxes in a row and rays along it: each may meet dozens of objects, whose answers the walk of
+  // the tree over them takes in its own order (boxes u8 walks it too: 64 objects).
   Bounds3f first_box;
   cases.push_back({"80 boxes in a row", boxes_in_a_row(80, first_box), {.positions = 290, .directions = 16}});
   for (const Case& c : cases) {

@@ -24,6 +24,9 @@
 
 namespace vf::field {
 
+struct RayRows;       // src/field/block_lanes.hpp: a block's pending rays, mapped into object space
+struct SphereTarget;  // src/field/block_lanes.hpp: a sphere those rays are culled against
+
 /// Which meshes of a scene a FieldScene represents by fields (the others stay exact triangles).
 enum class FieldMeshes : unsigned char {
   all,     ///< Every mesh an object uses, except those marked MeshOccluder::exact (`--occluders field`).
@@ -62,8 +65,10 @@ class FieldScene {
   /// Throws vf::Error naming the mesh on a bad parameter.
   static ObjectFieldConfig mesh_config(const TriangleMesh& mesh, const ObjectFieldConfig& config);
 
-  /// Closest hit in [tmin, tmax] over every object: the exact part's hit or a nearer field answer
-  /// (with the object's id, no triangle, and the world-space normal when the fields have normals).
+  /// Closest hit in [tmin, tmax] over every object: the exact part's hit or a nearer field answer (each
+  /// object's within [tmin, tmax]; of equals, the exact part's, then the lowest object index's:
+  /// replaces_closest()), with the object's id, no triangle, and the world-space normal when the
+  /// fields have normals.
   Hit intersect(const Ray& ray) const;
   /// Occlusion: whether some object's field, or the exact part, reports a hit in [tmin, tmax].
   bool occluded(const Ray& ray) const;
@@ -100,8 +105,13 @@ class FieldScene {
   /// occluded; the batch queries run it per block in parallel.
   void trace_block(std::span<const Ray> rays, bool closest, Hit* best, std::uint8_t* occluded) const;
   /// trace_block()'s field part for closest hits when the objects are found through the tree:
-  /// best[i] replaced where an object's field answers nearer.
+  /// best[i] replaced where an object's field answer replaces_closest() it.
   void closest_by_tree(std::span<const Ray> rays, Hit* best) const;
+  /// For each field among a tree leaf's objects `items`, in order of their first: `targets` made the
+  /// spheres of the leaf's objects that share it (rays to `out`, tagged with the objects' indices),
+  /// then group(field) called.
+  template <class Group>
+  void leaf_field_groups(std::span<const std::uint32_t> items, RayRows& out, std::vector<SphereTarget>& targets, Group&& group) const;
   /// trace_block()'s field part for occlusion when the objects are found through the tree:
   /// occluded[i] set where some object's field occludes rays[i] (rays already occluded left out).
   void occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occluded) const;
@@ -115,10 +125,6 @@ class FieldScene {
     Vec3f centre;
     float radius;
   };
-  /// Closest hits: closest_by_tree()'s step for object `o` and its list of `count` rays, rays[ids[k]]
-  /// (copied side by side at `copies`): those its sphere lets in traced, each answer kept where it is
-  /// nearer than best[ids[k]].
-  void trace_closest(const Object& o, std::span<const Ray> rays, const std::uint32_t* ids, const Ray* copies, std::size_t count, Hit* best) const;
   /// Whether `ray` (world space) can meet object `o`'s sphere, slightly widened, within its [tmin, tmax].
   static bool may_meet(const Object& o, const Ray& ray) { return may_meet_sphere(o.centre, o.radius, ray); }
   /// Indices of the objects whose spheres `ray` may meet (may_meet), ascending, into `out`; every

@@ -3,13 +3,14 @@
 /// contiguous buffer (FieldSlot: the tables' parameters and byte offsets, rebased to FieldTables
 /// pointers wherever the buffer lives), the field objects with their inverse transforms, and the
 /// exact meshes in the GPU BVH layout, and a tree over the objects when they are many (object_tree.hpp).
-/// occluded() and intersect() answer as FieldScene does, bit for bit: the same objects in the same
-/// order, the same culling test, the same ray transform and the same trace_field()
+/// occluded() and intersect() answer as FieldScene does, bit for bit: the same objects (a closest hit
+/// picked among them by the same rule, whatever their order), the same culling test, the same ray transform and the same trace_field()
 /// (field/field_query.hpp), then the exact part through bvh_traversal.hpp.
 
 #include "visfield/core/host_device.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/transform.hpp"
+#include "visfield/field/closest_answer.hpp"
 #include "visfield/field/field_query.hpp"
 #include "visfield/field/sphere_cull.hpp"
 #include "visfield/gpu/bvh_traversal.hpp"
@@ -113,7 +114,8 @@ VF_HOST_DEVICE inline field::FieldAnswer trace_object(const FieldSceneView& scen
 
 /// Whether has(o) holds for some object o that `ray` may meet: FieldScene's cull (every sphere in
 /// turn, or, with a tree, the objects whose boxes the ray meets, each then culled by its sphere), the
-/// objects in any order, stopping at the first that has. O(log objects + objects met) with a tree.
+/// objects in any order, stopping at the first that has (every one is asked when none has).
+/// O(log objects + objects met) with a tree.
 template <class Has>
 VF_HOST_DEVICE inline bool some_object(const FieldSceneView& scene, const Ray& ray, Has&& has) {
   if (scene.tree.node_count > 0)
@@ -129,38 +131,6 @@ VF_HOST_DEVICE inline bool some_object(const FieldSceneView& scene, const Ray& r
   return false;
 }
 
-/// Objects a tree's walk sorts into index order on the stack; a ray that may meet more goes through
-/// every sphere in turn instead (the same objects in the same order, more slowly).
-inline constexpr unsigned int kOrderedObjects = 32;
-
-/// Calls take(o) for every object o that `ray` may meet, in index order: FieldScene's order, in
-/// which the first of equal answers wins and each answer is bounded by those before it.
-template <class Take>
-VF_HOST_DEVICE inline void objects_in_order(const FieldSceneView& scene, const Ray& ray, Take&& take) {
-  if (scene.tree.node_count > 0) {
-    unsigned int met[kOrderedObjects];
-    met[0] = 0;  // the sort reads only entries it wrote, which nvcc's flow analysis cannot see (error 549)
-    unsigned int count = 0;
-    const bool overflow = for_items_met(scene.tree, ray, [&](unsigned int k) {
-      if (!may_meet(scene.objects[k], ray)) return false;
-      if (count == kOrderedObjects) return true;
-      unsigned int at = count++;
-      for (; at > 0 && met[at - 1] > k; --at) met[at] = met[at - 1];
-      met[at] = k;
-      return false;
-    });
-    if (!overflow) {
-      for (unsigned int i = 0; i < count; ++i) take(scene.objects[met[i]]);
-      return;
-    }
-  }
-  for (unsigned int k = 0; k < scene.object_count; ++k) {
-    const FieldObject& o = scene.objects[k];
-    if (scene.object_count > 1 && !may_meet(o, ray)) continue;
-    take(o);
-  }
-}
-
 /// FieldScene::occluded: some field object reports a hit in [tmin, tmax], or the exact part does.
 /// `Capacity` (the exact part's traversal stack) must be at least scene.exact.stack_bound; every
 /// field must be of form `Form`.
@@ -170,21 +140,26 @@ VF_HOST_DEVICE inline bool occluded(const FieldSceneView& scene, const Ray& ray)
   return occluded<Capacity>(scene.exact, ray);
 }
 
-/// FieldScene::intersect: the exact part's closest hit, or a nearer field answer (the first object
-/// of equals), with the object's id, no triangle, and the world-space normal when the field has one.
-/// `Capacity` must be at least scene.exact.stack_bound; every field must be of form `Form`.
+/// FieldScene::intersect: the exact part's closest hit, or a nearer field answer (of equals, the lowest
+/// object index's: field::replaces_closest(), so the objects may come in the walk's order), with the
+/// object's id, no triangle, and the world-space normal when the field has one. `Capacity` must be at
+/// least scene.exact.stack_bound; every field must be of form `Form`.
 template <int Capacity = kStackSize, FieldForm Form = FieldForm::any>
 VF_HOST_DEVICE inline Hit intersect(const FieldSceneView& scene, const Ray& ray) {
   Hit best = intersect<Capacity>(scene.exact, ray);
-  objects_in_order(scene, ray, [&](const FieldObject& o) {
-    const field::FieldAnswer a = trace_object<Form>(scene, o, ray, best.found ? best.t : ray.tmax);
-    if (!a.hit || (best.found && !(a.t < best.t))) return;
+  unsigned int best_object = field::kExactPart;
+  some_object(scene, ray, [&](const FieldObject& o) {
+    const field::FieldAnswer a = trace_object<Form>(scene, o, ray, ray.tmax);
+    const auto k = static_cast<unsigned int>(&o - scene.objects);
+    if (!a.hit || !field::replaces_closest(a.t, k, best.found, best.t, best_object)) return false;
     if (a.has_normal) {
       const Vec3f normal = o.rotation * Vec3f{a.normal.x, a.normal.y, a.normal.z};
       best = Hit::surface(a.t, o.id, &normal);
     } else {
       best = Hit::surface(a.t, o.id);
     }
+    best_object = k;
+    return false;  // every object it may meet
   });
   return best;
 }

@@ -187,9 +187,10 @@ TEST(PackedFieldScene, TreeOverManyObjectsAnswersAsTestingEverySphere) {
   EXPECT_GT(expect_tree_answers_as_every_sphere(packed, fields, probe_rays(boxes, 43)), 500u);
 }
 
-TEST(PackedFieldScene, RaysMeetingMoreObjectsThanTheWalkSortsGoThroughEverySphere) {
-  // 80 overlapping boxes in a row: rays along it may meet them all, more than kOrderedObjects, and
-  // still answer with the first nearest object, as FieldScene does.
+TEST(PackedFieldScene, RaysMeetingDozensOfObjectsAnswerWithTheFirstNearest) {
+  // 80 overlapping boxes in a row: rays along it may meet them all (more than 32: a walk that sorted
+  // the objects it meets on its stack would overflow), and the walk, taking them in its own order,
+  // answers with the first nearest object, as FieldScene does.
   Bounds3f b;
   const Scene scene = boxes_in_a_row(80, b);
   const field::FieldScene fields = field::FieldScene::build(scene, {.positions = 290, .directions = 16});
@@ -202,10 +203,22 @@ TEST(PackedFieldScene, RaysMeetingMoreObjectsThanTheWalkSortsGoThroughEverySpher
   for (const Ray& ray : row) {
     std::size_t met = 0;
     for (const gpu::FieldObject& o : packed.objects()) met += gpu::may_meet(o, ray);
-    along += met > gpu::kOrderedObjects;
+    along += met > 32;
   }
   EXPECT_GT(along, 1000u);
   EXPECT_GT(expect_tree_answers_as_every_sphere(packed, fields, rays), 1000u);
+}
+
+TEST(PackedFieldScene, CoincidentObjectsAnswerAsFieldScene) {
+  // Each box twice in one place: equal answers, of which FieldScene keeps the first object's; the
+  // walk meets them in its own order and keeps the same one.
+  Scene scene = boxes_scene();
+  for (const Instance& object : std::vector<Instance>(scene.instances().begin(), scene.instances().end()))
+    if (scene.meshes[object.mesh].occluder != MeshOccluder::exact) scene.add_instance(object.mesh, object.transform);
+  const field::FieldScene fields = field::FieldScene::build(scene, {.positions = 290, .directions = 16});
+  const gpu::PackedFieldScene packed = gpu::PackedFieldScene::pack(scene, fields);
+  ASSERT_FALSE(packed.tree_nodes().empty());
+  EXPECT_GT(expect_tree_answers_as_every_sphere(packed, fields, probe_rays(scene, 53)), 500u);
 }
 
 TEST(PackedFieldScene, AllExactOrAllFields) {
