@@ -30,6 +30,31 @@ bool occluded_one(std::span<const std::array<Vec3f, 3>> triangles, const Ray& ra
   return false;
 }
 
+/// Triangle k of `exact` hit at (t, u, v), as a Bvh reports it.
+Hit triangle_hit(const TriangleSet& exact, std::size_t k, float t, float u, float v) {
+  const std::array<Vec3f, 3>& c = exact.triangles[k];
+  return Hit::triangle(t, u, v, exact.prim[k], exact.instance[k], cross(c[1] - c[0], c[2] - c[0]));
+}
+
+/// The closest hit of `ray` among `exact`'s triangles, one at a time in ascending order (a Bvh's
+/// rule: the search's tmax shrinks to each hit, and of equals the lowest index stays).
+Hit closest_one(const TriangleSet& exact, const Ray& ray) {
+  const WatertightRay r(ray);
+  float best_t = ray.tmax;
+  std::size_t nearest = exact.size();
+  TriangleHit hit{}, best{};
+  for (std::size_t k = 0; k < exact.size(); ++k) {
+    const std::array<Vec3f, 3>& t = exact.triangles[k];
+    if (!intersect_triangle(r, t[0], t[1], t[2], ray.tmin, best_t, hit)) continue;
+    if (hit.t < best_t || nearest == exact.size()) {
+      best = hit;
+      best_t = hit.t;
+      nearest = k;
+    }
+  }
+  return nearest == exact.size() ? Hit{} : triangle_hit(exact, nearest, best.t, best.u, best.v);
+}
+
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
 #if defined(__AVX512F__)
 using L = lanes::Avx512;
@@ -39,53 +64,107 @@ using L = lanes::Avx2;
 using F = L::F;
 using M = L::M;
 
+/// A packet of L::kWidth consecutive rays as the watertight test sees them: WatertightRay's
+/// permutation (kz the largest |dir| component, kx and ky the next, swapped when dir[kz] < 0) as
+/// selects, and its shear.
+class ShearedPacket {
+ public:
+  explicit ShearedPacket(const Ray* rays) {
+    static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is 8 floats: org, dir, tmin, tmax");
+    F c[8];
+    L::transpose_rows(reinterpret_cast<const float*>(rays), c);
+    ox_ = c[0], oy_ = c[1], oz_ = c[2], tmin = c[6], tmax = c[7];
+    const F dx = c[3], dy = c[4], dz = c[5];
+    const F ax = abs(dx), ay = abs(dy), az = abs(dz);
+    const M x_first = ax >= ay;
+    kz_x_ = x_first & (ax >= az), kz_y_ = ~x_first & (ay >= az);
+    const F d_z = pick_z(dx, dy, dz);
+    swap_ = d_z < L::splat(0.0f);
+    sx_ = pick_x(dx, dy, dz) / d_z, sy_ = pick_y(dx, dy, dz) / d_z, sz_ = L::splat(1.0f) / d_z;
+  }
+
+  /// intersect_triangle()'s terms for triangle `t` on every lane.
+  struct Terms {
+    F e0, e1, e2, det, t_scaled;
+    M edge;     // some edge function is 0: the scalar test decides in double
+    M crosses;  // no edge function is 0, they do not differ in sign, and det is not 0
+  };
+  Terms terms(const std::array<Vec3f, 3>& t) const {
+    // The vertices relative to the origin, permuted and sheared.
+    F px[3], py[3], pz[3];
+    for (int k = 0; k < 3; ++k) {
+      const F x = L::splat(t[k].x) - ox_, y = L::splat(t[k].y) - oy_, z = L::splat(t[k].z) - oz_;
+      pz[k] = pick_z(x, y, z);
+      px[k] = pick_x(x, y, z) - sx_ * pz[k];
+      py[k] = pick_y(x, y, z) - sy_ * pz[k];
+    }
+    Terms r;
+    const F zero = L::splat(0.0f);
+    r.e0 = px[2] * py[1] - py[2] * px[1];
+    r.e1 = px[0] * py[2] - py[0] * px[2];
+    r.e2 = px[1] * py[0] - py[1] * px[0];
+    r.edge = (r.e0 == zero) | (r.e1 == zero) | (r.e2 == zero);
+    const M negative = (r.e0 < zero) | (r.e1 < zero) | (r.e2 < zero);
+    const M positive = (r.e0 > zero) | (r.e1 > zero) | (r.e2 > zero);
+    r.det = r.e0 + r.e1 + r.e2;
+    r.t_scaled = r.e0 * (sz_ * pz[0]) + r.e1 * (sz_ * pz[1]) + r.e2 * (sz_ * pz[2]);
+    r.crosses = ~r.edge & ~(negative & positive) & ~(r.det == zero);
+    return r;
+  }
+
+  F tmin, tmax;
+
+ private:
+  F pick_z(F x, F y, F z) const { return select(kz_x_, x, select(kz_y_, y, z)); }
+  F pick_next(F x, F y, F z) const { return select(kz_x_, y, select(kz_y_, z, x)); }
+  F pick_after(F x, F y, F z) const { return select(kz_x_, z, select(kz_y_, x, y)); }
+  F pick_x(F x, F y, F z) const { return select(swap_, pick_after(x, y, z), pick_next(x, y, z)); }
+  F pick_y(F x, F y, F z) const { return select(swap_, pick_next(x, y, z), pick_after(x, y, z)); }
+
+  F ox_, oy_, oz_, sx_, sy_, sz_;
+  M kz_x_, kz_y_, swap_;
+};
+
 /// One packet of L::kWidth consecutive rays at `rays`: the lanes that hit, and in `redo` the lanes
 /// left to the scalar test.
 M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* rays, M& redo) {
-  static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is 8 floats: org, dir, tmin, tmax");
-  F c[8];
-  L::transpose_rows(reinterpret_cast<const float*>(rays), c);
-  const F ox = c[0], oy = c[1], oz = c[2], dx = c[3], dy = c[4], dz = c[5], tmin = c[6], tmax = c[7];
-  const F zero = L::splat(0.0f), one = L::splat(1.0f);
-  // WatertightRay: kz = max_axis(|dir|), kx and ky the next axes, swapped when dir[kz] < 0.
-  const F ax = abs(dx), ay = abs(dy), az = abs(dz);
-  const M x_first = ax >= ay;
-  const M kz_x = x_first & (ax >= az), kz_y = ~x_first & (ay >= az);
-  const auto pick_z = [&](F x, F y, F z) { return select(kz_x, x, select(kz_y, y, z)); };
-  const auto pick_next = [&](F x, F y, F z) { return select(kz_x, y, select(kz_y, z, x)); };
-  const auto pick_after = [&](F x, F y, F z) { return select(kz_x, z, select(kz_y, x, y)); };
-  const F d_z = pick_z(dx, dy, dz);
-  const M swap = d_z < zero;
-  const auto pick_x = [&](F x, F y, F z) { return select(swap, pick_after(x, y, z), pick_next(x, y, z)); };
-  const auto pick_y = [&](F x, F y, F z) { return select(swap, pick_next(x, y, z), pick_after(x, y, z)); };
-  const F sx = pick_x(dx, dy, dz) / d_z, sy = pick_y(dx, dy, dz) / d_z, sz = one / d_z;
+  const ShearedPacket packet(rays);
   const M all = L::all();
   M hit = L::none();
   redo = L::none();
   for (const std::array<Vec3f, 3>& t : triangles) {
-    // intersect_triangle(): the vertices relative to the origin, permuted and sheared.
-    F px[3], py[3], pz[3];
-    for (int k = 0; k < 3; ++k) {
-      const F x = L::splat(t[k].x) - ox, y = L::splat(t[k].y) - oy, z = L::splat(t[k].z) - oz;
-      pz[k] = pick_z(x, y, z);
-      px[k] = pick_x(x, y, z) - sx * pz[k];
-      py[k] = pick_y(x, y, z) - sy * pz[k];
-    }
-    const F e0 = px[2] * py[1] - py[2] * px[1];
-    const F e1 = px[0] * py[2] - py[0] * px[2];
-    const F e2 = px[1] * py[0] - py[1] * px[0];
-    const M edge = (e0 == zero) | (e1 == zero) | (e2 == zero);
-    const M negative = (e0 < zero) | (e1 < zero) | (e2 < zero);
-    const M positive = (e0 > zero) | (e1 > zero) | (e2 > zero);
-    const F det = e0 + e1 + e2;
-    const F t_scaled = e0 * (sz * pz[0]) + e1 * (sz * pz[1]) + e2 * (sz * pz[2]);
-    const F distance = t_scaled * (one / det);
-    hit = hit | (~edge & ~(negative & positive) & ~(det == zero) & (distance > tmin) & (distance <= tmax));
-    redo = redo | edge;
+    const ShearedPacket::Terms e = packet.terms(t);
+    const F distance = e.t_scaled * (L::splat(1.0f) / e.det);
+    hit = hit | (e.crosses & (distance > packet.tmin) & (distance <= packet.tmax));
+    redo = redo | e.edge;
     if (L::bits(hit | redo) == L::bits(all)) break;
   }
   redo = redo & ~hit;
   return hit;
+}
+
+/// One packet of L::kWidth consecutive rays at `rays`: on each lane, the nearest triangle hit in
+/// (tmin, tmax] (the lowest index of equals), as the index `nearest` (-1 for none) with its t, u and v;
+/// in `redo` the lanes left to the scalar test.
+void closest_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* rays, L::I& nearest, F& t, F& u, F& v, M& redo) {
+  const ShearedPacket packet(rays);
+  nearest = L::splat(-1);
+  t = packet.tmax;  // a Bvh's best t starts at tmax, so a hit at tmax counts (the first of equals)
+  u = v = L::splat(0.0f);
+  redo = L::none();
+  for (std::size_t k = 0; k < triangles.size(); ++k) {
+    const ShearedPacket::Terms e = packet.terms(triangles[k]);
+    const F inv_det = L::splat(1.0f) / e.det;
+    const F distance = e.t_scaled * inv_det;
+    // Triangles in ascending order: a later one replaces only a nearer hit, or equals tmax when none.
+    const M first = nearest == L::splat(-1);
+    const M hit = e.crosses & (distance > packet.tmin) & ((distance < t) | ((distance == t) & first));
+    nearest = select(hit, L::splat(static_cast<int>(k)), nearest);
+    t = select(hit, distance, t);
+    u = select(hit, e.e1 * inv_det, u);
+    v = select(hit, e.e2 * inv_det, v);
+    redo = redo | e.edge;
+  }
 }
 
 /// What may_meet_sphere() computes of a ray alone: made once a packet for every sphere.
@@ -180,6 +259,35 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
   }
 #endif
   for (; i < rays.size(); ++i) occluded[i] = occluded_one(triangles, rays[i]) ? 1 : 0;
+}
+
+void closest_by_small_exact(const TriangleSet& exact, std::span<const Ray> rays, Hit* best) {
+  std::size_t i = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    for (std::size_t line = 0; line < L::kWidth * sizeof(Ray); line += 64)
+      __builtin_prefetch(reinterpret_cast<const char*>(rays.data() + i + 4 * L::kWidth) + line);
+    L::I nearest;
+    F t, u, v;
+    M redo;
+    closest_packet(exact.triangles, rays.data() + i, nearest, t, u, v, redo);
+    alignas(64) std::int32_t index[L::kWidth];
+    alignas(64) float ts[L::kWidth], us[L::kWidth], vs[L::kWidth];
+    L::store(index, nearest);
+    L::store(ts, t);
+    L::store(us, u);
+    L::store(vs, v);
+    const std::uint32_t scalar = L::bits(redo);
+    for (int lane = 0; lane < L::kWidth; ++lane) {
+      const std::size_t k = i + static_cast<std::size_t>(lane);
+      if ((scalar >> lane) & 1u)
+        best[k] = closest_one(exact, rays[k]);
+      else
+        best[k] = index[lane] < 0 ? Hit{} : triangle_hit(exact, static_cast<std::size_t>(index[lane]), ts[lane], us[lane], vs[lane]);
+    }
+  }
+#endif
+  for (; i < rays.size(); ++i) best[i] = closest_one(exact, rays[i]);
 }
 
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -115,7 +116,7 @@ INSTANTIATE_TEST_SUITE_P(Objects, FieldSceneBatch, ::testing::Values(std::size_t
 // batches and through its BVH by the single-ray query: the same answers on rays made to be hard for
 // the watertight test — through the ground's corners and along its shared diagonal (edge functions
 // of 0), with directions whose largest components tie, ending exactly on the ground or just short
-// of it, starting on it.
+// of it, starting on it; occlusion and closest hits (t, u, v, triangle, object, normal).
 TEST(FieldScene, ASmallExactPartAnswersInPacketsAsThroughItsBvh) {
   const Scene scene = turned_boxes(4);
   const TriangleSet set = flatten(scene);
@@ -148,15 +149,27 @@ TEST(FieldScene, ASmallExactPartAnswersInPacketsAsThroughItsBvh) {
     }
   std::vector<std::uint8_t> occluded(rays.size());
   field::occluded_batch(fields, rays, occluded);
-  std::size_t differ = 0, hits = 0;
+  std::vector<Hit> closest(rays.size());
+  field::intersect_batch(fields, rays, closest);
+  std::size_t differ = 0, hits = 0, closest_differ = 0, ground_hits = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const bool one = fields.occluded(rays[i]);
     hits += one ? 1 : 0;
     differ += one != (occluded[i] != 0) ? 1 : 0;
+    const Hit h = fields.intersect(rays[i]), &b = closest[i];
+    ground_hits += h.has_triangle() ? 1 : 0;
+    const auto bits = [](float x) { return std::bit_cast<std::uint32_t>(x); };
+    closest_differ += h.found != b.found || (h.found && (bits(h.t) != bits(b.t) || bits(h.u) != bits(b.u) || bits(h.v) != bits(b.v) ||
+                                                         h.prim != b.prim || h.instance != b.instance || bits(h.normal.x) != bits(b.normal.x) ||
+                                                         bits(h.normal.y) != bits(b.normal.y) || bits(h.normal.z) != bits(b.normal.z)))
+                          ? 1
+                          : 0;
   }
   EXPECT_GT(hits, rays.size() / 4);
   EXPECT_LT(hits, rays.size() * 9 / 10);
+  EXPECT_GT(ground_hits, rays.size() / 5);
   EXPECT_EQ(differ, 0u) << "of " << rays.size() << " rays";
+  EXPECT_EQ(closest_differ, 0u) << "closest hits, of " << rays.size() << " rays";
 }
 
 // A field hit's normal is the surface's: on the boxes, within the normal field's and the sampling's

@@ -19,6 +19,7 @@
 #include "visfield/accel/bvh.hpp"
 #include "visfield/accel/query.hpp"
 #include "visfield/core/scene.hpp"
+#include "visfield/core/triangle_set.hpp"
 #include "visfield/field/object_field.hpp"
 #include "visfield/field/sphere_cull.hpp"
 
@@ -139,8 +140,8 @@ class FieldScene {
   BoxTree tree_;  // over the objects' widened spheres, when uses_tree()
   std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
   // The same triangles when they are few (kSmallExactTriangles): batches test them all, a packet of
-  // rays at a time, instead of walking the BVH ray by ray (the same answers).
-  std::vector<std::array<Vec3f, 3>> small_exact_;
+  // rays at a time, instead of walking the BVH ray by ray (the same answers, closest hits and occlusion).
+  TriangleSet small_exact_;
   AccelStats stats_;
 };
 

@@ -1,7 +1,8 @@
 // A FieldScene block's sphere pass on lanes: the rows it appends for several objects in one pass
 // are, bit for bit, what may_meet_sphere() and InverseTransform::apply() give ray by ray, in order,
 // settled rays left out; on counts that leave a partial packet for the scalar tail; into rows of
-// their own or shared; from rays as Rays or as columns.
+// their own or shared; from rays as Rays or as columns. And a few exact triangles' closest hits on
+// lanes: the brute-force oracle's, bit for bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "block_lanes.hpp"
+#include "visfield/accel/brute_force.hpp"
 #include "visfield/core/rng.hpp"
 #include "visfield/field/sphere_cull.hpp"
 
@@ -165,6 +167,48 @@ TEST(BlockLanes, RaysAsColumnsGetTheRowsOfRaysAsRays) {
     }
     EXPECT_GT(met, n / 4);  // the spheres do meet a share of the rays
   }
+}
+
+TEST(BlockLanes, ClosestHitsOfAFewTrianglesAreTheOraclesBitForBit) {
+  // 40 triangles in a box; triangle 5 again at 20 (equal hits: the lower index stays) and two that
+  // share an edge (rays through it fall back to double, and to the scalar test).
+  Rng rng(17);
+  TriangleSet set;
+  const auto corner = [&] { return Vec3f{4.0f * rng.uniform() - 2.0f, 4.0f * rng.uniform() - 2.0f, 4.0f * rng.uniform() - 2.0f}; };
+  for (int k = 0; k < 40; ++k) set.triangles.push_back({corner(), corner(), corner()});
+  set.triangles[20] = set.triangles[5];
+  set.triangles[31] = {set.triangles[30][1], set.triangles[30][0], corner()};
+  for (std::size_t k = 0; k < set.triangles.size(); ++k) {
+    set.prim.push_back(static_cast<std::uint32_t>(100 + k));
+    set.instance.push_back(static_cast<ObjectId>(7 + k % 3));
+  }
+  std::vector<Ray> rays = rays_around(4001, 19);
+  for (int k = 0; k < 2000; ++k) {  // at the duplicated triangle, the shared edge, and corners
+    const std::array<Vec3f, 3>& t = set.triangles[k % 3 == 0 ? 5 : 30];
+    const float a = rng.uniform();
+    const Vec3f to = k % 3 == 1 ? t[0] * a + t[1] * (1.0f - a) : k % 3 == 2 ? t[k % 2] : (t[0] + t[1] + t[2]) * (1.0f / 3.0f);
+    const Vec3f from = corner() * 3.0f;
+    rays.push_back(Ray{from, to - from, 0.0f, k % 5 == 0 ? 1.0f : 1e30f});
+  }
+  std::vector<Hit> got(rays.size());
+  closest_by_small_exact(set, rays, got.data());
+  const BruteForce oracle = BruteForce::build(set);
+  std::size_t hits = 0, at_five = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit want = oracle.intersect(rays[i]);
+    ASSERT_EQ(got[i].found, want.found) << "ray " << i;
+    if (!want.found) continue;
+    ++hits;
+    at_five += want.prim == 105 ? 1 : 0;
+    ASSERT_TRUE(same_bits(got[i].t, want.t) && same_bits(got[i].u, want.u) && same_bits(got[i].v, want.v)) << "ray " << i;
+    ASSERT_EQ(got[i].prim, want.prim) << "ray " << i;
+    ASSERT_EQ(got[i].instance, want.instance) << "ray " << i;
+    ASSERT_TRUE(got[i].has_normal && same_bits(got[i].normal.x, want.normal.x) && same_bits(got[i].normal.y, want.normal.y) &&
+                same_bits(got[i].normal.z, want.normal.z))
+        << "ray " << i;
+  }
+  EXPECT_GT(hits, rays.size() / 3);
+  EXPECT_GT(at_five, 40u);  // the duplicate's equal hits
 }
 
 }  // namespace
