@@ -273,7 +273,7 @@ TEST_P(BoxTreeLeaves, RaysSettledByAVisitAreLeftOutOfLaterLeavesOnly) {
 
 INSTANTIATE_TEST_SUITE_P(ItemsALeaf, BoxTreeLeaves, ::testing::Values(1, 4));
 
-TEST(BoxTreeLeaves, AtSixteenLanesTheLeavesNearestTheRaysComeFirst) {
+TEST(BoxTreeVisits, AtSixteenLanesTheLeavesNearestTheRaysComeFirst) {
   if (BoxTree::batch_width(16) != 16) GTEST_SKIP() << "this build walks a ray at a time (leaves in tree order)";
   // A row of 64 boxes along x; rays from just beyond one end of the row along it, fanned out a little:
   // the first leaf visited holds the box at that end, and from leaf to leaf the boxes only move away.
