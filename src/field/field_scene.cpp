@@ -363,22 +363,49 @@ void FieldScene::trace_block(std::span<const Ray> rays, bool closest, Hit* best,
   }
 }
 
-template <class Group>
-void FieldScene::leaf_field_groups(std::span<const std::uint32_t> items, RayRows& out, std::vector<SphereTarget>& targets, Group&& group) const {
+template <class Flush>
+void FieldScene::pairs_by_tree(std::span<const Ray> rays, const std::uint8_t* settled, RayRows& rows, std::vector<SphereTarget>& targets,
+                               Flush&& flush) const {
+  // The block's rays go down the tree together, their values with them, and each leaf takes its
+  // rays as soon as it is reached, nearest first, from where the walk left them: read in order by
+  // the sphere tests while still in cache. (Before: the rays grouped by object, the objects with the
+  // most rays first, each leaf's open rays copied from the block: that copy was 13% of 1024 bunnies'
+  // field time, mostly waiting on the block's rays, and writing the values beside each list for
+  // later cost more than it saved.) The pairs of objects sharing a field are traced together, as one
+  // stream of consecutive rays through the field's kernel: an object's own few rays would fill few
+  // packets, gathered from its list and transformed per packet, with the pipeline restarting at
+  // every object.
+  static_assert(BoxTree::LeafRays::kSlack >= kColumnsSlack, "the sphere pass reads whole packets of a leaf's columns");
   static_assert(kObjectsPerLeaf <= 64, "a leaf's items as bits of one word");
-  std::uint64_t taken = 0;  // bit k: items[k] is in a group already
-  for (std::size_t first = 0; first < items.size(); ++first) {
-    if ((taken >> first) & 1u) continue;
-    const ObjectField* field = objects_[items[first]].field;
-    targets.clear();
-    for (std::size_t k = first; k < items.size(); ++k) {
-      const Object& o = objects_[items[k]];
-      if (o.field != field) continue;
-      taken |= std::uint64_t{1} << k;
-      targets.push_back({o.centre, o.radius, &o.to_object, &out, items[k]});
+  const ObjectField* pending = nullptr;
+  const auto flush_pending = [&] {
+    if (rows.count > 0) flush(*pending);
+  };
+  tree_.visit_leaves(rays, settled, [&](const BoxTree::LeafRays& leaf) {
+    // The leaf's objects that share a field take its rays together, each packet tested against all
+    // their spheres in one pass (1024 bunnies, leaves of 4 objects against 1, ratio to Embree's
+    // instancing, 3 interleaved rounds: medians 4.16x -> 4.36x; busts 4.31x -> 4.96x): the rays still
+    // open (an earlier flush may have settled some) that each sphere lets in (the test the single-ray
+    // queries make, on the ray as given), mapped into object space and added to the pending pairs.
+    std::uint64_t taken = 0;  // bit k: leaf.items[k] is in a group already
+    for (std::size_t first = 0; first < leaf.items.size(); ++first) {
+      if ((taken >> first) & 1u) continue;
+      const ObjectField* field = objects_[leaf.items[first]].field;
+      if (field != pending || rows.count >= kFlushPairs) {
+        flush_pending();
+        pending = field;
+      }
+      targets.clear();
+      for (std::size_t k = first; k < leaf.items.size(); ++k) {
+        const Object& o = objects_[leaf.items[k]];
+        if (o.field != field) continue;
+        taken |= std::uint64_t{1} << k;
+        targets.push_back({o.centre, o.radius, &o.to_object, &rows, leaf.items[k]});
+      }
+      append_meeting_spheres(targets, leaf.columns, leaf.count, leaf.ids, settled);
     }
-    group(field);
-  }
+  });
+  flush_pending();
 }
 
 void FieldScene::closest_by_tree(std::span<const Ray> rays, Hit* best) const {
@@ -391,18 +418,14 @@ void FieldScene::closest_by_tree(std::span<const Ray> rays, Hit* best) const {
   thread_local Scratch s;
   s.local.tagged = true;
   s.best_object.assign(rays.size(), kExactPart);
-  // As for occlusion: the block's rays go down the tree together and each leaf takes its rays where
-  // the walk reaches it; the pairs of objects sharing a field are traced together, in one stream. The
-  // objects come in the walk's order, not their index order: replaces_closest() makes the hit the
-  // same. (Before: each object's rays listed, copied and traced on their own, in index order: on
-  // 1024 bunnies a few dozen rays an object, mostly partial packets.)
-  const ObjectField* pending_field = nullptr;
-  const auto flush = [&] {
+  // The objects come in the walk's order, not their index order: replaces_closest() makes the hit the
+  // same. (Before: each object's rays listed, copied and traced on their own, in index order: on 1024
+  // bunnies a few dozen rays an object, mostly partial packets.)
+  pairs_by_tree(rays, nullptr, s.local, s.targets, [&](const ObjectField& field) {
     const std::size_t pairs = s.local.count;
-    if (pairs == 0) return;
     s.local.pad_to(static_cast<std::size_t>(ObjectField::batch_width()));  // whole packets
     if (s.answers.size() < s.local.count) s.answers.resize(s.local.count);
-    pending_field->trace_batch(s.local.view(), s.answers.data());
+    field.trace_batch(s.local.view(), s.answers.data());
     for (std::size_t k = 0; k < pairs; ++k) {
       const FieldAnswer& a = s.answers[k];
       if (!a.hit) continue;
@@ -412,17 +435,7 @@ void FieldScene::closest_by_tree(std::span<const Ray> rays, Hit* best) const {
       s.best_object[i] = object;
     }
     s.local.count = 0;
-  };
-  tree_.visit_leaves(rays, nullptr, [&](const BoxTree::LeafRays& leaf) {
-    leaf_field_groups(leaf.items, s.local, s.targets, [&](const ObjectField* field) {
-      if (field != pending_field || s.local.count >= kFlushPairs) {
-        flush();
-        pending_field = field;
-      }
-      append_meeting_spheres(s.targets, leaf.columns, leaf.count, leaf.ids, nullptr);
-    });
   });
-  flush();
 }
 
 void FieldScene::occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occluded) const {
@@ -432,36 +445,8 @@ void FieldScene::occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occlu
     RayRows local;  // the pending pairs' object-space rays, with their rays' places in the block as ids
   };
   thread_local Scratch s;
-  // The (ray, object) pairs of objects sharing a field are mapped into object space and traced
-  // together, as one stream of consecutive rays through the field's kernel: an object's own few rays
-  // would fill few packets, gathered from its list and transformed per packet, with the pipeline
-  // restarting at every object. Rays an earlier flush settled are left out of later objects.
-  const ObjectField* pending_field = nullptr;
-  const auto flush = [&] {
-    if (s.local.count > 0) mark_rows(*pending_field, s.local, s.marks, occluded);
-  };
-  // The block's rays go down the tree together, their values with them, and each leaf takes its
-  // rays as soon as it is reached, nearest first, from where the walk left them: read in order by
-  // the sphere tests while still in cache. (Before: the rays grouped by object, the objects with the
-  // most rays first, each leaf's open rays copied from the block: that copy was 13% of 1024 bunnies'
-  // field time, mostly waiting on the block's rays, and writing the values beside each list for
-  // later cost more than it saved.)
-  static_assert(BoxTree::LeafRays::kSlack >= kColumnsSlack, "the sphere pass reads whole packets of a leaf's columns");
-  tree_.visit_leaves(rays, occluded, [&](const BoxTree::LeafRays& leaf) {
-    // The leaf's objects that share a field take its rays together, each packet tested against all
-    // their spheres in one pass (1024 bunnies, leaves of 4 objects against 1, ratio to Embree's
-    // instancing, 3 interleaved rounds: medians 4.16x -> 4.36x; busts 4.31x -> 4.96x): the rays still
-    // open (an earlier flush may have settled some) that each sphere lets in (the test the single-ray
-    // queries make, on the ray as given), mapped into object space and added to the pending pairs.
-    leaf_field_groups(leaf.items, s.local, s.targets, [&](const ObjectField* field) {
-      if (field != pending_field || s.local.count >= kFlushPairs) {
-        flush();
-        pending_field = field;
-      }
-      append_meeting_spheres(s.targets, leaf.columns, leaf.count, leaf.ids, occluded);
-    });
-  });
-  flush();
+  // Rays a flush settles are left out of the later leaves and stop at the walk's next node.
+  pairs_by_tree(rays, occluded, s.local, s.targets, [&](const ObjectField& field) { mark_rows(field, s.local, s.marks, occluded); });
 }
 
 std::size_t FieldScene::block_size() const { return objects_.size() > 1 ? kObjectsBlock : kBlock; }

@@ -108,11 +108,13 @@ class FieldScene {
   /// trace_block()'s field part for closest hits when the objects are found through the tree:
   /// best[i] replaced where an object's field answer replaces_closest() it.
   void closest_by_tree(std::span<const Ray> rays, Hit* best) const;
-  /// For each field among a tree leaf's objects `items`, in order of their first: `targets` made the
-  /// spheres of the leaf's objects that share it (rays to `out`, tagged with the objects' indices),
-  /// then group(field) called.
-  template <class Group>
-  void leaf_field_groups(std::span<const std::uint32_t> items, RayRows& out, std::vector<SphereTarget>& targets, Group&& group) const;
+  /// The block's (ray, object) pairs through the tree: each leaf taken where the walk reaches it, the
+  /// rays its objects' spheres let in (rays[i] with settled[i] set left out, where `settled` is given)
+  /// mapped into each object's space onto `rows` (tags: the objects' indices), and flush(field) called
+  /// to trace and empty the rows, one field's pairs at a time, every kFlushPairs pairs and at the end.
+  template <class Flush>
+  void pairs_by_tree(std::span<const Ray> rays, const std::uint8_t* settled, RayRows& rows, std::vector<SphereTarget>& targets,
+                     Flush&& flush) const;
   /// trace_block()'s field part for occlusion when the objects are found through the tree:
   /// occluded[i] set where some object's field occludes rays[i] (rays already occluded left out).
   void occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occluded) const;
