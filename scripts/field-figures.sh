@@ -234,7 +234,7 @@ with the BVH's interleaved walks)."
   echo
   echo "Camera rays (\`--rays primary\`) and random rays through the scene (\`--rays random\`) in the same 1024-copy scenes,"
   echo "the fields' closest hits beside Embree's instancing:"
-  echo "\`visfield-bench --scene OUT.json --rays primary|random --accel field,embree:levels=2 --count 1000000 --threads $threads --reps 5\`."
+  echo "\`visfield-bench --scene OUT.json --rays primary --accel field,embree:levels=2 --count 1000000 --threads $threads --reps 5\`, then \`--rays random\`."
   echo
   for scene in bunnies1024 ${SNOWDEN:+busts1024}; do
     for rays in primary random; do
