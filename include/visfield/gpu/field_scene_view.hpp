@@ -4,8 +4,9 @@
 /// pointers wherever the buffer lives), the field objects with their inverse transforms, and the
 /// exact meshes in the GPU BVH layout, and a tree over the objects when they are many (object_tree.hpp).
 /// occluded() and intersect() answer as FieldScene does, bit for bit: the same objects (a closest hit
-/// picked among them by the same rule, whatever their order), the same culling test, the same ray transform and the same trace_field()
-/// (field/field_query.hpp), then the exact part through bvh_traversal.hpp.
+/// picked among them by the same rule, whatever their order), the same culling test, the same ray
+/// transform and the same trace_field() (field/field_query.hpp), then the exact part through
+/// bvh_traversal.hpp.
 
 #include "visfield/core/host_device.hpp"
 #include "visfield/core/ray.hpp"
