@@ -36,25 +36,6 @@ Hit triangle_hit(const TriangleSet& exact, std::size_t k, float t, float u, floa
   return Hit::triangle(t, u, v, exact.prim[k], exact.instance[k], cross(c[1] - c[0], c[2] - c[0]));
 }
 
-/// The closest hit of `ray` among `exact`'s triangles, one at a time in ascending order (a Bvh's
-/// rule: the search's tmax shrinks to each hit, and of equals the lowest index stays).
-Hit closest_one(const TriangleSet& exact, const Ray& ray) {
-  const WatertightRay r(ray);
-  float best_t = ray.tmax;
-  std::size_t nearest = exact.size();
-  TriangleHit hit{}, best{};
-  for (std::size_t k = 0; k < exact.size(); ++k) {
-    const std::array<Vec3f, 3>& t = exact.triangles[k];
-    if (!intersect_triangle(r, t[0], t[1], t[2], ray.tmin, best_t, hit)) continue;
-    if (hit.t < best_t || nearest == exact.size()) {
-      best = hit;
-      best_t = hit.t;
-      nearest = k;
-    }
-  }
-  return nearest == exact.size() ? Hit{} : triangle_hit(exact, nearest, best.t, best.u, best.v);
-}
-
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
 #if defined(__AVX512F__)
 using L = lanes::Avx512;
@@ -261,7 +242,7 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
   for (; i < rays.size(); ++i) occluded[i] = occluded_one(triangles, rays[i]) ? 1 : 0;
 }
 
-void closest_by_small_exact(const TriangleSet& exact, std::span<const Ray> rays, Hit* best) {
+void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<const Ray> rays, Hit* best) {
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
@@ -281,13 +262,13 @@ void closest_by_small_exact(const TriangleSet& exact, std::span<const Ray> rays,
     for (int lane = 0; lane < L::kWidth; ++lane) {
       const std::size_t k = i + static_cast<std::size_t>(lane);
       if ((scalar >> lane) & 1u)
-        best[k] = closest_one(exact, rays[k]);
+        best[k] = bvh.intersect(rays[k]);
       else
         best[k] = index[lane] < 0 ? Hit{} : triangle_hit(exact, static_cast<std::size_t>(index[lane]), ts[lane], us[lane], vs[lane]);
     }
   }
 #endif
-  for (; i < rays.size(); ++i) best[i] = closest_one(exact, rays[i]);
+  for (; i < rays.size(); ++i) best[i] = bvh.intersect(rays[i]);
 }
 
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out) {

@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "visfield/accel/bvh.hpp"
 #include "visfield/core/ray.hpp"
 #include "visfield/core/transform.hpp"
 #include "visfield/core/triangle_set.hpp"
@@ -33,10 +34,10 @@ inline constexpr std::size_t kSmallExactTriangles = 64;
 void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded);
 
 /// best[i] = the closest hit of rays[i] among `exact`'s triangles in (tmin, tmax] by the watertight
-/// test, or a miss: bit for bit what a Bvh or BruteForce over them answers (t, u, v, triangle, object,
-/// normal; of equal t, the lowest index). Packets of lanes, a lane whose test falls back to double
-/// one by one; O(rays · triangles).
-void closest_by_small_exact(const TriangleSet& exact, std::span<const Ray> rays, Hit* best);
+/// test, or a miss: bit for bit what `bvh` (built over them) answers (t, u, v, triangle, object,
+/// normal; of equal t, the lowest index). Packets of lanes; a lane whose test falls back to double,
+/// and the last partial packet, go through `bvh`. O(rays · triangles).
+void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<const Ray> rays, Hit* best);
 
 /// Scenes of at most this many field objects find each object's rays by testing its sphere against
 /// every ray of a block on lanes; more objects go through the tree over their spheres.

@@ -191,7 +191,7 @@ TEST(BlockLanes, ClosestHitsOfAFewTrianglesAreTheOraclesBitForBit) {
     rays.push_back(Ray{from, to - from, 0.0f, k % 5 == 0 ? 1.0f : 1e30f});
   }
   std::vector<Hit> got(rays.size());
-  closest_by_small_exact(set, rays, got.data());
+  closest_by_small_exact(set, Bvh::build(set), rays, got.data());
   const BruteForce oracle = BruteForce::build(set);
   std::size_t hits = 0, at_five = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
