@@ -48,8 +48,8 @@ class BoxTree {
   /// rays' indices in ascending order; the same (item, ray) pairs as items_met() ray by ray. The
   /// rays go down the tree together, node by node: each node tests its rays and hands each child
   /// those that meet its box, so no ray keeps a walk of its own, and a leaf's rays arrive already
-  /// grouped. `width` 16 tests 16 rays at a time against a box (AVX-512 builds), 1 a ray at a time
-  /// against a node's boxes, 0 the widest this build has: the same lists either way.
+  /// grouped. `width` 16 tests 16 rays at a time against a box (AVX-512 builds), 8 eight (AVX2), 1 a
+  /// ray at a time against a node's boxes, 0 the widest this build has: the same lists either way.
   /// O(nodes met by some ray + pairs).
   void rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width = 0) const;
 
@@ -67,13 +67,13 @@ class BoxTree {
   using LeafVisitor = std::function<void(const LeafRays&)>;
   /// rays_by_item() leaf by leaf, the rays' values with their indices: visit(leaf) for each leaf whose
   /// box some ray with no skip[i] meets, with the same (item, ray) pairs, except that a ray the visits
-  /// settle (skip[i] set by the visitor) may be left out of the leaves visited after. At 16 lanes the
-  /// values go down the tree with the rays, each node's children nearest its rays' mean origin first,
+  /// settle (skip[i] set by the visitor) may be left out of the leaves visited after. On lanes (8 or
+  /// 16) the values go down the tree with the rays, each node's children nearest its rays' mean origin first,
   /// settled rays stop where the walk next reads their skip, and a leaf is visited as soon as it is
   /// reached, while its rays are in cache; a ray at a time, leaves come in tree order.
   /// O(nodes met by some ray + pairs).
   void visit_leaves(std::span<const Ray> rays, const std::uint8_t* skip, const LeafVisitor& visit, int width = 0) const;
-  /// The rays a rays_by_item() step tests together for `width` in this build: 16 or 1.
+  /// The rays a rays_by_item() step tests together for `width` (0: the widest) in this build: 16, 8 or 1.
   static int batch_width(int width = 0);
   /// Bytes of its nodes and item list.
   std::size_t memory_bytes() const;

@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 #include "bvh/wide_nodes.hpp"
 #include "visfield/core/ray.hpp"
@@ -128,6 +129,56 @@ inline __mmask16 rays_meet_child(const Node8& node, int slot, const BoxRays16& r
     t_far = _mm512_maskz_min_ps(0xffff, _mm512_mul_ps(_mm512_sub_ps(far_plane, r.org[a]), r.inv[a]), t_far);
   }
   return _mm512_cmp_ps_mask(t_near, _mm512_mul_ps(t_far, _mm512_set1_ps(kFarScale)), _CMP_LE_OQ);
+}
+#endif
+
+#if defined(__AVX2__)
+/// BoxRays16 on 8 AVX2 lanes: the same columns, the same operations.
+struct BoxRays8 {
+  __m256 org[3], inv[3], tmin, tmax;  // a reciprocal's sign bit says the axis is negative
+
+  /// Loads 8 rays from columns: org x, y, z, dir x, y, z, tmin, tmax (as given: widened here), each at `at`.
+  void load(const float* const columns[8], std::size_t at) {
+    load_lines(columns, at);
+    tmin = widen8(_mm256_loadu_ps(columns[6] + at), -1.0f);
+    tmax = widen8(_mm256_loadu_ps(columns[7] + at), 1.0f);
+  }
+  /// Loads 8 rays' origins and directions from columns 0 .. 5 at `at`; every ray's interval is
+  /// (shared_tmin, shared_tmax), already widened.
+  void load(const float* const columns[6], std::size_t at, float shared_tmin, float shared_tmax) {
+    load_lines(columns, at);
+    tmin = _mm256_set1_ps(shared_tmin);
+    tmax = _mm256_set1_ps(shared_tmax);
+  }
+
+ private:
+  /// widen_down() (`sign` −1) or widen_up() (+1) on 8 lanes, bit for bit.
+  static __m256 widen8(__m256 t, float sign) {
+    const __m256 magnitude = _mm256_andnot_ps(_mm256_set1_ps(-0.0f), t);
+    const __m256 finite = _mm256_cmp_ps(magnitude, _mm256_set1_ps(INFINITY), _CMP_LT_OQ);  // false for NaN and +-inf
+    const __m256 slack = _mm256_mul_ps(magnitude, _mm256_set1_ps(kIntervalSlack));
+    return _mm256_blendv_ps(t, sign < 0.0f ? _mm256_sub_ps(t, slack) : _mm256_add_ps(t, slack), finite);
+  }
+  void load_lines(const float* const columns[6], std::size_t at) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = _mm256_loadu_ps(columns[a] + at);
+      inv[a] = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_loadu_ps(columns[3 + a] + at));  // +-inf for +-0
+    }
+  }
+};
+
+/// rays_meet_child() for 8 rays: lane i is bit `slot` of test_children() for ray i.
+inline std::uint32_t rays_meet_child(const Node8& node, int slot, const BoxRays8& r) {
+  __m256 t_near = r.tmin, t_far = r.tmax;
+  for (int a = 2; a >= 0; --a) {
+    const __m256 lo = _mm256_set1_ps(node.bounds[kLoX + a][slot]), hi = _mm256_set1_ps(node.bounds[kHiX + a][slot]);
+    // blendv picks by the reciprocal's sign bit: the far side first where the axis is negative.
+    const __m256 near_plane = _mm256_blendv_ps(lo, hi, r.inv[a]), far_plane = _mm256_blendv_ps(hi, lo, r.inv[a]);
+    t_near = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, r.org[a]), r.inv[a]), t_near);
+    t_far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, r.org[a]), r.inv[a]), t_far);
+  }
+  const __m256 meets = _mm256_cmp_ps(t_near, _mm256_mul_ps(t_far, _mm256_set1_ps(kFarScale)), _CMP_LE_OQ);
+  return static_cast<std::uint32_t>(_mm256_movemask_ps(meets));
 }
 #endif
 

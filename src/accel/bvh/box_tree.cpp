@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstring>
 #include <string>
 
-#if defined(__AVX512F__)
+#if defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
@@ -15,6 +16,7 @@
 #include "bvh/wide_traversal.hpp"
 #include "visfield/accel/aligned_vector.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/lane_compress.hpp"
 #include "visfield/core/row_transpose.hpp"
 
 namespace vf {
@@ -198,13 +200,123 @@ void partition_by_rows(const bvh::Node8* nodes, const std::uint32_t* order, std:
   down_the_tree(nodes, static_cast<std::uint32_t>(used), 0, split, [&](const Pending& p) { add_lists(order, p, out); });
 }
 
+#if defined(__AVX2__)
+/// The lanes of the columns walk, as one small interface over AVX-512 (16) and AVX2 (8): a lane set
+/// is a bit mask (bit i = lane i); ids and lane numbers are 32-bit integer lanes.
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
+struct ColumnLanes16 {
+  static constexpr int kLanes = 16;
+  using Mask = std::uint32_t;
+  using Float = __m512;
+  using Int = __m512i;
+  using BoxRays = bvh::BoxRays16;
+  static constexpr Mask kAll = 0xffff;
+
+  static Mask first_lanes(std::size_t n) { return n >= kLanes ? kAll : (1u << n) - 1u; }
+  static Float zero() { return _mm512_setzero_ps(); }
+  static Float load(const float* p) { return _mm512_loadu_ps(p); }
+  static Int load(const std::uint32_t* p) { return _mm512_loadu_si512(p); }
+  static void store(float* p, Float v) { _mm512_storeu_ps(p, v); }
+  static void store(std::uint32_t* p, Int v) { _mm512_storeu_si512(p, v); }
+  static Int iota() { return _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15); }
+  /// first, first + 1, ... in lane order.
+  static Int indices_from(std::uint32_t first) { return _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(first)), iota()); }
+  /// The numbers of the lanes in `m`, in order, in the first lanes.
+  static Int compress_index(Mask m) { return _mm512_maskz_compress_epi32(static_cast<__mmask16>(m), iota()); }
+  /// Lane k gets v's lane from[k] (the zero-masking forms with every lane kept: GCC 12's plain forms
+  /// trip its own uninitialised-value warning).
+  static Float permute(Int from, Float v) { return _mm512_maskz_permutexvar_ps(0xffff, from, v); }
+  static Int permute(Int from, Int v) { return _mm512_maskz_permutexvar_epi32(0xffff, from, v); }
+  /// v's lanes in `m`, in order, in the first lanes.
+  static Int compress(Mask m, Int v) { return _mm512_maskz_compress_epi32(static_cast<__mmask16>(m), v); }
+  static void rows_to_columns(const float* rows, Float column[8]) { simd::rows_to_columns16(rows, column); }
+  /// The lanes whose byte at p is zero.
+  static Mask zero_bytes(const std::uint8_t* p) {
+    const __m512i bytes = _mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+    return _mm512_testn_epi32_mask(bytes, bytes);
+  }
+  /// The lanes of `valid` whose bits at p differ from `value`'s.
+  static Mask differ(Mask valid, const float* p, float value) {
+    return _mm512_mask_cmpneq_epi32_mask(static_cast<__mmask16>(valid), _mm512_loadu_si512(p),
+                                         _mm512_set1_epi32(std::bit_cast<std::int32_t>(value)));
+  }
+  /// The lanes of `live` whose ray (ids[lane]) has no skip byte set; `count` bytes of skip are readable.
+  static Mask unsettled(const std::uint32_t* ids, Mask live, const std::uint8_t* skip, std::size_t count) {
+    if (live == 0) return 0;
+    const int last = 31 - std::countl_zero(live);
+    if (std::size_t{ids[last]} + 4 <= count) {  // ascending ids: the last the largest; 4 bytes a lane read
+      const __m512i settled =
+          _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), static_cast<__mmask16>(live), _mm512_loadu_si512(ids), skip, 1);
+      return _mm512_testn_epi32_mask(settled, _mm512_set1_epi32(0xff));
+    }
+    Mask open = 0;
+    for (int lane = 0; lane <= last; ++lane) open |= (skip[ids[lane]] == 0 ? 1u : 0u) << lane;
+    return open;
+  }
+  /// sum + v in the lanes of `m`, sum elsewhere.
+  static Float add(Float sum, Mask m, Float v) { return _mm512_mask_add_ps(sum, static_cast<__mmask16>(m), sum, v); }
+};
+#endif
+
+/// ColumnLanes16's operations on 8 AVX2 lanes: compresses by a permute, masks as bits.
+struct ColumnLanes8 {
+  static constexpr int kLanes = 8;
+  using Mask = std::uint32_t;
+  using Float = __m256;
+  using Int = __m256i;
+  using BoxRays = bvh::BoxRays8;
+  static constexpr Mask kAll = 0xff;
+
+  static Mask first_lanes(std::size_t n) { return n >= kLanes ? kAll : (1u << n) - 1u; }
+  static Float zero() { return _mm256_setzero_ps(); }
+  static Float load(const float* p) { return _mm256_loadu_ps(p); }
+  static Int load(const std::uint32_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
+  static void store(float* p, Float v) { _mm256_storeu_ps(p, v); }
+  static void store(std::uint32_t* p, Int v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
+  static Int indices_from(std::uint32_t first) {
+    return _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(first)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  }
+  static Int compress_index(Mask m) { return simd::compress_index8(m); }
+  static Float permute(Int from, Float v) { return _mm256_permutevar8x32_ps(v, from); }
+  static Int permute(Int from, Int v) { return _mm256_permutevar8x32_epi32(v, from); }
+  static Int compress(Mask m, Int v) { return permute(compress_index(m), v); }
+  static void rows_to_columns(const float* rows, Float column[8]) { simd::rows_to_columns8(rows, column); }
+  static Mask zero_bytes(const std::uint8_t* p) {
+    std::uint64_t eight;
+    std::memcpy(&eight, p, sizeof(eight));
+    const __m256i bytes = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(eight)));
+    return static_cast<Mask>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(bytes, _mm256_setzero_si256()))));
+  }
+  static Mask differ(Mask valid, const float* p, float value) {
+    const __m256i equal = _mm256_cmpeq_epi32(load(reinterpret_cast<const std::uint32_t*>(p)), _mm256_set1_epi32(std::bit_cast<std::int32_t>(value)));
+    return valid & ~static_cast<Mask>(_mm256_movemask_ps(_mm256_castsi256_ps(equal)));
+  }
+  // A lane at a time: AVX2's gather is slow on the AMD machines it was measured on.
+  static Mask unsettled(const std::uint32_t* ids, Mask live, const std::uint8_t* skip, std::size_t) {
+    Mask open = 0;
+    for (Mask rest = live; rest != 0; rest &= rest - 1) {
+      const int lane = std::countr_zero(rest);
+      open |= (skip[ids[lane]] == 0 ? 1u : 0u) << lane;
+    }
+    return open;
+  }
+  static Float add(Float sum, Mask m, Float v) {
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i in = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(m)), bit), bit);
+    return _mm256_add_ps(sum, _mm256_and_ps(v, _mm256_castsi256_ps(in)));
+  }
+};
+
 /// The columns walk: with `out`, a leaf's rays become its items' lists (their ids alone); with `visit`
-/// (and no `out`), a leaf's rays stay in the scratch as columns and visit takes them there.
+/// (and no `out`), a leaf's rays stay in the scratch as columns and visit takes them there. `L`: the
+/// lanes (ColumnLanes16 or ColumnLanes8), the same lists and leaves either way.
+template <class L>
 void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, std::span<const Ray> rays, const std::uint8_t* skip,
                           ItemRays* out, const BoxTree::LeafVisitor* visit) {
-  constexpr int kLanes = 16;
-  static_assert(kLanes >= BoxTree::LeafRays::kSlack, "a visited leaf's region has kLanes places to spare");
+  constexpr int kLanes = L::kLanes;
+  using Mask = typename L::Mask;
+  // Places every region has to spare: for whole-register stores, and for a visit's whole-register reads.
+  constexpr std::size_t kSpare = std::max<std::size_t>(kLanes, BoxTree::LeafRays::kSlack);
   // An interior node's rays, in a scratch stack: columns (origin x, y, z, direction x, y, z, tmin and
   // tmax, the last two only where the block's rays differ in them) and ids. The directions, not their
   // reciprocals, go down: each node's load divides again (as the walk does, so the same bits), which
@@ -214,7 +326,6 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
   // stays in cache: growing it for every node instead touched 3.8 MB a block of 16384 rays on 1024
   // bunnies, 7.7 regions a ray. A leaf's rays become its items' lists, their ids alone in out->rays,
   // or stay in the scratch for `visit`.
-  // Every region has kLanes places to spare, for whole-register stores.
   thread_local std::vector<float> columns[8];
   thread_local std::vector<std::uint32_t> ids;
   thread_local std::vector<std::uint16_t> masks;  // a node's: chunk k, child c at 8 k + c
@@ -227,7 +338,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
   const auto leaf_room = [&](std::size_t need) {
     if (out && out->rays.size() < need) out->rays.resize(grown(out->rays.size(), need));
   };
-  scratch_room(rays.size() + kLanes);
+  scratch_room(rays.size() + kSpare);
   // The open rays into the columns, sixteen at a time: read as rows and turned into columns, the
   // skipped ones left out by one compress of the lane numbers and a permute a column (a ray at a
   // time, its eight scalar stores and three divisions were a tenth of 1024 bunnies' AO time; ratio
@@ -238,24 +349,21 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
     float* column[8];
     for (int k = 0; k < 8; ++k) column[k] = columns[k].data();
     std::uint32_t* const id = ids.data();
-    const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const float* const row = reinterpret_cast<const float*>(rays.data());
     static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is 8 floats: org, dir, tmin, tmax");
     std::size_t i = 0;
     for (; i + kLanes <= rays.size(); i += kLanes) {
-      __mmask16 open = 0xffff;
+      Mask open = L::kAll;
       if (skip) {
-        const __m512i settled = _mm512_maskz_cvtepu8_epi32(0xffff, _mm_loadu_si128(reinterpret_cast<const __m128i*>(skip + i)));
-        open = _mm512_testn_epi32_mask(settled, settled);
+        open = L::zero_bytes(skip + i);
         if (open == 0) continue;
       }
-      __m512 v[8];
-      simd::rows_to_columns16(row + 8 * i, v);
-      const __m512i from = _mm512_maskz_compress_epi32(open, iota);
-      for (int k = 0; k < 8; ++k) _mm512_storeu_ps(column[k] + used, _mm512_maskz_permutexvar_ps(0xffff, from, v[k]));
-      const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(static_cast<int>(i)), iota);
-      _mm512_storeu_si512(id + used, _mm512_maskz_permutexvar_epi32(0xffff, from, index));
-      used += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(open)));
+      typename L::Float v[8];
+      L::rows_to_columns(row + 8 * i, v);
+      const typename L::Int from = L::compress_index(open);
+      for (int k = 0; k < 8; ++k) L::store(column[k] + used, L::permute(from, v[k]));
+      L::store(id + used, L::permute(from, L::indices_from(static_cast<std::uint32_t>(i))));
+      used += static_cast<std::size_t>(std::popcount(open));
     }
     for (; i < rays.size(); ++i) {
       if (skip && skip[i]) continue;
@@ -275,18 +383,11 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
   // two columns fewer to move at every node (1024 bunnies, ratio to Embree's instancing, medians of
   // six interleaved rounds: 3.74x -> 3.97x). Otherwise every ray's interval goes down as given and is
   // widened at each node's load.
-  // Compared as bits, sixteen at a time (a ray at a time, this loop was a twentieth of the walk).
+  // Compared as bits, a register at a time (a ray at a time, this loop was a twentieth of the walk).
   bool shared = true;
-  {
-    const __m512i first_tmin = _mm512_set1_epi32(std::bit_cast<std::int32_t>(columns[6][0]));
-    const __m512i first_tmax = _mm512_set1_epi32(std::bit_cast<std::int32_t>(columns[7][0]));
-    for (std::size_t k = 0; k < used && shared; k += kLanes) {
-      const __mmask16 valid = used - k >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (used - k)) - 1u);
-      const __mmask16 differ =
-          _mm512_mask_cmpneq_epi32_mask(valid, _mm512_loadu_si512(columns[6].data() + k), first_tmin) |
-          _mm512_mask_cmpneq_epi32_mask(valid, _mm512_loadu_si512(columns[7].data() + k), first_tmax);
-      shared = differ == 0;
-    }
+  for (std::size_t k = 0; k < used && shared; k += kLanes) {
+    const Mask valid = L::first_lanes(used - k);
+    shared = (L::differ(valid, columns[6].data() + k, columns[6][0]) | L::differ(valid, columns[7].data() + k, columns[7][0])) == 0;
   }
   const float tmin = bvh::widen_down(columns[6][0]), tmax = bvh::widen_up(columns[7][0]);
   // A visit's rays have their intervals as columns either way: the shared one in columns of its own.
@@ -295,17 +396,6 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
     for (int k = 0; k < 2; ++k) shared_interval[k].assign(used + BoxTree::LeafRays::kSlack, columns[6 + k][0]);
   // A visit may settle rays (skip[i] set) while the walk goes on: the lanes of a chunk whose rays are
   // still open, so that settled rays go no further down.
-  const auto unsettled = [&](const std::uint32_t* chunk_ids, __mmask16 live) -> __mmask16 {
-    if (live == 0) return 0;
-    const int last = 15 - std::countl_zero(static_cast<std::uint16_t>(live));
-    if (std::size_t{chunk_ids[last]} + 4 <= rays.size()) {  // ascending ids: the last the largest; 4 bytes a lane read
-      const __m512i settled = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, _mm512_loadu_si512(chunk_ids), skip, 1);
-      return _mm512_testn_epi32_mask(settled, _mm512_set1_epi32(0xff));
-    }
-    __mmask16 open = 0;
-    for (int lane = 0; lane <= last; ++lane) open |= static_cast<__mmask16>((skip[chunk_ids[lane]] == 0 ? 1u : 0u) << lane);
-    return open;
-  };
   std::size_t leaf_used = 0;
   // kCarried: the columns that move down the tree with the rays (6: tmin and tmax are constants).
   const auto walk = [&](auto carried) {
@@ -324,27 +414,27 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       const float* column[8];
       for (int k = 0; k < 8; ++k) column[k] = columns[k].data() + p.begin;
       std::uint16_t* const node_masks = masks.data();
-      __m512 origin_sum[3] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+      typename L::Float origin_sum[3] = {L::zero(), L::zero(), L::zero()};
       int live_count = 0;
       for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) {
         const std::uint32_t at = chunk * kLanes;
-        __mmask16 live = p.count - at >= kLanes ? __mmask16(0xffff) : __mmask16((1u << (p.count - at)) - 1u);
-        if (visit && skip) live &= unsettled(ids.data() + p.begin + at, live);
-        bvh::BoxRays16 r;
+        Mask live = L::first_lanes(p.count - at);
+        if (visit && skip) live &= L::unsettled(ids.data() + p.begin + at, live, skip, rays.size());
+        typename L::BoxRays r;
         if constexpr (kCarried == 8) {
           r.load(column, at);
         } else {
           r.load(column, at, tmin, tmax);
         }
         if (visit) {
-          for (int a = 0; a < 3; ++a) origin_sum[a] = _mm512_mask_add_ps(origin_sum[a], live, origin_sum[a], r.org[a]);
-          live_count += std::popcount(static_cast<unsigned>(live));
+          for (int a = 0; a < 3; ++a) origin_sum[a] = L::add(origin_sum[a], live, r.org[a]);
+          live_count += std::popcount(live);
         }
         for (int c = 0; c < children; ++c) {
           const int slot = slots[c];
-          const __mmask16 meets = bvh::rays_meet_child(node, slot, r) & live;
-          node_masks[8 * std::size_t{chunk} + static_cast<std::size_t>(slot)] = meets;
-          met[slot] += static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(meets)));
+          const Mask meets = bvh::rays_meet_child(node, slot, r) & live;
+          node_masks[8 * std::size_t{chunk} + static_cast<std::size_t>(slot)] = static_cast<std::uint16_t>(meets);
+          met[slot] += static_cast<std::uint32_t>(std::popcount(meets));
         }
       }
       // Each child's rays after the others', moved out of each chunk, column by column: an interior
@@ -353,7 +443,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       for (int c = 0; c < children; ++c) {
         std::size_t& end = leaf[slots[c]] ? leaf_used : top;
         cursor[slots[c]] = static_cast<std::uint32_t>(end);
-        end += met[slots[c]] + kLanes;
+        end += met[slots[c]] + kSpare;
       }
       scratch_room(top);
       leaf_room(leaf_used);
@@ -363,30 +453,29 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
       std::uint32_t* const id_base = ids.data();
       std::uint32_t* const leaf_ids = out ? out->rays.data() : nullptr;
       const std::uint16_t* const mask = masks.data();
-      const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
       for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) {
         const std::uint32_t at = p.begin + chunk * kLanes;
-        __m512 v[kCarried];
-        for (int k = 0; k < kCarried; ++k) v[k] = _mm512_loadu_ps(base[k] + at);
-        const __m512i id = _mm512_loadu_si512(id_base + at);
+        typename L::Float v[kCarried];
+        for (int k = 0; k < kCarried; ++k) v[k] = L::load(base[k] + at);
+        const typename L::Int id = L::load(id_base + at);
         for (int c = 0; c < children; ++c) {
           const int slot = slots[c];
-          const __mmask16 meets = mask[8 * std::size_t{chunk} + static_cast<std::size_t>(slot)];
+          const Mask meets = mask[8 * std::size_t{chunk} + static_cast<std::size_t>(slot)];
           if (meets == 0) continue;
           const std::uint32_t to = cursor[slot];
           // A leaf's rays become its items' lists: their ids alone go on (1024 bunnies' AO rays, the
           // whole field query: 35.1-38.3 -> 38.4-40.1 Mrays/s, four interleaved rounds).
           if (leaf[slot]) {
-            _mm512_storeu_si512(leaf_ids + to, _mm512_maskz_compress_epi32(meets, id));
+            L::store(leaf_ids + to, L::compress(meets, id));
           } else {
             // The compress made once, on lane numbers, and applied to each column by a permute: one
-            // micro-op a column where a compress takes two (1024 bunnies, ratio to Embree's
+            // micro-op a column where an AVX-512 compress takes two (1024 bunnies, ratio to Embree's
             // instancing, medians of six interleaved rounds: 3.97x -> 4.14x).
-            const __m512i from = _mm512_maskz_compress_epi32(meets, iota);
-            for (int k = 0; k < kCarried; ++k) _mm512_storeu_ps(base[k] + to, _mm512_maskz_permutexvar_ps(0xffff, from, v[k]));
-            _mm512_storeu_si512(id_base + to, _mm512_maskz_permutexvar_epi32(0xffff, from, id));
+            const typename L::Int from = L::compress_index(meets);
+            for (int k = 0; k < kCarried; ++k) L::store(base[k] + to, L::permute(from, v[k]));
+            L::store(id_base + to, L::permute(from, id));
           }
-          cursor[slot] = to + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(meets)));
+          cursor[slot] = to + static_cast<std::uint32_t>(std::popcount(meets));
         }
       }
       if (visit) {
@@ -398,7 +487,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
         float mean[3];
         for (int a = 0; a < 3; ++a) {
           alignas(64) float lanes[kLanes];
-          _mm512_store_ps(lanes, origin_sum[a]);
+          L::store(lanes, origin_sum[a]);
           mean[a] = 0.0f;
           for (const float lane : lanes) mean[a] += lane;
         }
@@ -425,7 +514,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
         if (met[slot] > 0) pending.push_back({node.child[slot], cursor[slot] - met[slot], met[slot], static_cast<std::uint32_t>(top)});
       }
     };
-    down_the_tree(nodes, count, count + kLanes, split, [&](const Pending& p) {
+    down_the_tree(nodes, count, static_cast<std::uint32_t>(count + kSpare), split, [&](const Pending& p) {
       if (out) {
         add_lists(order, p, *out);
         return;
@@ -454,11 +543,14 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
 
 int BoxTree::batch_width(int width) {
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
-  return width == 1 ? 1 : 16;
+  constexpr int widest = 16;
+#elif defined(__AVX2__)
+  constexpr int widest = 8;
 #else
-  (void)width;
-  return 1;
+  constexpr int widest = 1;
 #endif
+  if (width <= 0 || width > widest) return widest;
+  return width >= 16 ? 16 : width >= 8 ? 8 : 1;
 }
 
 void BoxTree::rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width) const {
@@ -466,7 +558,13 @@ void BoxTree::rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, 
   if (!layout_ || layout_->nodes.empty()) return;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   if (batch_width(width) == 16) {
-    partition_by_columns(layout_->nodes.data(), layout_->items.data(), rays, skip, &out, nullptr);
+    partition_by_columns<ColumnLanes16>(layout_->nodes.data(), layout_->items.data(), rays, skip, &out, nullptr);
+    return;
+  }
+#endif
+#if defined(__AVX2__)
+  if (batch_width(width) == 8) {
+    partition_by_columns<ColumnLanes8>(layout_->nodes.data(), layout_->items.data(), rays, skip, &out, nullptr);
     return;
   }
 #endif
@@ -478,10 +576,17 @@ void BoxTree::visit_leaves(std::span<const Ray> rays, const std::uint8_t* skip, 
   if (!layout_ || layout_->nodes.empty()) return;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   if (batch_width(width) == 16) {
-    partition_by_columns(layout_->nodes.data(), layout_->items.data(), rays, skip, nullptr, &visit);
+    partition_by_columns<ColumnLanes16>(layout_->nodes.data(), layout_->items.data(), rays, skip, nullptr, &visit);
     return;
   }
 #endif
+#if defined(__AVX2__)
+  if (batch_width(width) == 8) {
+    partition_by_columns<ColumnLanes8>(layout_->nodes.data(), layout_->items.data(), rays, skip, nullptr, &visit);
+    return;
+  }
+#endif
+  (void)width;
   // A ray at a time: the lists, then each leaf's rays still open copied into columns (a leaf's lists
   // come side by side and share their rays).
   thread_local ItemRays by_item;
