@@ -268,6 +268,7 @@ void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<
     }
   }
 #endif
+  (void)exact;  // lanes only: the scalar rest goes through the Bvh
   for (; i < rays.size(); ++i) best[i] = bvh.intersect(rays[i]);
 }
 

@@ -16,6 +16,7 @@
 #include <immintrin.h>
 #endif
 
+#include "visfield/core/lane_compress.hpp"
 #include "visfield/core/row_transpose.hpp"
 
 namespace vf::field::lanes {
@@ -165,20 +166,17 @@ struct Avx2 {
   static M none() { return {_mm256_setzero_si256()}; }
   static M all() { return {_mm256_set1_epi32(-1)}; }
   /// Writes the lanes of `m` of `values` to dst[0 ..), in lane order (dst needs room for 8);
-  /// returns how many it kept. Integer or float lanes.
+  /// returns how many it kept. Integer or float lanes. (A permute and a whole store: copied a lane
+  /// at a time from the stack, they were ~45% of the sphere pass's samples, 1024 bunnies' AO on AMD EPYC.)
   static int compress(std::uint32_t* dst, I values, M m) {
-    alignas(32) std::uint32_t all_values[8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(all_values), values.v);
-    int n = 0;
-    for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) dst[n++] = all_values[__builtin_ctz(lanes)];
-    return n;
+    const std::uint32_t lanes = bits(m);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst), _mm256_permutevar8x32_epi32(values.v, simd::compress_index8(lanes)));
+    return __builtin_popcount(lanes);
   }
   static int compress(float* dst, F values, M m) {
-    alignas(32) float all_values[8];
-    _mm256_store_ps(all_values, values.v);
-    int n = 0;
-    for (std::uint32_t lanes = bits(m); lanes != 0; lanes &= lanes - 1) dst[n++] = all_values[__builtin_ctz(lanes)];
-    return n;
+    const std::uint32_t lanes = bits(m);
+    _mm256_storeu_ps(dst, _mm256_permutevar8x32_ps(values.v, simd::compress_index8(lanes)));
+    return __builtin_popcount(lanes);
   }
   /// p[lane] = 1 for the lanes of `m`; the other bytes of p[0 .. 8) keep their values.
   static void set_bytes(std::uint8_t* p, M m) {
