@@ -243,15 +243,10 @@ class FieldKernel {
       r = {column[0], column[1], column[2], column[3], column[4], column[5], column[6], column[7]};
       if (limit) r.tmax = L::load(limit + index[0]);
     } else {
-      const I slot = at * L::splat(8);
-      r.ox = gather_at(base, slot, 0, all);
-      r.oy = gather_at(base, slot, 1, all);
-      r.oz = gather_at(base, slot, 2, all);
-      r.dx = gather_at(base, slot, 3, all);
-      r.dy = gather_at(base, slot, 4, all);
-      r.dz = gather_at(base, slot, 5, all);
-      r.tmin = gather_at(base, slot, 6, all);
-      r.tmax = limit ? lanes::gather(limit, at, all) : gather_at(base, slot, 7, all);
+      F column[8];
+      L::transpose_rows_at(base, index, column);
+      r = {column[0], column[1], column[2], column[3], column[4], column[5], column[6], column[7]};
+      if (limit) r.tmax = lanes::gather(limit, at, all);
     }
     return to_object_space(r, to_object);
   }
@@ -276,7 +271,6 @@ class FieldKernel {
   struct Vec {
     F x, y, z;
   };
-  static F gather_at(const float* base, I slot, int k, M m) { return lanes::gather(base + k, slot, m); }
   static F row_dot(const Vec3f& row, F x, F y, F z) { return L::splat(row.x) * x + L::splat(row.y) * y + L::splat(row.z) * z; }
   // hd::fused_dot on lanes.
   static F dot(const Vec& a, const Vec& b) { return fma(a.x, b.x, fma(a.y, b.y, a.z * b.z)); }

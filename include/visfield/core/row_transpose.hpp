@@ -3,6 +3,9 @@
 /// in registers: how the batch kernels read consecutive rays without gathering them (the field
 /// kernel, a field scene's blocks, the box tree's setup).
 
+#include <cstddef>
+#include <cstdint>
+
 #if defined(__AVX2__) || defined(__AVX512F__)
 #include <immintrin.h>
 #endif
@@ -40,11 +43,10 @@ inline void rows_to_columns16(const float* p, __m512 column[8]) {
 #endif
 
 #if defined(__AVX2__)
-/// The 8 columns of the 8 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]): the
-/// classic 8×8 in-register transpose.
-inline void rows_to_columns8(const float* p, __m256 column[8]) {
-  __m256 a[8], t[8], u[8];
-  for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(p + 8 * k);
+/// The 8 columns of 8 rows of 8 floats held in registers (column c, lane l = a[l][c]): the classic
+/// 8×8 in-register transpose.
+inline void rows_to_columns8(const __m256 a[8], __m256 column[8]) {
+  __m256 t[8], u[8];
   for (int k = 0; k < 8; k += 2) {
     t[k] = _mm256_unpacklo_ps(a[k], a[k + 1]);
     t[k + 1] = _mm256_unpackhi_ps(a[k], a[k + 1]);
@@ -59,6 +61,21 @@ inline void rows_to_columns8(const float* p, __m256 column[8]) {
     column[c] = _mm256_permute2f128_ps(u[c], u[c + 4], 0x20);
     column[c + 4] = _mm256_permute2f128_ps(u[c], u[c + 4], 0x31);
   }
+}
+
+/// The 8 columns of the 8 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]).
+inline void rows_to_columns8(const float* p, __m256 column[8]) {
+  __m256 a[8];
+  for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(p + 8 * k);
+  rows_to_columns8(a, column);
+}
+
+/// The 8 columns of the rows of 8 floats at base + 8·index[l], l < 8 (column c, lane l =
+/// base[8·index[l] + c]): eight row loads and the transpose, in place of eight 8-lane gathers.
+inline void rows_to_columns8(const float* base, const std::uint32_t* index, __m256 column[8]) {
+  __m256 a[8];
+  for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(base + 8 * static_cast<std::size_t>(index[k]));
+  rows_to_columns8(a, column);
 }
 #endif
 
