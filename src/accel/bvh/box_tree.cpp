@@ -339,7 +339,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
     if (out && out->rays.size() < need) out->rays.resize(grown(out->rays.size(), need));
   };
   scratch_room(rays.size() + kSpare);
-  // The open rays into the columns, sixteen at a time: read as rows and turned into columns, the
+  // The open rays into the columns, a register of rays at a time: read as rows and turned into columns, the
   // skipped ones left out by one compress of the lane numbers and a permute a column (a ray at a
   // time, its eight scalar stores and three divisions were a tenth of 1024 bunnies' AO time; ratio
   // to Embree's instancing, medians of six interleaved rounds, 3.89x -> 4.06x). The intervals go in
