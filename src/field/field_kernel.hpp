@@ -3,8 +3,9 @@
 // kernel_lanes.hpp). Each step is the scalar step on lanes, in the same order with the same
 // operations, so every lane's answer is bit for bit trace_field()'s (tests/unit/field checks it):
 // the arctangents are field_query's polynomial, the table reads are gathers, branches are masks.
-// Cycles go to the gathers (three candidate samples × three coordinates, one cell code, and the
-// ray itself when it is gathered from an array of Rays), to the arithmetic of the two
+// Cycles go to the gathers (three candidate samples × three coordinates, one cell code, and on
+// AVX-512 the ray itself when it is gathered from an array of Rays; AVX2 loads its row and
+// transposes), to the arithmetic of the two
 // arctangents and the hemisphere frame, and on Intel's cores to the divider (a packet read from
 // inside takes four divisions and six square roots; the query shares and avoids divisions for
 // it); see docs/objectfield-measurements.md.

@@ -1,7 +1,7 @@
 #pragma once
 /// \file Rows of 8 floats (a Ray: origin, direction, tmin, tmax) turned into 8 columns of SIMD lanes,
-/// in registers: how the batch kernels read consecutive rays without gathering them (the field
-/// kernel, a field scene's blocks, the box tree's setup).
+/// in registers: how the batch kernels read consecutive rays (and, on AVX2, rays by index) without
+/// gathering them (the field kernel, a field scene's blocks, the box tree's setup).
 
 #include <cstddef>
 #include <cstdint>
