@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <optional>
 #include <sstream>
 #include <string>
 
@@ -60,17 +59,28 @@ void Scene::set_transform(ObjectId id, const Transform& transform) {
   instances_[static_cast<std::size_t>(&found - instances_.data())].transform = transform;
 }
 
+namespace {
+// Each mesh's bounds, read once however many objects share it (1,024 copies of a 35K-vertex mesh
+// read 36M vertices when each object read its mesh's).
+std::vector<Bounds3f> bounds_of_meshes(const std::vector<TriangleMesh>& meshes) {
+  std::vector<Bounds3f> bounds;
+  bounds.reserve(meshes.size());
+  for (const TriangleMesh& mesh : meshes) bounds.push_back(mesh.bounds());
+  return bounds;
+}
+}  // namespace
+
 Bounds3f Scene::bounds() const {
+  const std::vector<Bounds3f> mesh_bounds = bounds_of_meshes(meshes);
   Bounds3f b;
-  for (const Instance& inst : instances_) b.extend(inst.transform.apply_bounds(meshes[inst.mesh].bounds()));
+  for (const Instance& inst : instances_) b.extend(inst.transform.apply_bounds(mesh_bounds[inst.mesh]));
   return b;
 }
 
 void Scene::check_coordinate_range(const std::string& what) const {
-  std::vector<std::optional<Bounds3f>> mesh_bounds(meshes.size());
+  const std::vector<Bounds3f> mesh_bounds = bounds_of_meshes(meshes);
   for (const Instance& inst : instances_) {
-    if (!mesh_bounds[inst.mesh]) mesh_bounds[inst.mesh] = meshes[inst.mesh].bounds();
-    const Bounds3f world = inst.transform.apply_bounds(*mesh_bounds[inst.mesh]);
+    const Bounds3f world = inst.transform.apply_bounds(mesh_bounds[inst.mesh]);
     if (world.empty()) continue;
     const float reach = std::fmax(max_component(abs(world.lo)), max_component(abs(world.hi)));
     if (!(reach <= kMaxCoordinate)) {

@@ -89,7 +89,7 @@ class Scene {
   /// The object with id `id`, or nullptr. O(log objects).
   const Instance* find_instance(ObjectId id) const;
 
-  /// World-space bounds of all objects; O(objects * 8) using mesh bounds.
+  /// World-space bounds of all objects: each mesh's bounds once, then 8 corners an object.
   Bounds3f bounds() const;
   /// Throws vf::Error "<what>: object ID (mesh ...) reaches coordinate ..." for the first object whose
   /// world-space bounds reach beyond ±kMaxCoordinate (through its translation or scale).
