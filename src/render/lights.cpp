@@ -141,38 +141,40 @@ LightSample SphereCone::sample(float u, float v) const {
 
 void SphereCone::sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance) const {
   std::size_t k = 0;
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
+#if defined(VF_SAMPLE_LANES)
   if (count >= 4) {
-    // sample(u, v) on lanes, its operations in its order (no fused multiply-adds).
+    // sample(u, v) on lanes, its operations in its order (no fused multiply-adds). On AVX2 too:
+    // drawn one at a time, the samples were half of a soft-shadow render's time through fields.
+    using L = render_detail::SampleLanes;
+    constexpr int kWidth = L::kWidth;
     render_detail::PairLanes lanes(rng);
-    const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
-    const auto splat = [](float x) { return _mm512_set1_ps(x); };
-    const __m512 one_minus_cos_max = splat(one_minus_cos_max_), d = splat(distance_);
-    const __m512 r2 = splat(radius_ * radius_), d2 = splat(distance_ * distance_);
-    alignas(64) float x[16], y[16], z[16], t[16];
-    for (; k < count; k += 16) {  // the last packet's spare lanes are not kept
-      __m512 u, v;
+    const L::F zero = L::splat(0.0f), one = L::splat(1.0f);
+    const L::F one_minus_cos_max = L::splat(one_minus_cos_max_), d = L::splat(distance_);
+    const L::F r2 = L::splat(radius_ * radius_), d2 = L::splat(distance_ * distance_);
+    alignas(64) float x[kWidth], y[kWidth], z[kWidth], t[kWidth];
+    for (; k < count; k += kWidth) {  // the last packet's spare lanes are not kept
+      L::F u, v;
       lanes.pairs(u, v);
-      const __m512 cos_theta = _mm512_sub_ps(one, _mm512_mul_ps(u, one_minus_cos_max));
-      const __m512 sin2 = _mm512_sub_ps(one, _mm512_mul_ps(cos_theta, cos_theta));
-      const __m512 sin_theta = _mm512_sqrt_ps(_mm512_max_ps(sin2, zero));
-      __m512 sin_phi, cos_phi;
+      const L::F cos_theta = L::sub(one, L::mul(u, one_minus_cos_max));
+      const L::F sin2 = L::sub(one, L::mul(cos_theta, cos_theta));
+      const L::F sin_theta = L::sqrt(L::max(sin2, zero));
+      L::F sin_phi, cos_phi;
       render_detail::sincos_turn(v, sin_phi, cos_phi);
-      const __m512 a = _mm512_mul_ps(sin_theta, cos_phi), b = _mm512_mul_ps(sin_theta, sin_phi);
+      const L::F a = L::mul(sin_theta, cos_phi), b = L::mul(sin_theta, sin_phi);
       const auto component = [&](float tc, float bc, float ac) {
-        return _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(splat(tc), a), _mm512_mul_ps(splat(bc), b)), _mm512_mul_ps(splat(ac), cos_theta));
+        return L::add(L::add(L::mul(L::splat(tc), a), L::mul(L::splat(bc), b)), L::mul(L::splat(ac), cos_theta));
       };
-      const __m512 wx = component(tangent_.x, bitangent_.x, axis_.x), wy = component(tangent_.y, bitangent_.y, axis_.y),
-                   wz = component(tangent_.z, bitangent_.z, axis_.z);
-      const __m512 length = _mm512_sqrt_ps(_mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wx, wx), _mm512_mul_ps(wy, wy)), _mm512_mul_ps(wz, wz)));
-      const __m512 inverse = _mm512_div_ps(one, length);
-      _mm512_store_ps(x, _mm512_mul_ps(wx, inverse));
-      _mm512_store_ps(y, _mm512_mul_ps(wy, inverse));
-      _mm512_store_ps(z, _mm512_mul_ps(wz, inverse));
-      const __m512 inside = _mm512_sub_ps(r2, _mm512_mul_ps(d2, sin2));
-      const __m512 entry = _mm512_sub_ps(_mm512_mul_ps(d, cos_theta), _mm512_sqrt_ps(_mm512_max_ps(inside, zero)));
-      _mm512_store_ps(t, _mm512_max_ps(entry, zero));
-      for (std::size_t lane = 0; lane < std::min<std::size_t>(16, count - k); ++lane) {
+      const L::F wx = component(tangent_.x, bitangent_.x, axis_.x), wy = component(tangent_.y, bitangent_.y, axis_.y),
+                 wz = component(tangent_.z, bitangent_.z, axis_.z);
+      const L::F length = L::sqrt(L::add(L::add(L::mul(wx, wx), L::mul(wy, wy)), L::mul(wz, wz)));
+      const L::F inverse = L::div(one, length);
+      L::store(x, L::mul(wx, inverse));
+      L::store(y, L::mul(wy, inverse));
+      L::store(z, L::mul(wz, inverse));
+      const L::F inside = L::sub(r2, L::mul(d2, sin2));
+      const L::F entry = L::sub(L::mul(d, cos_theta), L::sqrt(L::max(inside, zero)));
+      L::store(t, L::max(entry, zero));
+      for (std::size_t lane = 0; lane < std::min<std::size_t>(kWidth, count - k); ++lane) {
         wi[k + lane] = Vec3f{x[lane], y[lane], z[lane]};
         distance[k + lane] = t[lane];
       }

@@ -1,10 +1,13 @@
 #pragma once
-/// \file Drawing 16 samples at a time on AVX-512 lanes with the very bits of the scalar samplers: a
-/// PCG stream handed out two numbers per lane (the numbers 2l and 2l + 1 of a packet go to lane l,
-/// as a loop drawing two per sample takes them), and hd::quadrant_sincos's polynomials on lanes.
-/// Used by ao_rays() and SphereCone::sample(Rng&, ...). Empty without AVX-512F and DQ.
+/// \file Drawing samples on lanes — 16 on AVX-512 (F and DQ), 8 on AVX2 — with the very bits of the
+/// scalar samplers: a PCG stream handed out two numbers per lane (the numbers 2l and 2l + 1 of a
+/// packet go to lane l, as a loop drawing two per sample takes them), and hd::quadrant_sincos's
+/// polynomials on lanes. Used by ao_rays() and SphereCone::sample(Rng&, ...). VF_SAMPLE_LANES is
+/// defined where the build has lanes; without them the header is empty and the callers draw one
+/// sample at a time.
 
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
+#if (defined(__AVX512F__) && defined(__AVX512DQ__)) || defined(__AVX2__)
+#define VF_SAMPLE_LANES 1
 #include <immintrin.h>
 
 #include <cstdint>
@@ -34,6 +37,45 @@ constexpr PcgSteps pcg_steps() {
 }
 inline constexpr PcgSteps kPcgSteps = pcg_steps();
 
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+/// The samplers' operations on 16 AVX-512 lanes; masks are bit masks.
+struct SampleLanes {
+  static constexpr int kWidth = 16;
+  using F = __m512;
+  using I = __m512i;
+  using M = __mmask16;
+  static F splat(float x) { return _mm512_set1_ps(x); }
+  static F add(F a, F b) { return _mm512_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm512_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm512_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm512_div_ps(a, b); }
+  static F sqrt(F a) { return _mm512_sqrt_ps(a); }
+  static F min(F a, F b) { return _mm512_min_ps(a, b); }
+  static F max(F a, F b) { return _mm512_max_ps(a, b); }
+  static F abs(F a) { return _mm512_abs_ps(a); }
+  static F floor(F a) { return _mm512_roundscale_ps(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  /// The magnitude of `magnitude` with the sign of `sign`.
+  static F copysign(F magnitude, F sign) {
+    const F bit = splat(-0.0f);
+    return _mm512_or_ps(_mm512_andnot_ps(bit, magnitude), _mm512_and_ps(bit, sign));
+  }
+  static M equal(F a, F b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
+  static M greater_equal(F a, F b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
+  static M less(F a, F b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+  static M both(M a, M b) { return a & b; }
+  /// `if_set` in the lanes of m, `otherwise` elsewhere.
+  static F blend(M m, F otherwise, F if_set) { return _mm512_mask_blend_ps(m, otherwise, if_set); }
+  /// x with its sign flipped in the lanes of m.
+  static F negate_where(M m, F x) { return _mm512_mask_xor_ps(x, m, x, splat(-0.0f)); }
+  /// x truncated to integer lanes.
+  static I truncate(F x) { return _mm512_cvttps_epi32(x); }
+  static I add(I a, int k) { return _mm512_add_epi32(a, _mm512_set1_epi32(k)); }
+  /// The lanes of q with bit `bit` (a power of two) set.
+  static M has_bit(I q, int bit) { return _mm512_test_epi32_mask(q, _mm512_set1_epi32(bit)); }
+  static M at_least(I q, int k) { return _mm512_cmpge_epi32_mask(q, _mm512_set1_epi32(k)); }
+  static void store(float* p, F x) { _mm512_store_ps(p, x); }
+};
+
 /// A stream's numbers two per lane, 16 lanes a packet: pairs() gives the packet's (first, second)
 /// of every lane and steps on. After k packets the caller's Rng moves on by rng.advanced(32 k).
 class PairLanes {
@@ -49,8 +91,8 @@ class PairLanes {
     };
     low_ = stepped(0);
     high_ = stepped(8);
-    jump_mult_ = _mm512_set1_epi64(static_cast<long long>(kPcgSteps.power[16]));
-    jump_add_ = _mm512_mullo_epi64(_mm512_set1_epi64(static_cast<long long>(kPcgSteps.sum[16])), inc);
+    jump_mult_ = _mm512_set1_epi64(kPcgSteps.power[16]);
+    jump_add_ = _mm512_mullo_epi64(_mm512_set1_epi64(kPcgSteps.sum[16]), inc);
   }
   /// The next packet: each lane's two uniform() numbers, then the lanes step 32 numbers on.
   void pairs(__m512& first, __m512& second) {
@@ -77,46 +119,129 @@ class PairLanes {
   std::uint64_t increment_;
   __m512i low_, high_, jump_mult_, jump_add_;
 };
+#else
+/// SampleLanes' operations on 8 AVX2 lanes; masks are lanes of all ones or all zeros.
+struct SampleLanes {
+  static constexpr int kWidth = 8;
+  using F = __m256;
+  using I = __m256i;
+  using M = __m256;
+  static F splat(float x) { return _mm256_set1_ps(x); }
+  static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F sub(F a, F b) { return _mm256_sub_ps(a, b); }
+  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F div(F a, F b) { return _mm256_div_ps(a, b); }
+  static F sqrt(F a) { return _mm256_sqrt_ps(a); }
+  static F min(F a, F b) { return _mm256_min_ps(a, b); }
+  static F max(F a, F b) { return _mm256_max_ps(a, b); }
+  static F abs(F a) { return _mm256_andnot_ps(splat(-0.0f), a); }
+  static F floor(F a) { return _mm256_floor_ps(a); }
+  static F copysign(F magnitude, F sign) {
+    const F bit = splat(-0.0f);
+    return _mm256_or_ps(_mm256_andnot_ps(bit, magnitude), _mm256_and_ps(bit, sign));
+  }
+  static M equal(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+  static M greater_equal(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  static M less(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static M both(M a, M b) { return _mm256_and_ps(a, b); }
+  static F blend(M m, F otherwise, F if_set) { return _mm256_blendv_ps(otherwise, if_set, m); }
+  static F negate_where(M m, F x) { return _mm256_xor_ps(x, _mm256_and_ps(m, splat(-0.0f))); }
+  static I truncate(F x) { return _mm256_cvttps_epi32(x); }
+  static I add(I a, int k) { return _mm256_add_epi32(a, _mm256_set1_epi32(k)); }
+  static M has_bit(I q, int bit) {
+    const __m256i b = _mm256_set1_epi32(bit);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(q, b), b));
+  }
+  static M at_least(I q, int k) { return _mm256_castsi256_ps(_mm256_cmpgt_epi32(q, _mm256_set1_epi32(k - 1))); }
+  static void store(float* p, F x) { _mm256_store_ps(p, x); }
+};
+
+/// PairLanes on 8 AVX2 lanes: each lane's two numbers a packet, the lanes' 64-bit states four to a
+/// register (AVX2 has no 64-bit multiply: three 32-bit ones make its low 64 bits).
+class PairLanes {
+ public:
+  explicit PairLanes(const Rng& rng) : increment_(rng.increment()) {
+    const __m256i inc = _mm256_set1_epi64x(static_cast<long long>(increment_)), start = _mm256_set1_epi64x(static_cast<long long>(rng.state()));
+    const auto stepped = [&](int first_lane) {
+      return _mm256_add_epi64(multiply(load(kPcgSteps.power + first_lane), start), multiply(load(kPcgSteps.sum + first_lane), inc));
+    };
+    low_ = stepped(0);
+    high_ = stepped(4);
+    jump_mult_ = _mm256_set1_epi64x(kPcgSteps.power[8]);
+    jump_add_ = multiply(_mm256_set1_epi64x(kPcgSteps.sum[8]), inc);
+  }
+  /// The next packet: each lane's two uniform() numbers, then the lanes step 16 numbers on.
+  void pairs(__m256& first, __m256& second) {
+    const __m256i mult = _mm256_set1_epi64x(static_cast<long long>(Rng::kMultiplier));
+    const __m256i add = _mm256_set1_epi64x(static_cast<long long>(increment_));
+    const auto next = [&](__m256i state) { return _mm256_add_epi64(multiply(state, mult), add); };
+    first = _mm256_insertf128_ps(_mm256_castps128_ps256(uniforms(low_)), uniforms(high_), 1);
+    second = _mm256_insertf128_ps(_mm256_castps128_ps256(uniforms(next(low_))), uniforms(next(high_)), 1);
+    low_ = _mm256_add_epi64(multiply(low_, jump_mult_), jump_add_);
+    high_ = _mm256_add_epi64(multiply(high_, jump_mult_), jump_add_);
+  }
+
+ private:
+  static __m256i load(const long long* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
+  /// The low 64 bits of a × b in each 64-bit lane: lo·lo + ((hi·lo + lo·hi) << 32).
+  static __m256i multiply(__m256i a, __m256i b) {
+    const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), b), _mm256_mul_epu32(a, _mm256_srli_epi64(b, 32)));
+    return _mm256_add_epi64(_mm256_mul_epu32(a, b), _mm256_slli_epi64(cross, 32));
+  }
+  /// Floats of the 4 states in `state` turned into uniform() numbers (next_u32's output, >> 8, × 2^-24).
+  static __m128 uniforms(__m256i state) {
+    const __m256i xorshifted = _mm256_srli_epi64(_mm256_xor_si256(_mm256_srli_epi64(state, 18), state), 27);
+    const __m256i low_words = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);  // each lane's low 32 bits, as the cast keeps them
+    const __m128i low = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(xorshifted, low_words));
+    const __m128i rot = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_srli_epi64(state, 59), low_words));
+    const __m128i word =
+        _mm_or_si128(_mm_srlv_epi32(low, rot), _mm_sllv_epi32(low, _mm_and_si128(_mm_sub_epi32(_mm_set1_epi32(32), rot), _mm_set1_epi32(31))));
+    return _mm_mul_ps(_mm_cvtepi32_ps(_mm_srli_epi32(word, 8)), _mm_set1_ps(0x1p-24f));
+  }
+
+  std::uint64_t increment_;
+  __m256i low_, high_, jump_mult_, jump_add_;
+};
+#endif
 
 /// hd::quadrant_sincos on lanes: the same polynomials, multiplies and adds in the same order.
-inline void quadrant_sincos(__m512 phi, __m512& s, __m512& c) {
-  const auto step = [](__m512 p, __m512 x2, float k) { return _mm512_add_ps(_mm512_mul_ps(p, x2), _mm512_set1_ps(k)); };
-  const __m512 x2 = _mm512_mul_ps(phi, phi);
-  __m512 ps = _mm512_set1_ps(1.0f / 6227020800.0f);
-  ps = _mm512_sub_ps(_mm512_mul_ps(ps, x2), _mm512_set1_ps(1.0f / 39916800.0f));
+inline void quadrant_sincos(SampleLanes::F phi, SampleLanes::F& s, SampleLanes::F& c) {
+  using L = SampleLanes;
+  const auto step = [](L::F p, L::F x2, float k) { return L::add(L::mul(p, x2), L::splat(k)); };
+  const auto step_down = [](L::F p, L::F x2, float k) { return L::sub(L::mul(p, x2), L::splat(k)); };
+  const L::F x2 = L::mul(phi, phi);
+  L::F ps = L::splat(1.0f / 6227020800.0f);
+  ps = step_down(ps, x2, 1.0f / 39916800.0f);
   ps = step(ps, x2, 1.0f / 362880.0f);
-  ps = _mm512_sub_ps(_mm512_mul_ps(ps, x2), _mm512_set1_ps(1.0f / 5040.0f));
+  ps = step_down(ps, x2, 1.0f / 5040.0f);
   ps = step(ps, x2, 1.0f / 120.0f);
-  ps = _mm512_sub_ps(_mm512_mul_ps(ps, x2), _mm512_set1_ps(1.0f / 6.0f));
+  ps = step_down(ps, x2, 1.0f / 6.0f);
   ps = step(ps, x2, 1.0f);
-  s = _mm512_mul_ps(phi, ps);
-  __m512 pc = _mm512_set1_ps(-1.0f / 87178291200.0f);
+  s = L::mul(phi, ps);
+  L::F pc = L::splat(-1.0f / 87178291200.0f);
   pc = step(pc, x2, 1.0f / 479001600.0f);
-  pc = _mm512_sub_ps(_mm512_mul_ps(pc, x2), _mm512_set1_ps(1.0f / 3628800.0f));
+  pc = step_down(pc, x2, 1.0f / 3628800.0f);
   pc = step(pc, x2, 1.0f / 40320.0f);
-  pc = _mm512_sub_ps(_mm512_mul_ps(pc, x2), _mm512_set1_ps(1.0f / 720.0f));
+  pc = step_down(pc, x2, 1.0f / 720.0f);
   pc = step(pc, x2, 1.0f / 24.0f);
-  pc = _mm512_sub_ps(_mm512_mul_ps(pc, x2), _mm512_set1_ps(0.5f));
+  pc = step_down(pc, x2, 0.5f);
   c = step(pc, x2, 1.0f);
 }
 
 /// sincos_turn (sin and cos of 2πv) on lanes: the same quadrant, reduction and signs.
-inline void sincos_turn(__m512 v, __m512& s, __m512& c) {
-  const __m512 x = _mm512_mul_ps(_mm512_set1_ps(4.0f), v);
-  __m512 q = _mm512_roundscale_ps(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-  q = _mm512_min_ps(_mm512_max_ps(q, _mm512_setzero_ps()), _mm512_set1_ps(3.0f));  // v in [0, 1): no NaN
-  __m512 sr, cr;
-  quadrant_sincos(_mm512_mul_ps(_mm512_sub_ps(x, q), _mm512_set1_ps(hd::kPi<float> / 2.0f)), sr, cr);
-  const __m512i quadrant = _mm512_cvttps_epi32(q);
-  const __mmask16 odd = _mm512_test_epi32_mask(quadrant, _mm512_set1_epi32(1));
-  const __mmask16 sin_negative = _mm512_cmpge_epi32_mask(quadrant, _mm512_set1_epi32(2));              // quadrants 2, 3
-  const __mmask16 cos_negative = _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_add_epi32(quadrant, _mm512_set1_epi32(1)), _mm512_set1_epi32(2)),
-                                                          _mm512_set1_epi32(2));  // quadrants 1, 2
-  const __m512 sign = _mm512_set1_ps(-0.0f);
-  s = _mm512_mask_blend_ps(odd, sr, cr);
-  c = _mm512_mask_blend_ps(odd, cr, sr);
-  s = _mm512_mask_xor_ps(s, sin_negative, s, sign);
-  c = _mm512_mask_xor_ps(c, cos_negative, c, sign);
+inline void sincos_turn(SampleLanes::F v, SampleLanes::F& s, SampleLanes::F& c) {
+  using L = SampleLanes;
+  const L::F x = L::mul(L::splat(4.0f), v);
+  L::F q = L::floor(x);
+  q = L::min(L::max(q, L::splat(0.0f)), L::splat(3.0f));  // v in [0, 1): no NaN
+  L::F sr, cr;
+  quadrant_sincos(L::mul(L::sub(x, q), L::splat(hd::kPi<float> / 2.0f)), sr, cr);
+  const L::I quadrant = L::truncate(q);
+  const L::M odd = L::has_bit(quadrant, 1);
+  const L::M sin_negative = L::at_least(quadrant, 2);             // quadrants 2, 3
+  const L::M cos_negative = L::has_bit(L::add(quadrant, 1), 2);  // quadrants 1, 2
+  s = L::negate_where(sin_negative, L::blend(odd, sr, cr));
+  c = L::negate_where(cos_negative, L::blend(odd, cr, sr));
 }
 
 }  // namespace vf::render_detail

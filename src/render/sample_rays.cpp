@@ -80,39 +80,38 @@ Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance) {
   return Ray{point.position, dir, 0.0f, max_distance};
 }
 
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
+#if defined(VF_SAMPLE_LANES)
 namespace {
 
-/// `count` (<= 16) AO rays of `point` from the next packet of `lanes` (lane l's s and t its two numbers).
+/// `count` (<= the lanes' width) AO rays of `point` from the next packet of `lanes` (lane l's s and t its two numbers).
 void ao_packet(const SurfacePoint& point, float max_distance, render_detail::PairLanes& lanes, std::size_t count, Ray* out) {
-  __m512 s, t;
+  using L = render_detail::SampleLanes;
+  L::F s, t;
   lanes.pairs(s, t);
   // concentric_disk() and cosine_hemisphere(), branches as masks.
-  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f), two = _mm512_set1_ps(2.0f);
-  const __m512 a = _mm512_sub_ps(_mm512_mul_ps(two, s), one), b = _mm512_sub_ps(_mm512_mul_ps(two, t), one);
-  const __mmask16 centre = _mm512_cmp_ps_mask(a, zero, _CMP_EQ_OQ) & _mm512_cmp_ps_mask(b, zero, _CMP_EQ_OQ);
-  const __mmask16 a_major = _mm512_cmp_ps_mask(_mm512_abs_ps(a), _mm512_abs_ps(b), _CMP_GE_OQ);
-  const __m512 ratio = _mm512_mask_blend_ps(a_major, _mm512_div_ps(a, b), _mm512_div_ps(b, a));
-  const __m512 phi = _mm512_mul_ps(_mm512_set1_ps(hd::kPi<float> / 4.0f), ratio);
-  __m512 sn, cs;
-  render_detail::quadrant_sincos(_mm512_abs_ps(phi), sn, cs);
-  const __m512 sign = _mm512_set1_ps(-0.0f);
-  sn = _mm512_or_ps(_mm512_andnot_ps(sign, sn), _mm512_and_ps(sign, phi));  // copysign(sn, phi)
-  __m512 x = _mm512_mask_blend_ps(a_major, _mm512_mul_ps(b, sn), _mm512_mul_ps(a, cs));
-  __m512 y = _mm512_mask_blend_ps(a_major, _mm512_mul_ps(b, cs), _mm512_mul_ps(a, sn));
-  x = _mm512_mask_blend_ps(centre, x, zero);
-  y = _mm512_mask_blend_ps(centre, y, zero);
-  const __m512 rest = _mm512_sub_ps(_mm512_sub_ps(one, _mm512_mul_ps(x, x)), _mm512_mul_ps(y, y));
-  const __m512 z = _mm512_sqrt_ps(_mm512_mask_blend_ps(_mm512_cmp_ps_mask(zero, rest, _CMP_LT_OQ), zero, rest));  // hd::max(0, rest)
+  const L::F zero = L::splat(0.0f), one = L::splat(1.0f), two = L::splat(2.0f);
+  const L::F a = L::sub(L::mul(two, s), one), b = L::sub(L::mul(two, t), one);
+  const L::M centre = L::both(L::equal(a, zero), L::equal(b, zero));
+  const L::M a_major = L::greater_equal(L::abs(a), L::abs(b));
+  const L::F ratio = L::blend(a_major, L::div(a, b), L::div(b, a));
+  const L::F phi = L::mul(L::splat(hd::kPi<float> / 4.0f), ratio);
+  L::F sn, cs;
+  render_detail::quadrant_sincos(L::abs(phi), sn, cs);
+  sn = L::copysign(sn, phi);
+  L::F x = L::blend(a_major, L::mul(b, sn), L::mul(a, cs));
+  L::F y = L::blend(a_major, L::mul(b, cs), L::mul(a, sn));
+  x = L::blend(centre, x, zero);
+  y = L::blend(centre, y, zero);
+  const L::F rest = L::sub(L::sub(one, L::mul(x, x)), L::mul(y, y));
+  const L::F z = L::sqrt(L::blend(L::less(zero, rest), zero, rest));  // hd::max(0, rest)
   // tangent·x + bitangent·y + normal·z, a component at a time.
   const auto world = [&](float tc, float bc, float nc) {
-    return _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(tc), x), _mm512_mul_ps(_mm512_set1_ps(bc), y)),
-                         _mm512_mul_ps(_mm512_set1_ps(nc), z));
+    return L::add(L::add(L::mul(L::splat(tc), x), L::mul(L::splat(bc), y)), L::mul(L::splat(nc), z));
   };
-  alignas(64) float dx[16], dy[16], dz[16];
-  _mm512_store_ps(dx, world(point.tangent.x, point.bitangent.x, point.normal.x));
-  _mm512_store_ps(dy, world(point.tangent.y, point.bitangent.y, point.normal.y));
-  _mm512_store_ps(dz, world(point.tangent.z, point.bitangent.z, point.normal.z));
+  alignas(64) float dx[L::kWidth], dy[L::kWidth], dz[L::kWidth];
+  L::store(dx, world(point.tangent.x, point.bitangent.x, point.normal.x));
+  L::store(dy, world(point.tangent.y, point.bitangent.y, point.normal.y));
+  L::store(dz, world(point.tangent.z, point.bitangent.z, point.normal.z));
   for (std::size_t lane = 0; lane < count; ++lane) out[lane] = Ray{point.position, Vec3f{dx[lane], dy[lane], dz[lane]}, 0.0f, max_distance};
 }
 
@@ -121,10 +120,11 @@ void ao_packet(const SurfacePoint& point, float max_distance, render_detail::Pai
 
 void ao_rays(const SurfacePoint& point, Rng& rng, float max_distance, std::size_t count, Ray* out) {
   std::size_t k = 0;
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
+#if defined(VF_SAMPLE_LANES)
   if (count >= 4) {  // the last packet's spare lanes are not kept
+    constexpr std::size_t kWidth = render_detail::SampleLanes::kWidth;
     render_detail::PairLanes lanes(rng);
-    for (; k < count; k += 16) ao_packet(point, max_distance, lanes, std::min<std::size_t>(16, count - k), out + k);
+    for (; k < count; k += kWidth) ao_packet(point, max_distance, lanes, std::min(kWidth, count - k), out + k);
     k = count;
     rng = rng.advanced(2 * count);
   }

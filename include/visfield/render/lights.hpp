@@ -40,7 +40,7 @@ class SphereCone {
   LightSample sample(float u, float v) const;
   /// `count` samples as sample(rng.uniform(), rng.uniform()) one after another draws them, bit for
   /// bit, and `rng` left where they leave it: directions into `wi`, distances into `distance`. 16 at
-  /// a time on lanes where the CPU has AVX-512 (F and DQ).
+  /// a time on lanes with AVX-512 (F and DQ), 8 with AVX2.
   void sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance) const;
   /// The light's radiance, arriving along every direction of the cone.
   const Vec3f& radiance() const { return radiance_; }

@@ -70,7 +70,7 @@ Ray ao_ray(const SurfacePoint& point, Rng& rng, float max_distance);
 
 /// The next `count` ambient-occlusion rays from `point` into out[0 .. count): bit for bit the rays
 /// `count` calls of ao_ray() return, and `rng` left where they leave it; 16 at a time on lanes
-/// where the CPU has AVX-512 (the generator stepped ahead per lane), one by one elsewhere. O(count).
+/// with AVX-512, 8 with AVX2 (the generator stepped ahead per lane), one by one elsewhere. O(count).
 void ao_rays(const SurfacePoint& point, Rng& rng, float max_distance, std::size_t count, Ray* out);
 
 /// The points shadow rays aim at: every point and sphere light of a scene, or, when it has none, the
