@@ -6,11 +6,14 @@
 #include "visfield/render/lights.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
 
 #include "sample_lanes.hpp"
 #include "visfield/core/sampling.hpp"
+#include "visfield/render/bsdf.hpp"
 
 namespace vf {
 namespace {
@@ -23,6 +26,147 @@ float one_minus_cos_max(float r, float d) {
   const float sin2 = (r * r) / (d * d);
   return sin2 / (1.0f + std::sqrt(std::fmax(0.0f, 1.0f - sin2)));
 }
+
+#if defined(VF_SAMPLE_LANES)
+/// The cone of `shape` in every lane.
+render_detail::ConeLanes lanes_of(const SphereCone::Shape& shape) {
+  using L = render_detail::SampleLanes;
+  render_detail::ConeLanes c;
+  for (int i = 0; i < 3; ++i) {
+    c.axis[i] = L::splat(shape.axis[i]);
+    c.tangent[i] = L::splat(shape.tangent[i]);
+    c.bitangent[i] = L::splat(shape.bitangent[i]);
+  }
+  c.distance = L::splat(shape.distance);
+  c.radius2 = L::splat(shape.radius * shape.radius);
+  c.distance2 = L::splat(shape.distance * shape.distance);
+  c.one_minus_cos_max = L::splat(shape.one_minus_cos_max);
+  return c;
+}
+
+/// sphere_light_rays() on lanes for a Lambertian surface (`cos_o` = dot(wo, normal) > 0), up to
+/// kWidth lights: a lane a sample, the lights' samples one after another across the lanes, each
+/// lane's cone looked up by its light. Returns how many rays it wrote.
+std::size_t lambert_light_rays(std::span<const SphereLight> lights, const Vec3f& from, const Bsdf::Lambert& lambert, int per_light,
+                               Rng& rng, Ray* rays, Vec3f* contribution) {
+  using L = render_detail::SampleLanes;
+  constexpr int kWidth = L::kWidth;
+  // Each light's values, a table a value (lane j: light j): axis, tangent and bitangent x y z, then
+  // distance, radius², distance², 1 − cos max, radiance x y z and (1 / per_light) / pdf.
+  enum : int { kAxis = 0, kTangent = 3, kBitangent = 6, kDistance = 9, kRadius2, kDistance2, kOneMinusCosMax, kWeight, kScale = kWeight + 3, kValues };
+  alignas(64) float table[kValues][kWidth] = {};
+  std::uint32_t present = 0;
+  const float per_ray = 1.0f / static_cast<float>(per_light);
+  for (std::size_t j = 0; j < lights.size(); ++j) {
+    const std::optional<SphereCone> cone = SphereCone::toward(lights[j], from);
+    if (!cone) continue;
+    present |= 1u << j;
+    const SphereCone::Shape s = cone->shape();
+    for (int i = 0; i < 3; ++i) {
+      table[kAxis + i][j] = s.axis[i];
+      table[kTangent + i][j] = s.tangent[i];
+      table[kBitangent + i][j] = s.bitangent[i];
+      table[kWeight + i][j] = cone->radiance()[i];
+    }
+    table[kDistance][j] = s.distance;
+    table[kRadius2][j] = s.radius * s.radius;
+    table[kDistance2][j] = s.distance * s.distance;
+    table[kOneMinusCosMax][j] = s.one_minus_cos_max;
+    table[kScale][j] = per_ray / cone->pdf();
+  }
+  const std::size_t count = lights.size() * static_cast<std::size_t>(per_light);
+  std::size_t n = 0;
+  if (present != 0) {
+    render_detail::PairLanes lanes(rng);
+    const L::F zero = L::splat(0.0f);
+    const L::F normal[3] = {L::splat(lambert.normal.x), L::splat(lambert.normal.y), L::splat(lambert.normal.z)};
+    const L::F albedo[3] = {L::splat(lambert.albedo.x), L::splat(lambert.albedo.y), L::splat(lambert.albedo.z)};
+    const L::F opaque = L::splat(lambert.opaque), pi = L::splat(std::numbers::pi_v<float>), shorter = L::splat(1.0f - 1e-4f);
+    alignas(64) std::int32_t light_of[kWidth];
+    // A chunk of packets at a time in two passes: first each packet's samples, shading and kept
+    // lanes (independent packets, so that the core overlaps their long chains: the cone's square
+    // roots, sine and cosine, the normalisation's division), then the kept rays written out.
+    constexpr std::size_t kPackets = 8;
+    alignas(64) float column[7][kPackets][kWidth];  // direction x y z, tmax, contribution x y z
+    std::uint32_t kept[kPackets];
+    // The light and sample of the packet's first lane. Without branches on the lanes where a light
+    // holds a packet's worth of samples (a packet then spans two lights at most).
+    std::size_t light = 0, sample = 0;
+    const auto per = static_cast<std::size_t>(per_light);
+    const auto lanes_below = [](std::size_t k) { return k >= kWidth ? (1u << kWidth) - 1u : (1u << k) - 1u; };
+    for (std::size_t chunk = 0; chunk < count; chunk += kPackets * kWidth) {
+      const std::size_t packets = std::min(kPackets, (count - chunk + kWidth - 1) / kWidth);
+      for (std::size_t p = 0; p < packets; ++p) {
+        const std::size_t at = chunk + p * kWidth;
+        L::I which;
+        std::uint32_t live;
+        if (per >= kWidth) {
+          const auto boundary = static_cast<int>(per - sample);  // the first lane of the next light, when below kWidth
+          which = L::step_at(static_cast<int>(light), boundary);
+          const std::uint32_t below = lanes_below(static_cast<std::size_t>(boundary));
+          const std::uint32_t next_present = light + 1 < lights.size() ? (present >> (light + 1)) & 1u : 0u;
+          live = ((0u - ((present >> light) & 1u)) & below) | ((0u - next_present) & ~below);
+          sample += kWidth;
+          const bool wrap = sample >= per;
+          sample -= wrap ? per : 0;
+          light += wrap ? 1 : 0;
+        } else {
+          live = 0;
+          for (int lane = 0; lane < kWidth; ++lane) {
+            light_of[lane] = light < lights.size() ? static_cast<std::int32_t>(light) : 0;
+            if (light < lights.size() && ((present >> light) & 1u)) live |= 1u << lane;
+            if (++sample == per) sample = 0, ++light;
+          }
+          which = L::load(light_of);
+        }
+        live &= lanes_below(count - at) & ((1u << kWidth) - 1u);
+        L::F u, v;
+        lanes.pairs(u, v);  // every packet draws, so that the lanes stay on the stream
+        const auto value = [&](int k) { return L::lookup(table[k], which); };
+        render_detail::ConeLanes cone;
+        for (int i = 0; i < 3; ++i) {
+          cone.axis[i] = value(kAxis + i);
+          cone.tangent[i] = value(kTangent + i);
+          cone.bitangent[i] = value(kBitangent + i);
+        }
+        cone.distance = value(kDistance);
+        cone.radius2 = value(kRadius2);
+        cone.distance2 = value(kDistance2);
+        cone.one_minus_cos_max = value(kOneMinusCosMax);
+        L::F wi[3], distance;
+        render_detail::cone_sample(cone, u, v, wi, distance);
+        // Bsdf::eval's diffuse lobe, its operations in its order, and max_component(f) > 0.
+        const L::F cos_i = L::add(L::add(L::mul(wi[0], normal[0]), L::mul(wi[1], normal[1])), L::mul(wi[2], normal[2]));
+        const L::F per_pi = L::div(cos_i, pi);
+        L::F f[3];
+        for (int i = 0; i < 3; ++i) f[i] = L::mul(L::mul(albedo[i], per_pi), opaque);
+        const auto larger = [](L::F a, L::F b) { return L::blend(L::less(a, b), a, b); };  // std::max(a, b)
+        kept[p] = L::bits(L::both(L::both(L::from_bits(live), L::less(zero, cos_i)), L::less(zero, larger(f[0], larger(f[1], f[2])))));
+        const L::F scale = value(kScale);
+        for (int i = 0; i < 3; ++i) {
+          L::store(column[i][p], wi[i]);
+          L::store(column[4 + i][p], L::mul(L::mul(f[i], value(kWeight + i)), scale));
+        }
+        L::store(column[3][p], L::mul(distance, shorter));
+      }
+      for (std::size_t p = 0; p < packets; ++p) {
+        if (kept[p] == 0) continue;
+        const L::M keep = L::from_bits(kept[p]);
+        const auto compressed = [&](int c) { return L::compress(L::load(column[c][p]), keep); };
+        const L::F ray_column[8] = {L::splat(from.x), L::splat(from.y), L::splat(from.z), compressed(0), compressed(1), compressed(2), zero, compressed(3)};
+        L::store_rays(rays + n, ray_column);
+        alignas(64) float c[3][kWidth];
+        for (int i = 0; i < 3; ++i) L::store(c[i], compressed(4 + i));
+        // Whole packets (the room's slack), so that the loop has no branch on how many were kept.
+        for (int lane = 0; lane < kWidth; ++lane) contribution[n + static_cast<std::size_t>(lane)] = Vec3f{c[0][lane], c[1][lane], c[2][lane]};
+        n += static_cast<std::size_t>(std::popcount(kept[p]));
+      }
+    }
+  }
+  rng = rng.advanced(2 * count);
+  return n;
+}
+#endif
 
 }  // namespace
 
@@ -148,32 +292,16 @@ void SphereCone::sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance)
     using L = render_detail::SampleLanes;
     constexpr int kWidth = L::kWidth;
     render_detail::PairLanes lanes(rng);
-    const L::F zero = L::splat(0.0f), one = L::splat(1.0f);
-    const L::F one_minus_cos_max = L::splat(one_minus_cos_max_), d = L::splat(distance_);
-    const L::F r2 = L::splat(radius_ * radius_), d2 = L::splat(distance_ * distance_);
+    const render_detail::ConeLanes cone = lanes_of(shape());
     alignas(64) float x[kWidth], y[kWidth], z[kWidth], t[kWidth];
     for (; k < count; k += kWidth) {  // the last packet's spare lanes are not kept
-      L::F u, v;
+      L::F u, v, w[3], entry;
       lanes.pairs(u, v);
-      const L::F cos_theta = L::sub(one, L::mul(u, one_minus_cos_max));
-      const L::F sin2 = L::sub(one, L::mul(cos_theta, cos_theta));
-      const L::F sin_theta = L::sqrt(L::max(sin2, zero));
-      L::F sin_phi, cos_phi;
-      render_detail::sincos_turn(v, sin_phi, cos_phi);
-      const L::F a = L::mul(sin_theta, cos_phi), b = L::mul(sin_theta, sin_phi);
-      const auto component = [&](float tc, float bc, float ac) {
-        return L::add(L::add(L::mul(L::splat(tc), a), L::mul(L::splat(bc), b)), L::mul(L::splat(ac), cos_theta));
-      };
-      const L::F wx = component(tangent_.x, bitangent_.x, axis_.x), wy = component(tangent_.y, bitangent_.y, axis_.y),
-                 wz = component(tangent_.z, bitangent_.z, axis_.z);
-      const L::F length = L::sqrt(L::add(L::add(L::mul(wx, wx), L::mul(wy, wy)), L::mul(wz, wz)));
-      const L::F inverse = L::div(one, length);
-      L::store(x, L::mul(wx, inverse));
-      L::store(y, L::mul(wy, inverse));
-      L::store(z, L::mul(wz, inverse));
-      const L::F inside = L::sub(r2, L::mul(d2, sin2));
-      const L::F entry = L::sub(L::mul(d, cos_theta), L::sqrt(L::max(inside, zero)));
-      L::store(t, L::max(entry, zero));
+      render_detail::cone_sample(cone, u, v, w, entry);
+      L::store(x, w[0]);
+      L::store(y, w[1]);
+      L::store(z, w[2]);
+      L::store(t, entry);
       for (std::size_t lane = 0; lane < std::min<std::size_t>(kWidth, count - k); ++lane) {
         wi[k + lane] = Vec3f{x[lane], y[lane], z[lane]};
         distance[k + lane] = t[lane];
@@ -189,6 +317,49 @@ void SphereCone::sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance)
     wi[k] = s.wi;
     distance[k] = s.distance;
   }
+}
+
+std::size_t sphere_light_rays(std::span<const SphereLight> lights, const Vec3f& from, const Bsdf& bsdf, const Vec3f& wo, int per_light,
+                              Rng& rng, Ray* rays, Vec3f* contribution) {
+  std::size_t n = 0;
+#if defined(VF_SAMPLE_LANES)
+  // Lanes across the samples of all lights (the GPU paper's 20 rays a light: 60 samples in 8 packets
+  // of 8, where a light at a time took 9 and waited on each call's few).
+  if (const std::optional<Bsdf::Lambert> lambert = bsdf.lambert()) {
+    if (!(dot(wo, lambert->normal) > 0.0f)) {  // eval() is 0 for every direction
+      rng = rng.advanced(2 * lights.size() * static_cast<std::size_t>(per_light));
+      return 0;
+    }
+    constexpr std::size_t kGroup = render_detail::SampleLanes::kWidth;  // lights a table holds
+    for (std::size_t first = 0; first < lights.size(); first += kGroup)
+      n += lambert_light_rays(lights.subspan(first, std::min(kGroup, lights.size() - first)), from, *lambert, per_light, rng, rays + n,
+                              contribution + n);
+    return n;
+  }
+#endif
+  constexpr std::size_t kChunk = 64;  // a light's samples drawn and evaluated together
+  std::array<Vec3f, kChunk> wi, f;
+  std::array<float, kChunk> distance;
+  const float per_ray = 1.0f / static_cast<float>(per_light);
+  for (const SphereLight& light : lights) {
+    const std::optional<SphereCone> cone = SphereCone::toward(light, from);
+    if (!cone) {
+      rng = rng.advanced(2 * static_cast<std::uint64_t>(per_light));
+      continue;
+    }
+    const float scale = per_ray / cone->pdf();
+    for (std::size_t first = 0; first < static_cast<std::size_t>(per_light); first += kChunk) {
+      const std::size_t count = std::min(kChunk, static_cast<std::size_t>(per_light) - first);
+      cone->sample(rng, count, wi.data(), distance.data());
+      bsdf.eval(wo, std::span<const Vec3f>(wi.data(), count), f.data());
+      for (std::size_t k = 0; k < count; ++k) {
+        if (!(max_component(f[k]) > 0.0f)) continue;
+        rays[n] = Ray{from, wi[k], 0.0f, distance[k] * (1.0f - 1e-4f)};
+        contribution[n++] = f[k] * cone->radiance() * scale;
+      }
+    }
+  }
+  return n;
 }
 
 std::optional<LightSample> SceneLights::sample_sphere(std::uint32_t index, const Vec3f& from, float u, float v) const {

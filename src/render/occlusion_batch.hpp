@@ -20,42 +20,46 @@ namespace vf::render_detail {
 class OcclusionBatch {
  public:
   static constexpr std::size_t kCapacity = 4096;
+  /// Places past the queued rays that reserve_each()'s writer may fill (whole packets of lanes).
+  static constexpr std::size_t kSlack = 16;
   /// Sums for `samples` pixel samples, all zero, traced through `queries`.
-  OcclusionBatch(const SceneQueries& queries, std::size_t samples)
-      : queries_(queries), rays_(kCapacity), runs_(kCapacity), occluded_(kCapacity), sums_(samples, Vec3f{0.0f}) {}
+  OcclusionBatch(const SceneQueries& queries, std::size_t samples) : queries_(queries), sums_(samples, Vec3f{0.0f}) { grow(kCapacity); }
   /// Queues `ray`; when it turns out unoccluded, `contribution` is added to sample `of_sample`.
   void add(const Ray& ray, std::size_t of_sample, const Vec3f& contribution) { append(1, of_sample, contribution)[0] = ray; }
   /// Room for `count` (<= kCapacity) rays, queued in order, each adding `contribution` to sample
   /// `of_sample` when unoccluded; the caller writes them before the next add, append or flush.
   std::span<Ray> append(std::size_t count, std::size_t of_sample, const Vec3f& contribution) {
-    if (count == 0) return {};  // no run: a run has rays, so runs_ never outgrows kCapacity
-    if (queued_ + count > kCapacity) flush();
+    if (count == 0) return {};  // no run: a run has rays, so the runs never outnumber the rays
+    if (queued_ + count > capacity_) flush();
     const std::span<Ray> room(rays_.data() + queued_, count);
     queued_ += count;
-    runs_[run_count_++] = Run{static_cast<std::uint32_t>(queued_), static_cast<std::uint32_t>(of_sample), contribution};
+    run_end_[run_count_] = static_cast<std::uint32_t>(queued_);
+    run_sample_[run_count_] = static_cast<std::uint32_t>(of_sample);
+    run_contribution_[run_count_++] = contribution;
     return room;
   }
-  /// Queues, for each k < wi.size() (<= kCapacity) with max_component(f_cos[k]) > 0, the ray from
-  /// `origin` along wi[k] over [0, tmax[k]], adding f_cos[k] · weight · scale to sample `of_sample`
-  /// when unoccluded (the products in that order); returns how many it queued. One call per chunk of
-  /// a light's samples: a loop of its own keeps the batch's state in registers (inside a tile's loop
-  /// it lived on the stack).
-  [[gnu::noinline]] std::size_t add_weighted(const Vec3f& origin, std::span<const Vec3f> wi, const float* tmax, const Vec3f* f_cos,
-                                             const Vec3f& weight, float scale, std::size_t of_sample) {
-    if (queued_ + wi.size() > kCapacity) flush();
-    Ray* ray = rays_.data() + queued_;
-    Run* run = runs_.data() + run_count_;
+  /// Where up to `count` rays go that each add a contribution of their own: rays[k] and
+  /// contributions[k], k < count + kSlack, for the caller to write; commit_each() then queues the
+  /// first n. Flushes first when they would not fit; grows the batch when count > kCapacity.
+  struct Room {
+    Ray* rays;
+    Vec3f* contributions;
+  };
+  Room reserve_each(std::size_t count) {
+    if (queued_ + count > capacity_) flush();
+    if (count > capacity_) grow(count);
+    return {rays_.data() + queued_, run_contribution_.data() + run_count_};
+  }
+  /// Queues the first n rays written to reserve_each()'s room, each adding its contribution to
+  /// sample `of_sample` when unoccluded.
+  void commit_each(std::size_t n, std::size_t of_sample) {
     const auto sample = static_cast<std::uint32_t>(of_sample);
-    std::size_t added = 0;
-    for (std::size_t k = 0; k < wi.size(); ++k) {
-      if (!(max_component(f_cos[k]) > 0.0f)) continue;
-      ray[added] = Ray{origin, wi[k], 0.0f, tmax[k]};
-      run[added] = Run{static_cast<std::uint32_t>(queued_ + added + 1), sample, f_cos[k] * weight * scale};
-      ++added;
+    for (std::size_t k = 0; k < n; ++k) {
+      run_end_[run_count_ + k] = static_cast<std::uint32_t>(queued_ + k + 1);
+      run_sample_[run_count_ + k] = sample;
     }
-    queued_ += added;
-    run_count_ += added;
-    return added;
+    queued_ += n;
+    run_count_ += n;
   }
   /// Traces the queued rays and adds their contributions.
   void flush() {
@@ -66,11 +70,11 @@ class OcclusionBatch {
       // Summed in a local across the runs of one sample (a soft shadow's rays are a run each): through
       // memory, every add would wait on the last one's store (the answers are bytes, which may alias
       // it). Same adds in the same order.
-      const std::uint32_t sample = runs_[r].sample;
+      const std::uint32_t sample = run_sample_[r];
       Vec3f sum = sums_[sample];
-      for (; r < run_count_ && runs_[r].sample == sample; ++r)
-        for (; i < runs_[r].end; ++i)
-          if (!occluded_[i]) sum += runs_[r].contribution;
+      for (; r < run_count_ && run_sample_[r] == sample; ++r)
+        for (; i < run_end_[r]; ++i)
+          if (!occluded_[i]) sum += run_contribution_[r];
       sums_[sample] = sum;
     }
     queued_ = 0;
@@ -80,18 +84,26 @@ class OcclusionBatch {
   const Vec3f& sum(std::size_t s) const { return sums_[s]; }
 
  private:
-  // Consecutive queued rays that add one contribution to one sample (an AO sample's rays are one
-  // run). A record of the sample and the contribution for every ray cost a store-forwarding stall a
-  // ray as GCC filled it: an eighth of an AO render through fields.
-  struct Run {
-    std::uint32_t end;  // one past the run's last ray; it starts where the previous run ended
-    std::uint32_t sample;
-    Vec3f contribution;
-  };
+  /// Room for `capacity` queued rays (and as many runs), plus the slack.
+  void grow(std::size_t capacity) {
+    capacity_ = capacity;
+    rays_.resize(capacity + kSlack);
+    occluded_.resize(capacity + kSlack);
+    run_end_.resize(capacity + kSlack);
+    run_sample_.resize(capacity + kSlack);
+    run_contribution_.resize(capacity + kSlack);
+  }
+
   const SceneQueries& queries_;
-  std::vector<Ray> rays_;  // kCapacity, the first queued_ of them pending
+  std::size_t capacity_ = 0;
+  std::vector<Ray> rays_;  // the first queued_ of them pending
   std::size_t queued_ = 0;
-  std::vector<Run> runs_;  // kCapacity (a run has at least one ray), the first run_count_ of them queued
+  // Runs: consecutive queued rays that add one contribution to one sample (an AO sample's rays are
+  // one run, a soft shadow's ray a run of its own), as columns: run r ends one before run_end_[r]
+  // and starts where run r − 1 ended. (A record of the sample and the contribution for every ray cost
+  // a store-forwarding stall a ray as GCC filled it: an eighth of an AO render through fields.)
+  std::vector<std::uint32_t> run_end_, run_sample_;
+  std::vector<Vec3f> run_contribution_;
   std::size_t run_count_ = 0;
   std::vector<std::uint8_t> occluded_;
   std::vector<Vec3f> sums_;

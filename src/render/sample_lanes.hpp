@@ -13,7 +13,10 @@
 #include <cstdint>
 
 #include "visfield/core/host_device.hpp"
+#include "visfield/core/lane_compress.hpp"
+#include "visfield/core/ray.hpp"
 #include "visfield/core/rng.hpp"
+#include "visfield/core/row_transpose.hpp"
 
 namespace vf::render_detail {
 
@@ -74,6 +77,29 @@ struct SampleLanes {
   static M has_bit(I q, int bit) { return _mm512_test_epi32_mask(q, _mm512_set1_epi32(bit)); }
   static M at_least(I q, int k) { return _mm512_cmpge_epi32_mask(q, _mm512_set1_epi32(k)); }
   static void store(float* p, F x) { _mm512_store_ps(p, x); }
+  static F load(const float* p) { return _mm512_load_ps(p); }
+  static I load(const std::int32_t* p) { return _mm512_load_si512(p); }
+  /// table[index] in each lane (a table of kWidth floats, 64-byte aligned; every index < kWidth).
+  static F lookup(const float* table, I index) { return _mm512_permutexvar_ps(index, _mm512_load_ps(table)); }
+  /// `first` in the lanes below `boundary`, first + 1 in the others.
+  static I step_at(int first, int boundary) {
+    const I iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), base = _mm512_set1_epi32(first);
+    return _mm512_mask_add_epi32(base, _mm512_cmpge_epi32_mask(iota, _mm512_set1_epi32(boundary)), base, _mm512_set1_epi32(1));
+  }
+  /// The lanes whose bit is set in `bits`.
+  static M from_bits(std::uint32_t bits) { return static_cast<M>(bits); }
+  static std::uint32_t bits(M m) { return m; }
+  /// x's lanes of m, in order, in the first lanes (the others unspecified).
+  static F compress(F x, M m) { return _mm512_maskz_compress_ps(m, x); }
+  /// kWidth rays from columns (origin x, y, z, direction x, y, z, tmin, tmax) to out[0 .. kWidth): two 8×8 transposes.
+  static void store_rays(Ray* out, const F column[8]) {
+    for (int half = 0; half < 2; ++half) {
+      __m256 c[8], row[8];
+      for (int k = 0; k < 8; ++k) c[k] = half == 0 ? _mm512_castps512_ps256(column[k]) : _mm512_extractf32x8_ps(column[k], 1);
+      simd::rows_to_columns8(c, row);  // an 8×8 transpose is its own inverse
+      for (int k = 0; k < 8; ++k) _mm256_storeu_ps(reinterpret_cast<float*>(out + 8 * half + k), row[k]);
+    }
+  }
 };
 
 /// A stream's numbers two per lane, 16 lanes a packet: pairs() gives the packet's (first, second)
@@ -154,6 +180,24 @@ struct SampleLanes {
   }
   static M at_least(I q, int k) { return _mm256_castsi256_ps(_mm256_cmpgt_epi32(q, _mm256_set1_epi32(k - 1))); }
   static void store(float* p, F x) { _mm256_store_ps(p, x); }
+  static F load(const float* p) { return _mm256_load_ps(p); }
+  static I load(const std::int32_t* p) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(p)); }
+  static F lookup(const float* table, I index) { return _mm256_permutevar8x32_ps(_mm256_load_ps(table), index); }
+  static I step_at(int first, int boundary) {
+    const __m256i past = _mm256_cmpgt_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(boundary - 1));
+    return _mm256_sub_epi32(_mm256_set1_epi32(first), past);  // past lanes are -1
+  }
+  static M from_bits(std::uint32_t bits) {
+    const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(bits)), lane_bit), lane_bit));
+  }
+  static std::uint32_t bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
+  static F compress(F x, M m) { return _mm256_permutevar8x32_ps(x, simd::compress_index8(bits(m))); }
+  static void store_rays(Ray* out, const F column[8]) {
+    __m256 row[8];
+    simd::rows_to_columns8(column, row);  // an 8×8 transpose is its own inverse
+    for (int k = 0; k < 8; ++k) _mm256_storeu_ps(reinterpret_cast<float*>(out + k), row[k]);
+  }
 };
 
 /// PairLanes on 8 AVX2 lanes: each lane's two numbers a packet, the lanes' 64-bit states four to a
@@ -242,6 +286,32 @@ inline void sincos_turn(SampleLanes::F v, SampleLanes::F& s, SampleLanes::F& c) 
   const L::M cos_negative = L::has_bit(L::add(quadrant, 1), 2);  // quadrants 1, 2
   s = L::negate_where(sin_negative, L::blend(odd, sr, cr));
   c = L::negate_where(cos_negative, L::blend(odd, cr, sr));
+}
+
+/// Cones on lanes, each lane its own: what SphereCone::sample(u, v) computes with.
+struct ConeLanes {
+  SampleLanes::F axis[3], tangent[3], bitangent[3];
+  SampleLanes::F distance, radius2, distance2, one_minus_cos_max;  // radius2, distance2: radius·radius, distance·distance
+};
+
+/// SphereCone::sample(u, v) on lanes: its operations in its order (no fused multiply-adds), so each
+/// lane's direction `wi` and distance are the bits sample() gives its cone.
+inline void cone_sample(const ConeLanes& c, SampleLanes::F u, SampleLanes::F v, SampleLanes::F wi[3], SampleLanes::F& distance) {
+  using L = SampleLanes;
+  const L::F zero = L::splat(0.0f), one = L::splat(1.0f);
+  const L::F cos_theta = L::sub(one, L::mul(u, c.one_minus_cos_max));
+  const L::F sin2 = L::sub(one, L::mul(cos_theta, cos_theta));
+  const L::F sin_theta = L::sqrt(L::max(sin2, zero));
+  L::F sin_phi, cos_phi;
+  sincos_turn(v, sin_phi, cos_phi);
+  const L::F a = L::mul(sin_theta, cos_phi), b = L::mul(sin_theta, sin_phi);
+  L::F w[3];
+  for (int i = 0; i < 3; ++i) w[i] = L::add(L::add(L::mul(c.tangent[i], a), L::mul(c.bitangent[i], b)), L::mul(c.axis[i], cos_theta));
+  const L::F inverse = L::div(one, L::sqrt(L::add(L::add(L::mul(w[0], w[0]), L::mul(w[1], w[1])), L::mul(w[2], w[2]))));
+  for (int i = 0; i < 3; ++i) wi[i] = L::mul(w[i], inverse);
+  // Entry point along wi: the nearer root of |from + t wi - c| = r.
+  const L::F inside = L::sub(c.radius2, L::mul(c.distance2, sin2));
+  distance = L::max(L::sub(L::mul(c.distance, cos_theta), L::sqrt(L::max(inside, zero))), zero);
 }
 
 }  // namespace vf::render_detail

@@ -1,5 +1,3 @@
-#include <algorithm>
-#include <array>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -9,11 +7,8 @@
 #include "visfield/render/tiles.hpp"
 
 namespace vf::render_detail {
-namespace {
 
-constexpr int kChunk = 64;  // a sphere light's samples drawn and shaded together
-
-}  // namespace
+static_assert(OcclusionBatch::kSlack >= kSphereLightRaysSlack, "sphere_light_rays() writes whole packets into the batch's room");
 
 // Per sample: emission and ambient, each point light by one shadow ray, and each sphere light by
 // options.shadow_rays rays uniform in the cone it subtends (the estimator f cos L / pdf, averaged).
@@ -24,15 +19,12 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
   const PinholeCamera pinhole(camera);
   const ImageTile region = render_region(options.region, pinhole.width(), pinhole.height());
   Image image(region.x1 - region.x0, region.y1 - region.y0);
-  const float per_ray = 1.0f / static_cast<float>(options.shadow_rays);
   auto shade_tile = [&](const ImageTile& tile) -> RayCounts {
     RayCounts rays;
     const std::size_t samples = static_cast<std::size_t>(tile.x1 - tile.x0) * static_cast<std::size_t>(tile.y1 - tile.y0) *
                                 static_cast<std::size_t>(options.spp);
     OcclusionBatch batch(context.queries, samples);
     std::vector<Vec3f> base(samples, Vec3f{0.0f});  // what needs no shadow ray: emission and ambient
-    std::array<Vec3f, kChunk> wi, f_cos;
-    std::array<float, kChunk> distance;
     std::size_t slot = 0;
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
@@ -53,25 +45,14 @@ Image render_soft_shadows(const ShadingContext& context, const Camera& camera, R
             ++rays.shadow;
             batch.add(shadow_ray(surface.point, light.position), slot, f_cos * light.intensity * (1.0f / d2));
           }
-          for (const SphereLight& light : context.lights.sphere_lights()) {
-            // The cone is prepared once per point and light; its samples draw two numbers each,
-            // drawn (on lanes) and shaded a chunk at a time.
-            const std::optional<SphereCone> cone = SphereCone::toward(light, surface.point.position);
-            if (!cone) {
-              rng = rng.advanced(2 * static_cast<std::uint64_t>(options.shadow_rays));
-              continue;
-            }
-            const Vec3f weight = cone->radiance();
-            const float per_pdf = per_ray / cone->pdf();
-            for (int first = 0; first < options.shadow_rays; first += kChunk) {
-              const auto n = static_cast<std::size_t>(std::min(kChunk, options.shadow_rays - first));
-              cone->sample(rng, n, wi.data(), distance.data());
-              surface.bsdf.eval(surface.wo, std::span<const Vec3f>(wi.data(), n), f_cos.data());
-              for (std::size_t k = 0; k < n; ++k) distance[k] *= 1.0f - 1e-4f;  // ends just before the light
-              rays.shadow += batch.add_weighted(surface.point.position, std::span<const Vec3f>(wi.data(), n), distance.data(), f_cos.data(),
-                                                weight, per_pdf, slot);
-            }
-          }
+          // The sphere lights' samples drawn, shaded and queued together (on lanes where the surface is Lambertian).
+          const std::span<const SphereLight> spheres = context.lights.sphere_lights();
+          if (spheres.empty()) continue;
+          const OcclusionBatch::Room room = batch.reserve_each(spheres.size() * static_cast<std::size_t>(options.shadow_rays));
+          const std::size_t queued = sphere_light_rays(spheres, surface.point.position, surface.bsdf, surface.wo, options.shadow_rays, rng,
+                                                       room.rays, room.contributions);
+          batch.commit_each(queued, slot);
+          rays.shadow += queued;
         }
       }
     batch.flush();

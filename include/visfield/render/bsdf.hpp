@@ -64,6 +64,16 @@ class Bsdf {
   bool reflective() const { return max_component(specular_) > 0.0f; }
   /// The diffuse albedo after the energy scaling, times the opaque fraction.
   Vec3f diffuse() const { return diffuse_ * (1.0f - transmission_); }
+  /// eval()'s terms when the diffuse lobe is its only smooth one (no GGX lobe), for evaluations on
+  /// lanes: eval(wo, wi) = dot(wo, normal) > 0 && c > 0 ? albedo · (c / π) · opaque : 0, c = dot(wi, normal).
+  struct Lambert {
+    Vec3f albedo, normal;
+    float opaque;
+  };
+  std::optional<Lambert> lambert() const {
+    if (glossy()) return std::nullopt;
+    return Lambert{diffuse_, n_, 1.0f - transmission_};
+  }
 
  private:
   bool glossy() const { return alpha_ > 0.0f; }

@@ -15,6 +15,8 @@
 
 namespace vf {
 
+class Bsdf;
+
 /// The light a scene without point or sphere lights gets: a point light one bounds extent above the
 /// top of its bounds, over their centre, bright enough (intensity pi * d^2 at distance d from the
 /// centre) that a white surface facing it there reflects radiance 1. Also where shadow-ray sets aim.
@@ -46,11 +48,32 @@ class SphereCone {
   const Vec3f& radiance() const { return radiance_; }
   /// 1 / the cone's solid angle.
   float pdf() const { return pdf_; }
+  /// What sample() computes with: the unit axis towards the centre and the frame around it, the
+  /// distance to the centre, the radius, and 1 − cos of the cone's half-angle.
+  struct Shape {
+    Vec3f axis, tangent, bitangent;
+    float distance, radius, one_minus_cos_max;
+  };
+  Shape shape() const { return {axis_, tangent_, bitangent_, distance_, radius_, one_minus_cos_max_}; }
 
  private:
   Vec3f axis_, tangent_, bitangent_, radiance_;
   float distance_ = 0.0f, radius_ = 0.0f, one_minus_cos_max_ = 0.0f, pdf_ = 0.0f;
 };
+
+/// Places past lights.size() · per_light that sphere_light_rays() may write (whole packets of lanes).
+inline constexpr std::size_t kSphereLightRaysSlack = 16;
+
+/// The shadow rays the softshadow integrator sends from a shading point at `from` to sphere lights,
+/// with what each adds when unoccluded. For each of `lights` in turn, `per_light` directions wi drawn
+/// as SphereCone::sample(rng, per_light, ...) draws them (a light whose sphere holds `from` skips its
+/// 2·per_light numbers); each wi where f = bsdf.eval(wo, wi) has a positive component gives the ray
+/// from `from` along wi over [0, (1 − 1e-4) · the distance to the light's surface] into rays[n] and
+/// f · radiance · ((1 / per_light) / pdf) into contribution[n], in that order. Returns n (both need
+/// room for lights.size() · per_light + kSphereLightRaysSlack); `rng` moves on by 2·per_light numbers
+/// a light. Bit for bit that loop a sample at a time; on lanes where only the diffuse lobe is smooth.
+std::size_t sphere_light_rays(std::span<const SphereLight> lights, const Vec3f& from, const Bsdf& bsdf, const Vec3f& wo, int per_light,
+                              Rng& rng, Ray* rays, Vec3f* contribution);
 
 /// Where a ray meets a sphere light first.
 struct SphereLightHit {

@@ -159,6 +159,67 @@ TEST(SoftShadows, TheBsdfEvaluatedForManyDirectionsIsEachEvaluatedAlone) {
     }
 }
 
+// The soft-shadow render's rays of a shading point (sphere_light_rays: on lanes for Lambertian
+// surfaces, a light's samples across packets) are the ones a loop drawing, evaluating and keeping
+// one sample at a time makes, bit for bit, with the generator left where that loop leaves it.
+TEST(SoftShadows, SphereLightRaysAreTheSamplesDrawnAndShadedOneByOne) {
+  Rng frames(5, 3);
+  std::size_t checked = 0, kept_total = 0;
+  for (const std::size_t lights_count : {1, 2, 3, 7, 8, 9, 17})
+    for (const int per_light : {1, 2, 3, 7, 8, 9, 16, 20, 33})
+      for (int m = 0; m < 5; ++m) {
+        // Lambertian (m 0-2: grey, coloured with a black channel, half transmissive), glossy, black.
+        Material material;
+        material.diffuse = m == 1 ? Vec3f{0.8f, 0.0f, 0.3f} : m == 4 ? Vec3f{0.0f} : Vec3f{0.6f};
+        material.transmission = m == 2 ? 0.5f : 0.0f;
+        if (m == 3) {
+          material.specular = Vec3f{0.3f};
+          material.roughness = 0.5f;
+        }
+        SurfacePoint point;
+        point.position = Vec3f{frames.uniform(), frames.uniform(), frames.uniform()} * 4.0f - Vec3f{2.0f};
+        point.normal = uniform_sphere(frames.uniform(), frames.uniform());
+        orthonormal_basis(point.normal, point.tangent, point.bitangent);
+        const Bsdf bsdf(material, point, true);
+        // Lights all around (some behind the surface), one holding the point now and then; viewers mostly above.
+        std::vector<SphereLight> lights;
+        for (std::size_t j = 0; j < lights_count; ++j) {
+          const Vec3f centre = point.position + uniform_sphere(frames.uniform(), frames.uniform()) * (0.5f + 6.0f * frames.uniform());
+          const float radius = frames.uniform() < 0.1f ? 10.0f : 0.05f + frames.uniform();
+          lights.push_back(SphereLight{centre, radius, Vec3f{1.0f + frames.uniform(), 2.0f, 3.0f * frames.uniform()}});
+        }
+        const Vec3f wo = frames.uniform() < 0.2f ? -point.normal : normalize(point.normal + uniform_sphere(frames.uniform(), frames.uniform()) * 0.5f);
+        Rng one(11, checked, static_cast<std::uint64_t>(per_light)), many = one;
+        const std::size_t room = lights_count * static_cast<std::size_t>(per_light) + kSphereLightRaysSlack;
+        std::vector<Ray> rays(room);
+        std::vector<Vec3f> contribution(room);
+        const std::size_t n = sphere_light_rays(lights, point.position, bsdf, wo, per_light, many, rays.data(), contribution.data());
+        std::size_t k = 0;
+        for (const SphereLight& light : lights) {
+          const std::optional<SphereCone> cone = SphereCone::toward(light, point.position);
+          for (int s = 0; s < per_light; ++s) {
+            const float u = one.uniform(), v = one.uniform();
+            if (!cone) continue;
+            const LightSample sample = cone->sample(u, v);
+            const Vec3f f = bsdf.eval(wo, sample.wi);
+            if (!(max_component(f) > 0.0f)) continue;
+            ASSERT_LT(k, n) << lights_count << " lights, " << per_light << " rays each, material " << m;
+            const Ray& got = rays[k];
+            const Vec3f expected = f * cone->radiance() * ((1.0f / static_cast<float>(per_light)) / cone->pdf());
+            ASSERT_TRUE(same_bits(got.org, point.position) && same_bits(got.dir, sample.wi) && bits(got.tmin) == bits(0.0f) &&
+                        bits(got.tmax) == bits(sample.distance * (1.0f - 1e-4f)) && same_bits(contribution[k], expected))
+                << lights_count << " lights, " << per_light << " rays each, material " << m << ", ray " << k;
+            ++k;
+          }
+        }
+        EXPECT_EQ(k, n) << lights_count << " lights, " << per_light << " rays each, material " << m;
+        EXPECT_EQ(one.next_u32(), many.next_u32()) << lights_count << " lights, " << per_light << " rays each";
+        ++checked;
+        kept_total += n;
+      }
+  EXPECT_GT(kept_total, checked * 4);  // the cases keep rays, not only skip them
+}
+
 TEST(SoftShadows, AnOccluderBetweenGroundAndLightDarkensTheGround) {
   Scene scene = lit_ground(1.0f, 0.2f, 10.0f);
   TriangleMesh blocker;
