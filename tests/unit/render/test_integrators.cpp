@@ -105,6 +105,21 @@ TEST(SoftShadows, ConeSamplesOfASphereLightMatchTheAnalyticRadiance) {
   EXPECT_EQ(stats.by_kind.shadow, 9u * 9u * 4u * 32u);
 }
 
+// More rays for one shading point than a tile's batch holds (5000 > 4096): the batch grows to take
+// them, and they still average to the light's radiance.
+TEST(SoftShadows, MoreRaysForAPointThanTheBatchHoldsStillMatchTheAnalyticRadiance) {
+  const Scene scene = lit_ground(1.0f, 0.2f, 10.0f);
+  const Built built(scene);
+  ShadingOptions o = quiet(1);
+  o.ambient = 0.0f;
+  o.shadow_rays = 5000;
+  const float expected = expected_under_sphere(0.5f, 10.0f, 0.2f, 1.0f);
+  RenderStats stats;
+  const Vec3f got = mean(render_shaded(Integrator::softshadow, *built.queries, scene, side_camera(), o, &stats));
+  EXPECT_NEAR(got.x, expected, 0.005f * expected);
+  EXPECT_EQ(stats.by_kind.shadow, 9u * 9u * 5000u);
+}
+
 // Bits of a float, so that -0 and +0 (and NaNs) tell apart.
 std::uint32_t bits(float x) { return std::bit_cast<std::uint32_t>(x); }
 bool same_bits(const Vec3f& a, const Vec3f& b) { return bits(a.x) == bits(b.x) && bits(a.y) == bits(b.y) && bits(a.z) == bits(b.z); }
