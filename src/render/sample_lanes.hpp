@@ -217,30 +217,36 @@ class PairLanes {
   /// The next packet: each lane's two uniform() numbers, then the lanes step 16 numbers on.
   void pairs(__m256& first, __m256& second) {
     const __m256i mult = _mm256_set1_epi64x(static_cast<long long>(Rng::kMultiplier));
+    const __m256i mult_high = _mm256_set1_epi64x(static_cast<long long>(Rng::kMultiplier >> 32));
     const __m256i add = _mm256_set1_epi64x(static_cast<long long>(increment_));
-    const auto next = [&](__m256i state) { return _mm256_add_epi64(multiply(state, mult), add); };
-    first = _mm256_insertf128_ps(_mm256_castps128_ps256(uniforms(low_)), uniforms(high_), 1);
-    second = _mm256_insertf128_ps(_mm256_castps128_ps256(uniforms(next(low_))), uniforms(next(high_)), 1);
-    low_ = _mm256_add_epi64(multiply(low_, jump_mult_), jump_add_);
-    high_ = _mm256_add_epi64(multiply(high_, jump_mult_), jump_add_);
+    const auto next = [&](__m256i state) { return _mm256_add_epi64(multiply(state, mult, mult_high), add); };
+    first = uniforms(low_, high_);
+    second = uniforms(next(low_), next(high_));
+    const __m256i jump_high = _mm256_srli_epi64(jump_mult_, 32);
+    low_ = _mm256_add_epi64(multiply(low_, jump_mult_, jump_high), jump_add_);
+    high_ = _mm256_add_epi64(multiply(high_, jump_mult_, jump_high), jump_add_);
   }
 
  private:
   static __m256i load(const long long* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
-  /// The low 64 bits of a × b in each 64-bit lane: lo·lo + ((hi·lo + lo·hi) << 32).
-  static __m256i multiply(__m256i a, __m256i b) {
-    const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), b), _mm256_mul_epu32(a, _mm256_srli_epi64(b, 32)));
+  /// The low 64 bits of a × b in each 64-bit lane, b_high = b >> 32: lo·lo + ((hi·lo + lo·hi) << 32).
+  static __m256i multiply(__m256i a, __m256i b, __m256i b_high) {
+    const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), b), _mm256_mul_epu32(a, b_high));
     return _mm256_add_epi64(_mm256_mul_epu32(a, b), _mm256_slli_epi64(cross, 32));
   }
-  /// Floats of the 4 states in `state` turned into uniform() numbers (next_u32's output, >> 8, × 2^-24).
-  static __m128 uniforms(__m256i state) {
-    const __m256i xorshifted = _mm256_srli_epi64(_mm256_xor_si256(_mm256_srli_epi64(state, 18), state), 27);
-    const __m256i low_words = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);  // each lane's low 32 bits, as the cast keeps them
-    const __m128i low = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(xorshifted, low_words));
-    const __m128i rot = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_srli_epi64(state, 59), low_words));
-    const __m128i word =
-        _mm_or_si128(_mm_srlv_epi32(low, rot), _mm_sllv_epi32(low, _mm_and_si128(_mm_sub_epi32(_mm_set1_epi32(32), rot), _mm_set1_epi32(31))));
-    return _mm_mul_ps(_mm_cvtepi32_ps(_mm_srli_epi32(word, 8)), _mm_set1_ps(0x1p-24f));
+  static __m256i multiply(__m256i a, __m256i b) { return multiply(a, b, _mm256_srli_epi64(b, 32)); }
+  /// The uniform() numbers (next_u32's output, >> 8, × 2^-24) of the 4 states in `a` (lanes 0-3)
+  /// and the 4 in `b` (lanes 4-7).
+  static __m256 uniforms(__m256i a, __m256i b) {
+    // next_u32's 32-bit rotation as a 64-bit shift: each lane's low output word copied into its high
+    // half, shifted right by rot, leaves the rotated word in the low half.
+    const auto rotated = [](__m256i state) {
+      const __m256i xorshifted = _mm256_srli_epi64(_mm256_xor_si256(_mm256_srli_epi64(state, 18), state), 27);
+      return _mm256_castsi256_ps(_mm256_srlv_epi64(_mm256_shuffle_epi32(xorshifted, 0xA0), _mm256_srli_epi64(state, 59)));
+    };
+    // The low words, per 128-bit half [a.., a.., b.., b..], then the 64-bit quarters put in lane order.
+    const __m256 words = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(rotated(a), rotated(b), 0x88)), 0xD8));
+    return _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32(_mm256_castps_si256(words), 8)), _mm256_set1_ps(0x1p-24f));
   }
 
   std::uint64_t increment_;
