@@ -59,12 +59,27 @@ class ShearedPacket {
     const F ax = abs(dx), ay = abs(dy), az = abs(dz);
     const M x_first = ax >= ay;
     kz_x_ = x_first & (ax >= az), kz_y_ = ~x_first & (ay >= az);
-    const F d_z = pick_z(dx, dy, dz);
-    swap_ = d_z < L::splat(0.0f);
-    sx_ = pick_x(dx, dy, dz) / d_z, sy_ = pick_y(dx, dy, dz) / d_z, sz_ = L::splat(1.0f) / d_z;
+    d_z_ = pick_z(dx, dy, dz);
+    swap_ = d_z_ < L::splat(0.0f);
+    d_x_ = pick_x(dx, dy, dz), d_y_ = pick_y(dx, dy, dz);
   }
 
-  /// intersect_triangle()'s terms for triangle `t` on every lane.
+  /// The shear (three divisions), which terms() needs: made once moving_away() has not settled every lane.
+  void shear() { sx_ = d_x_ / d_z_, sy_ = d_y_ / d_z_, sz_ = L::splat(1.0f) / d_z_; }
+
+  /// Lanes (with tmin >= 0) whose ray the test cannot find in `box` (every vertex's bounds): the
+  /// origin on or beyond the box's face across the ray's kz axis, the ray moving away from it. Exactly
+  /// so: then each vertex's sz · (p − o)[kz] is <= 0 (or a zero), so t_scaled has the sign opposite to
+  /// det's or is a zero (the edge functions share their sign wherever the test goes on), and t <= 0
+  /// is never > tmin. (A ground's own shading points start on it.)
+  M moving_away(const Bounds3f& box) const {
+    const F zero = L::splat(0.0f), o = pick_z(ox_, oy_, oz_);
+    const F lo = pick_z(L::splat(box.lo.x), L::splat(box.lo.y), L::splat(box.lo.z));
+    const F hi = pick_z(L::splat(box.hi.x), L::splat(box.hi.y), L::splat(box.hi.z));
+    return (tmin >= zero) & (((d_z_ > zero) & (o >= hi)) | ((d_z_ < zero) & (o <= lo)));
+  }
+
+  /// intersect_triangle()'s terms for triangle `t` on every lane (after shear()).
   struct Terms {
     F e0, e1, e2, det, t_scaled;
     M edge;     // some edge function is 0: the scalar test decides in double
@@ -102,25 +117,30 @@ class ShearedPacket {
   F pick_x(F x, F y, F z) const { return select(swap_, pick_after(x, y, z), pick_next(x, y, z)); }
   F pick_y(F x, F y, F z) const { return select(swap_, pick_next(x, y, z), pick_after(x, y, z)); }
 
-  F ox_, oy_, oz_, sx_, sy_, sz_;
+  F ox_, oy_, oz_, d_x_, d_y_, d_z_, sx_, sy_, sz_;
   M kz_x_, kz_y_, swap_;
 };
 
 /// One packet of L::kWidth consecutive rays at `rays`: the lanes that hit, and in `redo` the lanes
 /// left to the scalar test.
-M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* rays, M& redo) {
-  const ShearedPacket packet(rays);
+M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Bounds3f& box, const Ray* rays, M& redo) {
+  ShearedPacket packet(rays);
   const M all = L::all();
   M hit = L::none();
   redo = L::none();
+  // Lanes that cannot hit are settled before any triangle, and a packet of them before its shear: a
+  // ground's shadow rays going up from it and from the objects on it.
+  const M away = packet.moving_away(box);
+  if (L::bits(away) == L::bits(all)) return hit;
+  packet.shear();
   for (const std::array<Vec3f, 3>& t : triangles) {
     const ShearedPacket::Terms e = packet.terms(t);
     const F distance = e.t_scaled * (L::splat(1.0f) / e.det);
     hit = hit | (e.crosses & (distance > packet.tmin) & (distance <= packet.tmax));
     redo = redo | e.edge;
-    if (L::bits(hit | redo) == L::bits(all)) break;
+    if (L::bits(hit | redo | away) == L::bits(all)) break;
   }
-  redo = redo & ~hit;
+  redo = redo & ~hit & ~away;  // the scalar test misses where the lanes cannot hit
   return hit;
 }
 
@@ -128,7 +148,8 @@ M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* ra
 /// (tmin, tmax] (the lowest index of equals), as the index `nearest` (-1 for none) with its t, u and v;
 /// in `redo` the lanes left to the scalar test.
 void closest_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* rays, L::I& nearest, F& t, F& u, F& v, M& redo) {
-  const ShearedPacket packet(rays);
+  ShearedPacket packet(rays);
+  packet.shear();
   nearest = L::splat(-1);
   t = packet.tmax;  // a Bvh's best t starts at tmax, so a hit at tmax counts (the first of equals)
   u = v = L::splat(0.0f);
@@ -226,12 +247,15 @@ M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
 void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded) {
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  Bounds3f box;
+  for (const std::array<Vec3f, 3>& t : triangles)
+    for (const Vec3f& p : t) box.extend(p);
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
     // The block's first pass over its rays reads them from memory: ask for those 4 packets on now.
     for (std::size_t line = 0; line < L::kWidth * sizeof(Ray); line += 64)
       __builtin_prefetch(reinterpret_cast<const char*>(rays.data() + i + 4 * L::kWidth) + line);
     M redo;
-    const std::uint32_t hits = L::bits(occluded_packet(triangles, rays.data() + i, redo));
+    const std::uint32_t hits = L::bits(occluded_packet(triangles, box, rays.data() + i, redo));
     for (int lane = 0; lane < L::kWidth; ++lane) occluded[i + static_cast<std::size_t>(lane)] = (hits >> lane) & 1u;
     for (std::uint32_t left = L::bits(redo); left != 0; left &= left - 1) {
       const std::size_t k = i + static_cast<std::size_t>(std::countr_zero(left));

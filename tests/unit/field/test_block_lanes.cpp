@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -209,6 +210,52 @@ TEST(BlockLanes, ClosestHitsOfAFewTrianglesAreTheOraclesBitForBit) {
   }
   EXPECT_GT(hits, rays.size() / 3);
   EXPECT_GT(at_five, 40u);  // the duplicate's equal hits
+}
+
+// Occlusion by a few triangles on lanes is the brute-force oracle's, bit for bit, including the rays
+// the lanes settle before any triangle (origin beyond the triangles' box along the ray's major axis,
+// moving away): from just above, on and just below a ground, up, down and sideways, with tmin 0, -0,
+// negative and positive; then with triangles above the ground too.
+TEST(BlockLanes, OcclusionByAFewTrianglesIsTheOraclesBitForBit) {
+  Rng rng(23);
+  TriangleSet ground;
+  ground.triangles = {{Vec3f{-6.0f, 0.0f, -6.0f}, Vec3f{6.0f, 0.0f, 6.0f}, Vec3f{6.0f, 0.0f, -6.0f}},
+                      {Vec3f{-6.0f, 0.0f, -6.0f}, Vec3f{-6.0f, 0.0f, 6.0f}, Vec3f{6.0f, 0.0f, 6.0f}}};
+  TriangleSet with_more = ground;
+  for (int k = 0; k < 10; ++k) {
+    const Vec3f c{8.0f * rng.uniform() - 4.0f, 3.0f * rng.uniform(), 8.0f * rng.uniform() - 4.0f};
+    with_more.triangles.push_back({c, c + Vec3f{rng.uniform(), rng.uniform(), 0.0f}, c + Vec3f{0.0f, rng.uniform(), rng.uniform()}});
+  }
+  for (TriangleSet* set : {&ground, &with_more})
+    for (std::size_t k = 0; k < set->triangles.size(); ++k) {
+      set->prim.push_back(static_cast<std::uint32_t>(k));
+      set->instance.push_back(0);
+    }
+  std::vector<Ray> rays = rays_around(1001, 31);
+  const float heights[] = {0.0f, -0.0f, std::nextafter(0.0f, 1.0f), std::nextafter(0.0f, -1.0f), 1e-7f, -1e-7f, 1e-3f, -1e-3f, 2.0f, -2.0f};
+  const float tmins[] = {0.0f, -0.0f, -1.0f, 1e-4f};
+  // Runs of 16 alike (whole packets of lanes settled at once, or not), then the next kind.
+  for (int k = 0; k < 8000; ++k) {
+    const int kind = k / 16;
+    const Vec3f from{12.0f * rng.uniform() - 6.0f, heights[kind % 10], 12.0f * rng.uniform() - 6.0f};
+    // Steep (y the major axis), shallow (x or z the major axis), up and down.
+    const float up = (kind / 10) % 2 == 0 ? 1.0f : -1.0f, slope = (kind / 20) % 3 == 0 ? 4.0f : ((kind / 20) % 3 == 1 ? 0.9f : 0.2f);
+    const Vec3f dir{2.0f * rng.uniform() - 1.0f, up * slope * (0.5f + rng.uniform()), 2.0f * rng.uniform() - 1.0f};
+    rays.push_back(Ray{from, dir, tmins[(kind / 60) % 4], (kind / 240) % 2 == 0 ? 1e30f : 3.0f});
+  }
+  for (const TriangleSet* set : {&ground, &with_more}) {
+    std::vector<std::uint8_t> got(rays.size(), 7);
+    occluded_by_small_exact(set->triangles, rays, got.data());
+    const BruteForce oracle = BruteForce::build(*set);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const bool want = oracle.occluded(rays[i]);
+      ASSERT_EQ(got[i], want ? 1 : 0) << set->triangles.size() << " triangles, ray " << i;
+      hits += want ? 1 : 0;
+    }
+    EXPECT_GT(hits, rays.size() / 5);
+    EXPECT_LT(hits, rays.size() * 4 / 5);
+  }
 }
 
 }  // namespace
