@@ -225,7 +225,8 @@ M open_by_ids(const std::uint8_t* settled, const std::uint32_t* ids, int lanes) 
   for (const SphereTarget& t : targets) {
     const M meets = meets_sphere(t.centre, t.radius, c, line) & open;
     if (L::bits(meets) == 0) continue;
-    const typename Kernel::Rays r = Kernel::to_object_space({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]}, *t.to_object);
+    typename Kernel::Rays r{c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]};
+    Kernel::to_object_space(r, *t.to_object);
     const F* column[8] = {&r.ox, &r.oy, &r.oz, &r.dx, &r.dy, &r.dz, &r.tmin, &r.tmax};
     RayRows& out = *t.out;
     for (int k = 0; k < 8; ++k) L::compress(out.row[k].data() + out.count, *column[k], meets);

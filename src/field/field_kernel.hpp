@@ -250,12 +250,16 @@ class FieldKernel {
       L::transpose_rows_at(base, index, column);
       if (limit) column[7] = lanes::gather(limit, at, all);
     }
-    r = to_object_space({column[0], column[1], column[2], column[3], column[4], column[5], column[6], column[7]}, to_object);
+    r.ox = column[0], r.oy = column[1], r.oz = column[2];
+    r.dx = column[3], r.dy = column[4], r.dz = column[5];
+    r.tmin = column[6], r.tmax = column[7];
+    to_object_space(r, to_object);
   }
 
-  /// World-space rays on lanes mapped into object space as InverseTransform::apply() maps them.
-  [[gnu::always_inline]] static Rays to_object_space(Rays r, const InverseTransform& to_object) {
-    if (to_object.identity) return r;
+  /// World-space rays on lanes mapped in place into object space as InverseTransform::apply() maps them.
+  // In place: taken and returned by value, a packet's rays went through memcpy calls.
+  [[gnu::always_inline]] static void to_object_space(Rays& r, const InverseTransform& to_object) {
+    if (to_object.identity) return;
     const Mat3& m = to_object.linear;
     const F px = r.ox - L::splat(to_object.translation.x), py = r.oy - L::splat(to_object.translation.y),
             pz = r.oz - L::splat(to_object.translation.z);
@@ -266,7 +270,6 @@ class FieldKernel {
     r.dx = row_dot(m.rows[0], dx, dy, dz);
     r.dy = row_dot(m.rows[1], dx, dy, dz);
     r.dz = row_dot(m.rows[2], dx, dy, dz);
-    return r;
   }
 
  private:

@@ -19,11 +19,13 @@ inline void rows_to_columns16(const float* p, __m512 column[8]) {
   // The zero-masking forms with every lane kept: GCC 12's plain forms trip its own
   // uninitialised-value warning (measured level with them: 9 bunnies' AO, six interleaved rounds).
   constexpr __mmask16 all = 0xffff;
-  __m512 a[8], t[8], u[8];
-  for (int k = 0; k < 8; ++k) a[k] = _mm512_loadu_ps(p + 16 * k);
+  // The rows loaded where the first step takes them: loaded into an array first, GCC made the loads
+  // a memcpy call onto the stack (its loop distribution).
+  __m512 t[8], u[8];
   for (int k = 0; k < 8; k += 2) {
-    t[k] = _mm512_maskz_unpacklo_ps(all, a[k], a[k + 1]);
-    t[k + 1] = _mm512_maskz_unpackhi_ps(all, a[k], a[k + 1]);
+    const __m512 a = _mm512_loadu_ps(p + 16 * k), b = _mm512_loadu_ps(p + 16 * (k + 1));
+    t[k] = _mm512_maskz_unpacklo_ps(all, a, b);
+    t[k + 1] = _mm512_maskz_unpackhi_ps(all, a, b);
   }
   for (int h = 0; h < 8; h += 4) {
     u[h] = _mm512_maskz_shuffle_ps(all, t[h], t[h + 2], 0x44);
@@ -43,13 +45,16 @@ inline void rows_to_columns16(const float* p, __m512 column[8]) {
 #endif
 
 #if defined(__AVX2__)
-/// The 8 columns of 8 rows of 8 floats held in registers (column c, lane l = a[l][c]): the classic
-/// 8×8 in-register transpose.
-inline void rows_to_columns8(const __m256 a[8], __m256 column[8]) {
+/// The 8 columns of the 8 rows row(0) .. row(7) of 8 floats (column c, lane l = row(l)[c]): the
+/// classic 8×8 in-register transpose. The rows are taken where the first step needs them: loaded
+/// into an array first, GCC made the loads a memcpy call onto the stack (its loop distribution).
+template <class Row>
+[[gnu::always_inline]] inline void rows_to_columns8_of(const Row& row, __m256 column[8]) {
   __m256 t[8], u[8];
   for (int k = 0; k < 8; k += 2) {
-    t[k] = _mm256_unpacklo_ps(a[k], a[k + 1]);
-    t[k + 1] = _mm256_unpackhi_ps(a[k], a[k + 1]);
+    const __m256 a = row(k), b = row(k + 1);
+    t[k] = _mm256_unpacklo_ps(a, b);
+    t[k + 1] = _mm256_unpackhi_ps(a, b);
   }
   for (int h = 0; h < 8; h += 4) {
     u[h] = _mm256_shuffle_ps(t[h], t[h + 2], 0x44);
@@ -63,19 +68,20 @@ inline void rows_to_columns8(const __m256 a[8], __m256 column[8]) {
   }
 }
 
+/// The 8 columns of 8 rows of 8 floats held in registers (column c, lane l = a[l][c]).
+inline void rows_to_columns8(const __m256 a[8], __m256 column[8]) {
+  rows_to_columns8_of([&](int k) { return a[k]; }, column);
+}
+
 /// The 8 columns of the 8 consecutive rows of 8 floats at `p` (column c, lane l = p[8l + c]).
 inline void rows_to_columns8(const float* p, __m256 column[8]) {
-  __m256 a[8];
-  for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(p + 8 * k);
-  rows_to_columns8(a, column);
+  rows_to_columns8_of([&](int k) { return _mm256_loadu_ps(p + 8 * k); }, column);
 }
 
 /// The 8 columns of the rows of 8 floats at base + 8·index[l], l < 8 (column c, lane l =
 /// base[8·index[l] + c]): eight row loads and the transpose, in place of eight 8-lane gathers.
 inline void rows_to_columns8(const float* base, const std::uint32_t* index, __m256 column[8]) {
-  __m256 a[8];
-  for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(base + 8 * static_cast<std::size_t>(index[k]));
-  rows_to_columns8(a, column);
+  rows_to_columns8_of([&](int k) { return _mm256_loadu_ps(base + 8 * static_cast<std::size_t>(index[k])); }, column);
 }
 #endif
 
