@@ -4,7 +4,8 @@
 #   scripts/install-deps.sh --all   that and what the tests, the benchmark, the Python module, the fuzz
 #                                   targets and the sanitizer runs need (the README's second command, CI):
 #                                   GoogleTest, Google Benchmark, Embree, pybind11 and NumPy, pytest, Dask,
-#                                   matplotlib, clang-14 and its runtime (libFuzzer, docs/fuzzing.md)
+#                                   matplotlib, clang-14 and its runtime (libFuzzer, docs/fuzzing.md),
+#                                   valgrind (scripts/count-instructions.py, docs/benchmark.md)
 # Safe to run twice: when everything is already installed it only checks and returns.
 set -euo pipefail
 
@@ -18,7 +19,7 @@ case "${1:-}" in
     packages+=(
       libgtest-dev libgmock-dev libbenchmark-dev libembree-dev pybind11-dev
       python3 python3-dev python3-numpy python3-pytest python3-distributed python3-matplotlib
-      clang-14 libclang-rt-14-dev
+      clang-14 libclang-rt-14-dev valgrind
     )
     ;;
   *)
