@@ -7,8 +7,8 @@ Runs COMMAND under valgrind's callgrind, counting only inside functions whose na
 (callgrind's --toggle-collect, e.g. '*stream_culled*' or 'vf::field::occluded_batch*'), and prints:
 the total; the executed instructions that touch the stack (spills and reloads, with the arithmetic
 that reads a spilled value) and the commonest mnemonics; and the instructions by source line, each
-given to the innermost inlined frame whose file name contains NAME (default: the whole inline chain's
-innermost frame), with its function. Counts are exact and repeatable, where timings on a shared
+given to the innermost inlined frame whose file name contains NAME (default: the innermost frame
+outside the system's headers), with its function. Counts are exact and repeatable, where timings on a shared
 machine vary by 10% and more: they show where an A/B change removes work before a benchmark can.
 They are not cycles (a gather or a division counts one). Build with debug lines for the attribution
 (e.g. -DCMAKE_CXX_FLAGS=-g in a separate Release build folder); needs valgrind and binutils.
@@ -141,7 +141,10 @@ def main():
     by_line = collections.Counter()
     for a, c in own.items():
         frames = chains.get(a) or [("?", "?")]
-        pick = next((f for f in frames if args.file and args.file in f[1]), frames[0])
+        # The innermost frame in the named file, else the innermost outside the system's headers
+        # (an intrinsic's line says little), else the innermost.
+        ours = [f for f in frames if not f[1].startswith("/usr/")]
+        pick = next((f for f in frames if args.file and args.file in f[1]), ours[0] if ours else frames[0])
         by_line[(os.path.basename(pick[1]), short_name(pick[0]))] += c
     print(f"\n{'instructions':>14} {'share':>6}  line  function")
     for (line, function), c in by_line.most_common(args.top):
