@@ -239,6 +239,7 @@ with the BVH's interleaved walks)."
   echo "| a lone object's rays culled by the few objects' pass (world-space spheres, rows) instead of the culled stream | fig8 cow level (4.4x both, 2 rounds); intra AO bunny 9.0x -> 6.8-7.4x | no |"
   echo "| the tree walk's settled check reading a chunk's 8 bytes at once where its 8 ids are consecutive | 1024 bunnies' field instructions -2.5%; 4 rounds level (medians 3.42x, 3.48x) | no: not measurable |"
   echo "| a memory barrier after the lanes' geometry, so that its outputs are reloaded from the located packet instead of held in registers through the corners | intra stream's stack instructions 8.70M -> 8.05M; 4 rounds level (7.8-8.1x, 7.9-8.5x) | no |"
+  echo "| a lone object's rays culled by may_meet_sphere() on the world-space rays (the object's world sphere from FieldScene) before they are mapped, so that only the packets that go through are mapped into object space (mapping them all was a fifth of the corner's field instructions) | corner's field instructions 696M -> 659M (the world test's cross products cost most of what the mapping saved); fig8, 3 interleaved rounds, level: cow 4.6/4.8/4.0x -> 4.7/4.5/4.8x, bunny 6.3/7.1/5.5x -> 6.1/6.3/6.5x | no |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
