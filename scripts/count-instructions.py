@@ -1,14 +1,14 @@
 #!/usr/bin/python3
 """Counts the instructions a command executes in the functions it names, by source line.
 
-    /usr/bin/python3 scripts/count-instructions.py --collect 'PATTERN' [--file NAME] [--top N] -- COMMAND ...
+    /usr/bin/python3 scripts/count-instructions.py --collect 'PATTERN' [--file NAME] [--skip NAME] [--top N] -- COMMAND ...
 
 Runs COMMAND under valgrind's callgrind, counting only inside functions whose names match PATTERN
 (callgrind's --toggle-collect, e.g. '*stream_culled*' or 'vf::field::occluded_batch*'), and prints:
 the total; the executed instructions that touch the stack (spills and reloads, with the arithmetic
 that reads a spilled value) and the commonest mnemonics; and the instructions by source line, each
 given to the innermost inlined frame whose file name contains NAME (default: the innermost frame
-outside the system's headers), with its function. Counts are exact and repeatable, where timings on a shared
+outside the system's headers and the files named by --skip), with its function. Counts are exact and repeatable, where timings on a shared
 machine vary by 10% and more: they show where an A/B change removes work before a benchmark can.
 They are not cycles (a gather or a division counts one). Build with debug lines for the attribution
 (e.g. -DCMAKE_CXX_FLAGS=-g in a separate Release build folder); needs valgrind and binutils.
@@ -106,6 +106,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--collect", required=True, help="callgrind --toggle-collect pattern")
     parser.add_argument("--file", default="", help="give each line to the innermost frame in a file whose name contains this")
+    parser.add_argument("--skip", action="append", default=[],
+                        help="pass over frames in files whose names contain this (helpers such as kernel_lanes.hpp); repeatable")
     parser.add_argument("--top", type=int, default=30, help="lines to print (default 30)")
     parser.add_argument("command", nargs=argparse.REMAINDER)
     args = parser.parse_args()
@@ -143,7 +145,7 @@ def main():
         frames = chains.get(a) or [("?", "?")]
         # The innermost frame in the named file, else the innermost outside the system's headers
         # (an intrinsic's line says little), else the innermost.
-        ours = [f for f in frames if not f[1].startswith("/usr/")]
+        ours = [f for f in frames if not f[1].startswith("/usr/") and not any(skip in f[1] for skip in args.skip)]
         pick = next((f for f in frames if args.file and args.file in f[1]), ours[0] if ours else frames[0])
         by_line[(os.path.basename(pick[1]), short_name(pick[0]))] += c
     print(f"\n{'instructions':>14} {'share':>6}  line  function")
