@@ -8,10 +8,11 @@ Runs COMMAND under valgrind's callgrind, counting only inside functions whose na
 the total; the executed instructions that touch the stack (spills and reloads, with the arithmetic
 that reads a spilled value) and the commonest mnemonics; and the instructions by source line, each
 given to the innermost inlined frame whose file name contains NAME (default: the innermost frame
-outside the system's headers and the files named by --skip), with its function. Counts are exact and repeatable, where timings on a shared
-machine vary by 10% and more: they show where an A/B change removes work before a benchmark can.
+outside the system's headers and the files named by --skip), with its function. Counts are exact
+and repeatable, where timings on a shared machine vary by 10% and more: they show where an A/B change removes work before a benchmark can.
 They are not cycles (a gather or a division counts one). Build with debug lines for the attribution
-(e.g. -DCMAKE_CXX_FLAGS=-g in a separate Release build folder); needs valgrind and binutils.
+(e.g. -DCMAKE_CXX_FLAGS=-g in a separate Release build folder); needs valgrind and binutils. Only
+the command's own code is attributed; what runs in shared libraries is counted apart.
 """
 
 import argparse
@@ -28,13 +29,24 @@ def fail(message):
     sys.exit(2)
 
 
-def read_costs(path):
-    """Self instruction counts by address from a callgrind file written with --dump-instr=yes."""
+def read_costs(path, binary):
+    """Self instruction counts by address in `binary`, and the count in other objects (libraries),
+    from a callgrind file written with --dump-instr=yes (addresses are per object)."""
     cost = collections.Counter()
+    elsewhere = 0
+    names = {}  # object ids to paths, as ob= and cob= lines define them
+    ours = False
     address = 0
     call_line_next = False
     with open(path) as f:
         for line in f:
+            m = re.match(r"(c?ob)=\((\d+)\)(?: (.*))?", line.rstrip("\n"))
+            if m:
+                if m.group(3):
+                    names[m.group(2)] = m.group(3)
+                if m.group(1) == "ob":
+                    ours = os.path.realpath(names.get(m.group(2), "")) == binary
+                continue
             if line.startswith("calls="):
                 call_line_next = True  # the next cost line is the call's inclusive cost
                 continue
@@ -53,8 +65,11 @@ def read_costs(path):
             if call_line_next:
                 call_line_next = False
                 continue
-            cost[address] += int(parts[2])
-    return cost
+            if ours:
+                cost[address] += int(parts[2])
+            else:
+                elsewhere += int(parts[2])
+    return cost, elsewhere
 
 
 def disassemble(binary, addresses):
@@ -125,12 +140,12 @@ def main():
                               f"--toggle-collect={args.collect}"] + command, capture_output=True, text=True)
         if run.returncode != 0 or not os.path.exists(data):
             fail(f"the command under valgrind exited with {run.returncode}: {run.stderr.strip().splitlines()[-1] if run.stderr.strip() else ''}")
-        cost = read_costs(data)
-    total = sum(cost.values())
+        cost, elsewhere = read_costs(data, os.path.realpath(binary))
+    total = sum(cost.values()) + elsewhere
     if total == 0:
         fail(f"no instructions counted: no function matching '{args.collect}' ran")
-    # Only the command's own code is disassembled and attributed (a library's addresses are not its).
-    code = disassemble(binary, [a for a in cost if a < 1 << 40])
+    # Only the command's own code is disassembled and attributed.
+    code = disassemble(binary, list(cost)) if cost else {}
     own = {a: c for a, c in cost.items() if a in code}
     stack = sum(c for a, c in own.items() if "(%rsp" in code[a][1] or "(%rbp" in code[a][1])
     mnemonics = collections.Counter()
