@@ -177,4 +177,9 @@ void ObjectField::mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, 
 
 int ObjectField::batch_width(int width) { return resolved_width(width); }
 
+const char* ObjectField::timing_bound() {
+  constexpr const char* names[] = {"", "no-lookups", "read-and-map", "read-only", "cached-cells"};
+  return names[static_cast<int>(kTimingBound)];
+}
+
 }  // namespace vf::field

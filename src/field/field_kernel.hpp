@@ -19,7 +19,23 @@
 #include "visfield/core/transform.hpp"
 #include "visfield/field/field_query.hpp"
 
+// A timing-bound build (CMake VISFIELD_FIELD_BOUND, docs/benchmark.md "Taking parts out") takes a part
+// of the query out to measure what the rest costs; its answers are wrong on purpose.
+#ifndef VISFIELD_FIELD_BOUND
+#define VISFIELD_FIELD_BOUND 0
+#endif
+
 namespace vf::field {
+
+/// What a timing-bound build takes out of the query (VISFIELD_FIELD_BOUND, in this order).
+enum class TimingBound {
+  none,          ///< the query as it is
+  no_lookups,    ///< a lone object's culled stream answers every packet "miss": reading, mapping, culling, packing
+  read_and_map,  ///< that stream only reads its rays and maps them into object space
+  read_only,     ///< that stream only reads its rays (the rows' transposes)
+  cached_cells,  ///< every lookup reads the cells of samples 0-3 (a few KiB, in L1): no table misses
+};
+inline constexpr TimingBound kTimingBound = static_cast<TimingBound>(VISFIELD_FIELD_BOUND);
 
 template <class L>
 class FieldKernel {
@@ -135,6 +151,11 @@ class FieldKernel {
       alignas(64) std::uint32_t index[kWidth];
       alignas(64) std::uint32_t position[kWidth];
     };
+    if constexpr (kTimingBound == TimingBound::read_and_map || kTimingBound == TimingBound::read_only) {
+      read_bound(rays, index, count, limit, to_object);
+      rest = 0;
+      return;
+    }
     alignas(64) std::uint32_t pending_index[3 * kWidth], pending_position[3 * kWidth];
     std::size_t pending = 0, at = 0;
     // The next full packet of rays that may meet the sphere; false when no full packet is left.
@@ -167,6 +188,11 @@ class FieldKernel {
       gather(rays, p.index, limit, to_object, p.rays);
       return true;
     };
+    if constexpr (kTimingBound == TimingBound::no_lookups) {
+      for (Packet p; next(p);) emit(p.index, p.position, Answer{L::none(), L::splat(0.0f), L::splat(0)});
+      rest = 0;
+      return;
+    }
     const bool paper = f.direction_lookup == DirectionLookup::nearest && f.position_lookup == PositionLookup::nearest;
     Packet packet[2];
     bool have = next(packet[0]);
@@ -190,6 +216,29 @@ class FieldKernel {
       rest_index[rest] = index[at];
       rest_position[rest++] = static_cast<std::uint32_t>(at);
     }
+  }
+
+  /// The timing bounds' stream: every full packet of consecutive candidates read as the culled stream
+  /// reads it (and mapped, for READ_AND_MAP), then summed so that the reads stay.
+  static void read_bound(const Ray* rays, const std::uint32_t* index, std::size_t count, const float* limit,
+                         const InverseTransform& to_object) {
+    F sum = L::splat(0.0f);
+    for (std::size_t at = 0; at + kWidth <= count; at += kWidth) {
+      Rays r;
+      if constexpr (kTimingBound == TimingBound::read_and_map) {
+        gather(rays, index + at, limit, to_object, r);
+      } else {
+        const float* first = reinterpret_cast<const float*>(rays) + 8 * static_cast<std::size_t>(index[at]);
+        for (int line = 0; line < kWidth * 8; line += 16) __builtin_prefetch(first + 4 * 8 * kWidth + line);
+        F column[8];
+        L::transpose_rows(first, column);
+        r = {column[0], column[1], column[2], column[3], column[4], column[5], column[6], column[7]};
+      }
+      sum = sum + r.ox + r.oy + r.oz + r.dx + r.dy + r.dz + r.tmin + r.tmax;
+    }
+    alignas(64) float lanes[kWidth];
+    L::store(lanes, sum);
+    [[maybe_unused]] volatile float kept = lanes[0];
   }
 
   /// The world-space rays rays[index[lane]] (kWidth indices, repeats allowed) through the query
@@ -358,6 +407,7 @@ class FieldKernel {
   /// The byte of f.cells where cell c (= j·N + i) of `sample` starts; for 1-bit cells, the byte
   /// that holds it.
   [[gnu::always_inline]] static I cell_byte(const FieldTables& f, I sample, I c) {
+    if constexpr (kTimingBound == TimingBound::cached_cells) sample = sample & L::splat(3);
     const I base = sample * L::splat(static_cast<int>(f.cell_stride));
     switch (f.storage) {
       case CellStorage::u8: return base + c;

@@ -157,6 +157,9 @@ class ObjectField {
   void mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, int width = 0) const;
   /// The lanes per step a batch query asked for `width` runs in this build: 32, 16, 8 or 1.
   static int batch_width(int width = 0);
+  /// The part of the query a timing-bound build leaves out (CMake VISFIELD_FIELD_BOUND: "no-lookups",
+  /// "read-and-map", "read-only", "cached-cells"; its answers are wrong), "" in a normal build.
+  static const char* timing_bound();
 
   /// The distance (over 2R) below which an intra-object answer counts as the ray's own start
   /// surface: half a cell plus half the positional spacing, so it shrinks as the field grows finer.
