@@ -4,7 +4,9 @@
     /usr/bin/python3 scripts/count-instructions.py --collect 'PATTERN' [--file NAME] [--skip NAME] [--top N] -- COMMAND ...
 
 Runs COMMAND under valgrind's callgrind, counting only inside functions whose names match PATTERN
-(callgrind's --toggle-collect, e.g. '*stream_culled*' or 'vf::field::occluded_batch*'), and prints:
+(callgrind's --toggle-collect, e.g. 'vf::field::ObjectField::mark_occluded(*' or 'vf::field::occluded_batch(*'; name
+the function from its start: callgrind stops counting inside a match called from a match, such as a lambda of
+the named function, whose name contains the function's, and the script warns of such matches), and prints:
 the total; the executed instructions that touch the stack (spills and reloads, with the arithmetic
 that reads a spilled value) and the commonest mnemonics; and the instructions by source line, each
 given to the innermost inlined frame whose file name contains NAME (default: the innermost frame
@@ -17,6 +19,7 @@ the command's own code is attributed; what runs in shared libraries is counted a
 
 import argparse
 import collections
+import fnmatch
 import os
 import re
 import subprocess
@@ -103,6 +106,23 @@ def inline_chains(binary, addresses):
     return chains
 
 
+def nested_matches(binary, pattern):
+    """The binary's lambdas and local functions whose names (mangled or demangled) match `pattern`, when
+    another function matches it too: callgrind turns counting off on entering each match and on again
+    on leaving it, so a match called from a match (a lambda of the named function, a template made
+    for one) is left out of the count."""
+    def symbols(demangle):
+        out = subprocess.run(["nm", "--defined-only"] + (["-C"] if demangle else []) + [binary],
+                             capture_output=True, text=True).stdout.split("\n")
+        return [line.split(" ", 2)[2] for line in out if line.count(" ") >= 2 and line.split(" ", 2)[1] in "tTwW"]
+    mangled, demangled = symbols(False), symbols(True)
+    if len(mangled) != len(demangled):
+        return []
+    matching = [(m, d) for m, d in zip(mangled, demangled) if fnmatch.fnmatchcase(m, pattern) or fnmatch.fnmatchcase(d, pattern)]
+    inner = [d for m, d in matching if m.startswith("_ZZ") or "{lambda" in d]
+    return inner if len(matching) > len(inner) else []
+
+
 def short_name(function):
     """A demangled name without template arguments, parameters and namespaces: FieldKernel::dot."""
     out, depth = [], 0
@@ -134,6 +154,12 @@ def main():
     binary = command[0] if os.path.sep in command[0] else subprocess.run(["which", command[0]], capture_output=True, text=True).stdout.strip()
     if not binary or not os.path.isfile(binary):
         fail(f"cannot find the command '{command[0]}'")
+    inner = nested_matches(binary, args.collect)
+    if inner:
+        print(f"count-instructions: warning: '{args.collect}' also matches {len(inner)} lambdas or functions made for a "
+              f"matching one ({inner[0][:100]}...); callgrind stops counting inside a match called from a match, "
+              "so their instructions are left out: name the outer function from its start, e.g. "
+              "'vf::field::ObjectField::mark_occluded(*'", file=sys.stderr)
     with tempfile.TemporaryDirectory() as folder:
         data = os.path.join(folder, "callgrind.out")
         run = subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={data}", "--dump-instr=yes",
