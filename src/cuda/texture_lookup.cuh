@@ -30,7 +30,7 @@ __device__ inline field::FieldAnswer trace_field_texture(const field::FieldTable
                                                          const hd::Vec3<float>& org, const hd::Vec3<float>& dir, float tmin, float tmax) {
   field::SphereVisit v;
   if (!field::sphere_visit(f, org, dir, tmin, tmax, v)) return {};
-  const int sample = field::nearest_position(v.point, f.lattice_n, f.upper);
+  const int sample = field::heaviest_corner_position(v.point, f.lattice_n);
   const field::SampleRead r = field::sample_read(f, v, sample);
   float s, t;
   field::square_of(f, r.frame, r.q, s, t);

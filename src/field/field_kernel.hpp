@@ -3,7 +3,7 @@
 // kernel_lanes.hpp). Each step is the scalar step on lanes, in the same order with the same
 // operations, so every lane's answer is bit for bit trace_field()'s (tests/unit/field checks it):
 // the arctangents are field_query's polynomial, the table reads are gathers, branches are masks.
-// Cycles go to the gathers (three candidate samples × three coordinates, one cell code, and on
+// Cycles go to the gathers (the chosen sample's direction, three for blending, one cell code, and on
 // AVX-512 the ray itself when it is gathered from an array of Rays; AVX2 loads its row and
 // transposes), to the arithmetic of the two
 // arctangents and the hemisphere frame, and on Intel's cores to the divider (a packet read from
@@ -539,14 +539,12 @@ class FieldKernel {
   }
 
   /// The lattice triangle around a unit point of the sphere: its corners (lattice coordinates,
-  /// whether within the rim, upper-hemisphere index, direction as magnitudes |x|, |y|, z: the
-  /// corners share the point's quadrant, so cosines need no signs), the point folded to the upper
-  /// hemisphere with its magnitudes and its hemisphere, and the triangle's barycentric cases and
-  /// coordinates.
+  /// whether within the rim), the point's hemisphere, the triangle's barycentric cases and
+  /// coordinates, and (once gathered by corner_directions) the corners' directions as magnitudes
+  /// |x|, |y|, z (the corners share the point's quadrant).
   struct Corners {
     M lower, same, case_b, case_c;
     F fa, fb;
-    Vec magnitude_point;
     M rim[3];
     I ci[3], cj[3];
     Vec magnitude[3];
@@ -554,15 +552,14 @@ class FieldKernel {
     I index(int k, int n) const { return select(rim[k], point_index(ci[k], cj[k], n), L::splat(0)); }
   };
 
-  /// fold_to_upper, octa::coordinates and octa::containing_triangle on lanes; the corners'
-  /// directions gathered from FieldTables::quadrant, with z = 1 − r² computed as point_direction does.
-  [[gnu::always_inline]] static Corners corners(const FieldTables& f, const Vec& e) {
+  /// fold_to_upper, octa::coordinates and octa::containing_triangle on lanes, without the corners'
+  /// directions.
+  [[gnu::always_inline]] static Corners lattice_triangle(const FieldTables& f, const Vec& e) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
     const int n = f.lattice_n;
     Corners c;
     c.lower = e.z < zero;
     const F ez = abs(e.z);
-    c.magnitude_point = {abs(e.x), abs(e.y), ez};
     const F r = sqrt(max(one - ez, zero));
     const F phi = atan2(abs(e.y), abs(e.x));
     const F v = r * phi * L::splat(2 / hd::kPi<float>), u = r - v;
@@ -585,24 +582,42 @@ class FieldKernel {
     c.cj[0] = select(c.case_b, j1, j0);
     c.cj[1] = select(case_d, j1, j0);
     c.cj[2] = j1;
-    const F inv_n = L::splat(1.0f / static_cast<float>(n));
-    for (int k = 0; k < 3; ++k) {
-      const I ai = abs(c.ci[k]), aj = abs(c.cj[k]);
-      c.rim[k] = ai + aj <= L::splat(n);
-      lanes::gather_pairs(f.quadrant, ai * L::splat(n + 1) + aj, c.magnitude[k].x, c.magnitude[k].y);
-      // r = |i|/n + |j|/n exactly (n a power of two); the centre's 1 − 0 is its z = 1.
-      const F r_k = to_float(ai + aj) * inv_n;
-      c.magnitude[k].z = select(ai + aj == L::splat(n), zero, one - r_k * r_k);
-    }
+    for (int k = 0; k < 3; ++k) c.rim[k] = abs(c.ci[k]) + abs(c.cj[k]) <= L::splat(n);
     return c;
+  }
+
+  /// octa::containing_triangle's barycentric weights of the corners (before the rim's zeros).
+  static void triangle_weights(const Corners& c, F weight[3]) {
+    const F one = L::splat(1.0f), fa = c.fa, fb = c.fb;
+    weight[0] = select(c.same, select(c.case_b, fa + fb - one, one - fa - fb), select(c.case_c, one - fa, one - fb));
+    weight[1] = select(c.same, select(c.case_b, one - fb, fa), select(c.case_c, fa - fb, fb - fa));
+    weight[2] = select(c.same, select(c.case_b, one - fa, fb), select(c.case_c, fb, fa));
+  }
+
+  /// The magnitudes of the direction of lattice point (|i|, |j|) = (ai, aj) of the upper table, read
+  /// from FieldTables::quadrant, with z = 1 − r² computed as point_direction does.
+  [[gnu::always_inline]] static Vec quadrant_direction(const FieldTables& f, I ai, I aj) {
+    const int n = f.lattice_n;
+    Vec m;
+    lanes::gather_pairs(f.quadrant, ai * L::splat(n + 1) + aj, m.x, m.y);
+    // r = |i|/n + |j|/n exactly (n a power of two); the centre's 1 − 0 is its z = 1.
+    const F r = to_float(ai + aj) * L::splat(1.0f / static_cast<float>(n));
+    m.z = select(ai + aj == L::splat(n), L::splat(0.0f), L::splat(1.0f) - r * r);
+    return m;
+  }
+
+  /// The three corners' directions into c.magnitude (blending reads all three).
+  [[gnu::always_inline]] static void corner_directions(const FieldTables& f, Corners& c) {
+    for (int k = 0; k < 3; ++k) c.magnitude[k] = quadrant_direction(f, abs(c.ci[k]), abs(c.cj[k]));
   }
 
   /// Corner k's direction (the upper table's entry): the magnitudes with the signs of its lattice
   /// coordinates (+0 where a coordinate is 0, as point_direction writes it).
-  static Vec corner_direction(const Corners& c, int k) {
+  static Vec corner_direction(const Corners& c, int k) { return signed_direction(c.magnitude[k], c.ci[k], c.cj[k]); }
+  /// Magnitudes `m` of lattice point (i, j) with the point's signs.
+  static Vec signed_direction(const Vec& m, I i, I j) {
     const I zero_i = L::splat(0);
-    return {select(c.ci[k] < zero_i, -c.magnitude[k].x, c.magnitude[k].x), select(c.cj[k] < zero_i, -c.magnitude[k].y, c.magnitude[k].y),
-            c.magnitude[k].z};
+    return {select(i < zero_i, -m.x, m.x), select(j < zero_i, -m.y, m.y), m.z};
   }
 
   /// sample_inward on lanes: the inward normal of the sample in direction `p` of the upper table.
@@ -610,23 +625,21 @@ class FieldKernel {
   /// The index offset of the lanes' hemisphere.
   static I hemisphere_offset(const FieldTables& f, const Corners& c) { return select(c.lower, L::splat(f.upper_count), L::splat(0)); }
 
-  /// nearest_position on lanes: the sample index and its inward normal. (The cosine of magnitudes
-  /// is the signed one: the corners lie in the point's quadrant.)
-  [[gnu::always_inline]] static void nearest_sample(const FieldTables& f, const Corners& c, M active, I& sample, Vec& w) {
-    F best_cos = L::splat(-2.0f);
-    I best_i = L::splat(0), best_j = L::splat(0);
-    Vec p = c.magnitude[0];
+  /// heaviest_corner_position on lanes: the sample index and its inward normal, the one corner's
+  /// direction read (nearest_position's three reads and cosines were 18% of intra-object AO on AVX2).
+  [[gnu::always_inline]] static void heaviest_corner(const FieldTables& f, const Corners& c, M active, I& sample, Vec& w) {
+    F weight[3];
+    triangle_weights(c, weight);
+    F best_weight = L::splat(-2.0f);
+    I best_i = c.ci[0], best_j = c.cj[0];
     for (int k = 0; k < 3; ++k) {
-      const F cosine = dot(c.magnitude_point, c.magnitude[k]);
-      const M better = active & c.rim[k] & (cosine > best_cos);
-      best_cos = select(better, cosine, best_cos);
+      const M better = active & c.rim[k] & (weight[k] > best_weight);
+      best_weight = select(better, weight[k], best_weight);
       best_i = select(better, c.ci[k], best_i);
       best_j = select(better, c.cj[k], best_j);
-      p = {select(better, c.magnitude[k].x, p.x), select(better, c.magnitude[k].y, p.y), select(better, c.magnitude[k].z, p.z)};
     }
     sample = point_index(best_i, best_j, f.lattice_n) + hemisphere_offset(f, c);
-    const I zero_i = L::splat(0);
-    w = inward(c, {select(best_i < zero_i, -p.x, p.x), select(best_j < zero_i, -p.y, p.y), p.z});
+    w = inward(c, signed_direction(quadrant_direction(f, abs(best_i), abs(best_j)), best_i, best_j));
   }
 
   /// The ray against the bounding sphere on lanes: which lanes meet it as the scalar query lets them
@@ -690,19 +703,18 @@ class FieldKernel {
   /// read_at on lanes: the lanes' Geometry `g`, the unit point `e` of the sphere, parallel direction `q`.
   [[gnu::always_inline]] static Answer read_at(const FieldTables& f, const Geometry& g, const Vec& e, const Vec& q, M active) {
     const F zero = L::splat(0.0f), one = L::splat(1.0f);
-    const Corners c = corners(f, e);
+    Corners c = lattice_triangle(f, e);
     if (f.position_lookup == PositionLookup::nearest) {
       I sample;
       Vec w;
-      nearest_sample(f, c, active, sample, w);
+      heaviest_corner(f, c, active, sample, w);
       return read_sample(f, g, sample, w, q, active);
     }
     // blend_positions: triangle weights, clamped at 0, zero beyond the rim, normalised; a corner
     // beyond the rim repeats the heaviest valid one.
-    const F fa = c.fa, fb = c.fb;
-    F weight[3] = {select(c.same, select(c.case_b, fa + fb - one, one - fa - fb), select(c.case_c, one - fa, one - fb)),
-                   select(c.same, select(c.case_b, one - fb, fa), select(c.case_c, fa - fb, fb - fa)),
-                   select(c.same, select(c.case_b, one - fa, fb), select(c.case_c, fb, fa))};
+    corner_directions(f, c);
+    F weight[3];
+    triangle_weights(c, weight);
     F total = zero, valid_weight = L::splat(-1.0f);
     I valid_index = L::splat(0), valid_k = L::splat(-1);
     Vec direction[3];
@@ -795,7 +807,7 @@ class FieldKernel {
   [[gnu::always_inline]] static void locate(const FieldTables& f, const Rays& r, M valid, Located& l) {
     Vec e, q, w;
     geometry(f, r, valid, e, q, l.g);
-    nearest_sample(f, corners(f, e), l.g.active, l.sample, w);
+    heaviest_corner(f, lattice_triangle(f, e), l.g.active, l.sample, w);
     Vec read;
     F inverse;
     sample_read(f, l.g, w, q, read, l.shift, l.limit, inverse);

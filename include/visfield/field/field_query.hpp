@@ -29,7 +29,8 @@ enum class DirectionLookup : unsigned char {
 
 /// Which positional samples a query reads.
 enum class PositionLookup : unsigned char {
-  nearest = 0,  ///< The sample nearest to the point where the ray meets the sphere (the paper).
+  nearest = 0,  ///< The sample nearest to the point where the ray meets the sphere (the paper), as the
+                ///< heaviest corner of its lattice triangle (heaviest_corner_position()).
   blend = 1,    ///< The three samples of the lattice triangle around it, barycentric weights.
   lines = 2,    ///< From outside, the stored lines nearest to the ray's chord in the sphere vote (read_lines();
                 ///< it picks the cells too); from inside as `nearest`.
@@ -371,11 +372,11 @@ VF_HOST_DEVICE inline FieldAnswer read_lines(const FieldTables& f, const SphereV
   return answer;
 }
 
-/// The answer for visit `v`: at the sample nearest to v.point, the blend of the three around it, or
-/// from outside the lines nearest to the ray's chord.
+/// The answer for visit `v`: at the heaviest corner of v.point's lattice triangle (nearly always the
+/// nearest sample), the blend of the three corners, or from outside the lines nearest to the ray's chord.
 VF_HOST_DEVICE inline FieldAnswer read_at(const FieldTables& f, const SphereVisit& v) {
   if (f.position_lookup == PositionLookup::lines && !v.inside) return read_lines(f, v);
-  if (f.position_lookup != PositionLookup::blend) return read_sample(f, v, nearest_position(v.point, f.lattice_n, f.upper));
+  if (f.position_lookup != PositionLookup::blend) return read_sample(f, v, heaviest_corner_position(v.point, f.lattice_n));
   const PositionBlend<float> blend = blend_positions(v.point, f.lattice_n);
   FieldVote vote;
   for (int k = 0; k < 3; ++k)
