@@ -13,12 +13,12 @@ namespace {
 // it calls, an explicit fused multiply-add (hd::fma, hd::fused_dot: three a dot product) as one
 // (nearest lookups; the bilinear and blend lookups repeat the direction part 4 and 3 times):
 //   ray to unit direction, sphere roots, entry/exit point and its normalisation        34
-//   nearest_position: octa::coordinates (sqrt, lookup_atan2's division and degree-11
-//     polynomial, lattice scaling) 23, containing_triangle 8, three corner dot products 9    40
+//   heaviest_corner_position: octa::coordinates (sqrt, lookup_atan2's division and
+//     degree-11 polynomial, lattice scaling) 23, containing_triangle 8                     31
 //   read_direction: inward pole 3, orthonormal_basis 15, the local frame's 3 dot products 9,
 //     disk_to_concentric (sqrt, division, atan_unit) 18, two cell indices 3               48
 //   read_cell's decode and the hit distance, interval tests                                7
-constexpr double kTraceFlops = 34 + 40 + 48 + 7;
+constexpr double kTraceFlops = 34 + 31 + 48 + 7;
 constexpr double kTraceIntOps = 40;        // lattice indices, point_index, the cell address
 constexpr double kDirectionFlops = 48;     // one more read_direction (bilinear, blend)
 // sample_read() through the far end, per positional sample read: the exit point 3, the line 3, its
@@ -46,10 +46,10 @@ LookupCost field_lookup_cost(const field::FieldTables& t, bool device_rays, int 
   const int directions = t.direction_lookup == field::DirectionLookup::bilinear ? 4 : 1;
   const int positions = t.position_lookup == field::PositionLookup::blend ? 3 : 1;
   const double reads = static_cast<double>(directions * positions);
-  // Up to three lattice corners' directions (12 bytes each), then per read the cell and its normal;
-  // the 1-bit variant reads its sample's average distance too.
-  c.table_bytes = 3.0 * 12.0 + reads * (cell_bytes + normal_bytes + (t.storage == field::CellStorage::bit ? 4.0 : 0.0));
-  c.sector_bytes = kSector * (2.0 + reads * (1.0 + (normal_bytes > 0.0 ? 1.0 : 0.0)));
+  // Each positional sample's direction (12 bytes: one, the heaviest corner's, or the three blended),
+  // then per read the cell and its normal; the 1-bit variant reads its sample's average distance too.
+  c.table_bytes = positions * 12.0 + reads * (cell_bytes + normal_bytes + (t.storage == field::CellStorage::bit ? 4.0 : 0.0));
+  c.sector_bytes = kSector * ((positions == 3 ? 2.0 : 1.0) + reads * (1.0 + (normal_bytes > 0.0 ? 1.0 : 0.0)));
   c.flops = kTraceFlops + kTransformFlops + (reads - 1.0) * kDirectionFlops +
             (t.sample_line == field::SampleLine::through ? positions * kThroughFlops : 0.0);
   c.int_ops = kTraceIntOps * reads;
