@@ -178,7 +178,7 @@ void ObjectField::mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, 
 int ObjectField::batch_width(int width) { return resolved_width(width); }
 
 const char* ObjectField::timing_bound() {
-  constexpr const char* names[] = {"", "no-lookups", "read-and-map", "read-only", "cached-cells"};
+  constexpr const char* names[] = {"", "no-lookups", "read-and-map", "read-only", "cached-cells", "no-map", "no-map-line", "no-map-line-lattice", "sphere-only"};
   return names[static_cast<int>(kTimingBound)];
 }
 

@@ -34,6 +34,12 @@ enum class TimingBound {
   read_and_map,  ///< that stream only reads its rays and maps them into object space
   read_only,     ///< that stream only reads its rays (the rows' transposes)
   cached_cells,  ///< every lookup reads the cells of samples 0-3 (a few KiB, in L1): no table misses
+  // The stages of the paper's lookup (locate() and finish()) left out one after another, later ones
+  // keeping the earlier ones out; each stage's stand-in is a few operations on what it would read.
+  no_map,               ///< the hemisphere map (square_point): the cell from the read direction's x and y
+  no_map_line,          ///< and the sample's line (sample_read): read along the ray, no shift or limit
+  no_map_line_lattice,  ///< and the lattice triangle and its heaviest corner: the sample from the point's x
+  sphere_only,          ///< and the table read: the answer from the cell's indices; the sphere and placing are left
 };
 inline constexpr TimingBound kTimingBound = static_cast<TimingBound>(VISFIELD_FIELD_BOUND);
 
@@ -807,19 +813,39 @@ class FieldKernel {
   [[gnu::always_inline]] static void locate(const FieldTables& f, const Rays& r, M valid, Located& l) {
     Vec e, q, w;
     geometry(f, r, valid, e, q, l.g);
-    heaviest_corner(f, lattice_triangle(f, e), l.g.active, l.sample, w);
+    if constexpr (stage_out(TimingBound::no_map_line_lattice)) {
+      l.sample = min(max(to_int(fma(e.x, L::splat(0.5f), L::splat(0.5f)) * L::splat(static_cast<float>(f.upper_count))), L::splat(0)),
+                     L::splat(f.upper_count - 1));
+      w = e;
+    } else {
+      heaviest_corner(f, lattice_triangle(f, e), l.g.active, l.sample, w);
+    }
     Vec read;
     F inverse;
-    sample_read(f, l.g, w, q, read, l.shift, l.limit, inverse);
+    if constexpr (stage_out(TimingBound::no_map_line)) {
+      read = q, inverse = w.z, l.shift = L::splat(0.0f), l.limit = L::splat(2.0f);
+    } else {
+      sample_read(f, l.g, w, q, read, l.shift, l.limit, inverse);
+    }
     F s, t;
-    square_point(f, w, inverse, read, l.g.active, s, t);
+    if constexpr (stage_out(TimingBound::no_map)) {
+      // inverse · 0 keeps the frame's reciprocal computed, as square_point would use it
+      s = fma(read.x, L::splat(0.5f), inverse * L::splat(0.0f) + L::splat(0.5f)), t = fma(read.y, L::splat(0.5f), L::splat(0.5f));
+    } else {
+      square_point(f, w, inverse, read, l.g.active, s, t);
+    }
     l.i = cell_of(s, f.directions);
     l.j = cell_of(t, f.directions);
   }
 
+  /// Whether a timing-bound build leaves out the lookup's stage `stage` (one of no_map .. sphere_only,
+  /// each leaving out the ones before it too).
+  static constexpr bool stage_out(TimingBound stage) { return kTimingBound >= stage && kTimingBound <= TimingBound::sphere_only; }
+
   /// Asks for the cache lines of the cells `l` will read (its active lanes'), so that they arrive while
   /// the next packet is located.
   [[gnu::always_inline]] static void prefetch_cells(const FieldTables& f, const Located& l) {
+    if constexpr (stage_out(TimingBound::sphere_only)) return;
     const I offset = cell_byte(f, l.sample, l.j * L::splat(f.directions) + l.i);
     alignas(64) std::int32_t at[kWidth];
     L::store(at, select(l.g.active, offset, L::splat(0)));
@@ -830,7 +856,11 @@ class FieldKernel {
   }
 
   [[gnu::always_inline]] static Answer finish(const FieldTables& f, const Located& l) {
-    Answer a = read_cell(f, l.sample, l.i, l.j, l.g.active);
+    Answer a;
+    if constexpr (stage_out(TimingBound::sphere_only))
+      a = {l.g.active & (l.i < l.j), to_float(l.i + l.sample) * L::splat(1.0f / 4096.0f), L::splat(0)};
+    else
+      a = read_cell(f, l.sample, l.i, l.j, l.g.active);
     shift_answer(a, l.shift, l.limit);
     return place(f, l.g, a);
   }

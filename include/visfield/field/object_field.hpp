@@ -158,7 +158,8 @@ class ObjectField {
   /// The lanes per step a batch query asked for `width` runs in this build: 32, 16, 8 or 1.
   static int batch_width(int width = 0);
   /// The part of the query a timing-bound build leaves out (CMake VISFIELD_FIELD_BOUND: "no-lookups",
-  /// "read-and-map", "read-only", "cached-cells"; its answers are wrong), "" in a normal build.
+  /// "read-and-map", "read-only", "cached-cells", "no-map", "no-map-line", "no-map-line-lattice",
+  /// "sphere-only"; its answers are wrong), "" in a normal build.
   static const char* timing_bound();
 
   /// The distance (over 2R) below which an intra-object answer counts as the ray's own start
