@@ -249,6 +249,7 @@ with the BVH's interleaved walks)."
   echo "| the rays' prefetch 12 or 32 packets ahead instead of 4 (the corner's culled stream reads ~3.4 packets of rays for each it traces) | corner cow, 3 rounds: 4.3-4.8x, 4.4-4.8x, 4.5-4.7x | no: level |"
   echo "| the hits' marks of a packet of consecutive rays set by one 8-byte read-or-write instead of a byte a hit lane (a loop whose exit is mispredicted); the cells' prefetch left out | intra AO bunny, 1 thread, 4 rounds: 9.2-10.3x -> 9.9-10.6x (level); without the prefetch 8.3-9.1x | no; the prefetch stays |"
   echo "| every division, square root and arctangent of the kernel taken out (products instead; answers wrong), to bound the arithmetic | intra AO bunny, 1 thread, 4 rounds: 52-65 -> 60-76 Mrays/s (the divider's \`vsqrtps\`/\`vdivps\` ymm: 5 and 3 cycles each here, ~9% of a ray's time) | timing only: on this machine the divider is not the bound it was on the Xeon |"
+  echo "| the sample's line and the frame from two independent divisions (1/len and 1/(sign + w.z)) and the map's local direction as the frame's products with the unnormalised line scaled by 1/len, so that the frame's dot products wait on the division alone and not on the line's square root (the chain from the corner's gather to the cell ~20 cycles shorter; timing only, on lanes) | intra AO bunny, 1 thread, 4 rounds: 8.3-10.6x (median 9.0x) -> 8.8-9.3x (9.1x) | no: level (the kernel is not bound by that chain) |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
