@@ -12,7 +12,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "field_kernel.hpp"
 #include "kernel_lanes.hpp"
@@ -21,6 +23,9 @@
 
 namespace vf::field {
 namespace {
+
+// The grid's cells, in median object boxes (1024 bunnies' AO: 1.5 and 3 ran below 2; busts level).
+constexpr double kCellWidth = 2.0;
 
 bool occluded_one(std::span<const std::array<Vec3f, 3>> triangles, const Ray& ray) {
   const WatertightRay r(ray);
@@ -245,6 +250,43 @@ M packet_meets_sphere(const Vec3f& centre, float radius, const Ray* rays) {
 
 }  // namespace
 
+namespace {
+
+/// cells_of_rays() for one ray.
+std::int32_t cell_of_ray(const CellGrid& g, const Ray& ray) {
+  const float o[3] = {ray.org.x, ray.org.y, ray.org.z}, d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+  // The ray's parameters through the hull (grown by a margin above the rounding of t), then the two
+  // ends of that part: both within one cell's bounds (grown by the tolerance) put the whole part there,
+  // a cell being convex. Comparisons are written so that NaN fails them.
+  float t0 = ray.tmin, t1 = ray.tmax;
+  if (!(t0 >= -3.4e38f) || !(t1 >= t0 || t1 < t0)) return kManyCells;  // NaN
+  for (int a = 0; a < 3; ++a) {
+    if (!(o[a] >= g.near_lo[a] && o[a] <= g.near_hi[a]) || !(std::fabs(d[a]) >= 1e-30f && std::fabs(d[a]) <= 3.4e38f)) return kManyCells;
+    const float inverse = 1.0f / d[a];
+    const float to_lo = (g.lo[a] - o[a]) * inverse, to_hi = (g.hi[a] - o[a]) * inverse;
+    t0 = std::max(t0, std::min(to_lo, to_hi));
+    t1 = std::min(t1, std::max(to_lo, to_hi));
+  }
+  if (t0 > t1) return kNoCell;
+  std::int32_t index = 0, shape = 0;
+  for (int a = 2; a >= 0; --a) {
+    if (g.cells[a] == 1) continue;  // the part lies within the hull's slab, so within the one cell
+    const float p0 = o[a] + t0 * d[a], p1 = o[a] + t1 * d[a];
+    const float first = std::min(p0, p1), last = std::max(p0, p1), end = static_cast<float>(g.cells[a] - 1);
+    const float k = std::min(std::max(std::floor((first - g.origin[a]) * g.inverse_edge[a]), 0.0f), end);
+    const float low = (g.origin[a] - g.tolerance) + k * g.edge[a];
+    if (!(first >= low)) return kManyCells;
+    if (!(last <= low + (g.edge[a] + 2.0f * g.tolerance))) {
+      if (!(k < end && last <= low + (2.0f * g.edge[a] + 2.0f * g.tolerance))) return kManyCells;
+      shape |= 1 << a;
+    }
+    index = index * g.cells[a] + static_cast<std::int32_t>(k);
+  }
+  return shape * static_cast<std::int32_t>(g.count()) + index;
+}
+
+}  // namespace
+
 void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded) {
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
@@ -297,6 +339,162 @@ void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<
   for (; i < rays.size(); ++i) best[i] = bvh.intersect(rays[i]);
 }
 
+CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectField* const> field_of, std::vector<std::uint32_t>& first,
+                        std::vector<std::uint32_t>& items) {
+  CellGrid g;
+  first.clear();
+  items.clear();
+  if (boxes.empty()) return g;
+  Bounds3f hull;
+  for (const Bounds3f& b : boxes) hull.extend(b);
+  double diagonal = 0.0, length[3];
+  for (int a = 0; a < 3; ++a) {
+    length[a] = static_cast<double>(hull.hi[a]) - hull.lo[a];
+    diagonal += length[a] * length[a];
+  }
+  diagonal = std::sqrt(diagonal);
+  // The margin: far above the rounding of a float ray's points within 3 scene sizes of the hull
+  // (cells_of_rays() routes none from farther), and small against the gaps between objects.
+  const double margin = 1e-4 * diagonal;
+  std::vector<double> sides;
+  for (const Bounds3f& b : boxes) sides.push_back(static_cast<double>(b.hi.x) - b.lo.x);
+  std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
+  const double target = sides[sides.size() / 2] * kCellWidth;
+  // Each axis's cells fitted to the objects: of sides from 7/8 to 5/4 of the target and shifts of the
+  // cells against the hull, the one whose boundaries cut the fewest boxes (per unit of side: so that
+  // wider cells do not win by having fewer boundaries), the side nearest the target of equals. Objects
+  // in rows (copies on a lattice) then sit whole in their cells: their rays stay in one cell more often,
+  // and each cell's list holds only its own objects.
+  for (int a = 0; a < 3; ++a) {
+    g.origin[a] = hull.lo[a];
+    g.cells[a] = 1;
+    g.edge[a] = length[a] > 0.0 ? static_cast<float>(length[a]) : 1.0f;
+    if (!(target > 0.0) || length[a] <= target) continue;
+    double best_score = std::numeric_limits<double>::infinity(), best_edge = target, best_origin = hull.lo[a];
+    for (int step = 0; step <= 24; ++step) {
+      const double e = target * (0.875 + 0.375 * step / 24.0);
+      for (int shift = 0; shift < 16; ++shift) {
+        const double o = hull.lo[a] - e * shift / 16.0;
+        std::size_t cut = 0;
+        for (const Bounds3f& b : boxes)
+          cut += std::floor((b.lo[a] - margin - o) / e) != std::floor((b.hi[a] + margin - o) / e) ? 1 : 0;
+        const double score = static_cast<double>(cut) * e;
+        if (score < best_score || (score == best_score && std::fabs(e - target) < std::fabs(best_edge - target))) {
+          best_score = score;
+          best_edge = e;
+          best_origin = o;
+        }
+      }
+    }
+    g.origin[a] = static_cast<float>(best_origin);
+    g.edge[a] = static_cast<float>(best_edge);
+    g.cells[a] = static_cast<int>(std::clamp(std::ceil((hull.hi[a] - static_cast<double>(g.origin[a])) / g.edge[a]), 1.0, 1024.0));
+  }
+  // At most a few cells an object (a sparse scene's grid would be mostly empty cells): else none.
+  if (static_cast<double>(g.count()) > 4.0 * static_cast<double>(boxes.size()) + 64.0) return CellGrid{};
+  for (int a = 0; a < 3; ++a) {
+    g.lo[a] = static_cast<float>(hull.lo[a] - margin / 8.0);
+    g.hi[a] = static_cast<float>(hull.hi[a] + margin / 8.0);
+    g.inverse_edge[a] = 1.0f / g.edge[a];
+    g.near_lo[a] = static_cast<float>(hull.lo[a] - 2.0 * diagonal);
+    g.near_hi[a] = static_cast<float>(hull.hi[a] + 2.0 * diagonal);
+  }
+  g.tolerance = static_cast<float>(0.25 * margin);
+  // The rounding of a routed ray's points (its origin plus t times its direction, within 3 scene sizes of
+  // the hull) and of the cells' bounds, a few float ulps of the largest coordinate: within an eighth
+  // of the margin, or no ray is routed (a scene far from the world's origin).
+  double largest = 0.0;
+  for (int a = 0; a < 3; ++a) largest = std::max({largest, std::fabs(static_cast<double>(g.near_lo[a])), std::fabs(static_cast<double>(g.near_hi[a]))});
+  if (8.0 * 1.2e-7 * (largest + 3.0 * diagonal) > margin / 8.0) {
+    first.clear();
+    return CellGrid{};
+  }
+  // Each box into the cells it reaches, grown by the margin (cell k of an axis spans origin + k·edge ..
+  // + edge, as the rays' test computes it).
+  const auto range = [&](const Bounds3f& b, int a, int& from, int& to) {
+    const double e = g.edge[a];
+    from = static_cast<int>(std::clamp(std::floor((b.lo[a] - margin - g.origin[a]) / e), 0.0, g.cells[a] - 1.0));
+    to = static_cast<int>(std::clamp(std::floor((b.hi[a] + margin - g.origin[a]) / e), 0.0, g.cells[a] - 1.0));
+  };
+  // List shape · count + c: the cells from cell c up, one an axis, or two along the axes whose bit
+  // is set in `shape` (one where c is the last): a box reaching cells from .. to is in the lists of the
+  // shapes that reach back one cell along their axes.
+  const std::size_t count = g.count();
+  std::vector<std::vector<std::uint32_t>> lists(kCellShapes * count);
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    int from[3], to[3];
+    for (int a = 0; a < 3; ++a) range(boxes[k], a, from[a], to[a]);
+    for (std::size_t shape = 0; shape < kCellShapes; ++shape) {
+      int back[3];
+      for (int a = 0; a < 3; ++a) back[a] = std::max(from[a] - static_cast<int>((shape >> a) & 1u), 0);
+      for (int z = back[2]; z <= to[2]; ++z)
+        for (int y = back[1]; y <= to[1]; ++y)
+          for (int x = back[0]; x <= to[0]; ++x)
+            lists[shape * count + (static_cast<std::size_t>(z) * static_cast<std::size_t>(g.cells[1]) + static_cast<std::size_t>(y)) * static_cast<std::size_t>(g.cells[0]) +
+                  static_cast<std::size_t>(x)]
+                .push_back(static_cast<std::uint32_t>(k));
+    }
+  }
+  first.push_back(0);
+  for (std::vector<std::uint32_t>& list : lists) {
+    std::stable_sort(list.begin(), list.end(), [&](std::uint32_t a, std::uint32_t b) { return field_of[a] < field_of[b]; });
+    items.insert(items.end(), list.begin(), list.end());
+    first.push_back(static_cast<std::uint32_t>(items.size()));
+  }
+  return g;
+}
+
+std::size_t cells_of_rays(const CellGrid& grid, std::span<const Ray> rays, const std::uint8_t* skip, std::int32_t* cell,
+                          std::uint32_t* in_cells) {
+  const CellGrid g = grid;  // a copy: the stores to `cell` could alias its integers
+  std::size_t i = 0, placed = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  // cell_of_ray() on lanes, the same operations: its early answers as masks, decided together at the end.
+  for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
+    F c[8];
+    L::transpose_rows(reinterpret_cast<const float*>(rays.data() + i), c);
+    F t0 = c[6], t1 = c[7];
+    M many = ~(t0 >= L::splat(-3.4e38f)) | ~((t1 >= t0) | (t1 < t0));
+    for (int a = 0; a < 3; ++a) {
+      const F o = c[a], d = c[3 + a];
+      many = many | ~((o >= L::splat(g.near_lo[a])) & (o <= L::splat(g.near_hi[a]))) | ~((abs(d) >= L::splat(1e-30f)) & (abs(d) <= L::splat(3.4e38f)));
+      const F inverse = L::splat(1.0f) / d;
+      const F to_lo = (L::splat(g.lo[a]) - o) * inverse, to_hi = (L::splat(g.hi[a]) - o) * inverse;
+      t0 = max(min(to_lo, to_hi), t0);
+      t1 = min(max(to_lo, to_hi), t1);
+    }
+    const M none = t0 > t1;
+    M outside = L::none();  // the part not within one or two cells an axis (cell_of_ray()'s later kManyCells)
+    L::I index = L::splat(0), shape = L::splat(0);
+    for (int a = 2; a >= 0; --a) {
+      if (g.cells[a] == 1) continue;
+      const F o = c[a], d = c[3 + a];
+      const F p0 = o + t0 * d, p1 = o + t1 * d;
+      const F first = min(p0, p1), last = max(p0, p1), end = L::splat(static_cast<float>(g.cells[a] - 1));
+      const F k = min(max(floor((first - L::splat(g.origin[a])) * L::splat(g.inverse_edge[a])), L::splat(0.0f)), end);
+      const F low = L::splat(g.origin[a] - g.tolerance) + k * L::splat(g.edge[a]);
+      const M in_one = last <= low + L::splat(g.edge[a] + 2.0f * g.tolerance);
+      const M in_two = (k < end) & (last <= low + L::splat(2.0f * g.edge[a] + 2.0f * g.tolerance));
+      outside = outside | ~(first >= low) | ~(in_one | in_two);
+      shape = select(in_one, shape, shape | L::splat(1 << a));
+      index = index * L::splat(g.cells[a]) + to_int(k);
+    }
+    index = index + shape * L::splat(static_cast<int>(g.count()));
+    if (skip) many = many | ~open_lanes(skip + i);
+    index = select(outside, L::splat(kManyCells), index);
+    index = select(none, L::splat(kNoCell), index);
+    index = select(many, L::splat(kManyCells), index);
+    L::store(cell + i, index);
+    placed += static_cast<std::size_t>(L::compress(in_cells + placed, L::lane_index() + L::splat(static_cast<int>(i)), ~many & ~none & ~outside));
+  }
+#endif
+  for (; i < rays.size(); ++i) {
+    cell[i] = skip && skip[i] ? kManyCells : cell_of_ray(g, rays[i]);
+    if (cell[i] >= 0) in_cells[placed++] = static_cast<std::uint32_t>(i);
+  }
+  return placed;
+}
+
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out) {
   std::size_t i = 0, n = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
@@ -333,9 +531,12 @@ namespace {
 
 /// Room in each target's rows for `count` more rays from every target sharing them.
 void make_room(std::span<const SphereTarget> targets, std::size_t count) {
-  for (const SphereTarget& t : targets) {
+  // Targets all sharing their rows (a leaf's or a cell's objects of one field) are made room for once.
+  const bool one_rows = std::all_of(targets.begin(), targets.end(), [&](const SphereTarget& u) { return u.out == targets.front().out; });
+  for (const SphereTarget& t : one_rows ? targets.first(std::min<std::size_t>(targets.size(), 1)) : targets) {
     RayRows& out = *t.out;
-    const auto sharing = static_cast<std::size_t>(std::count_if(targets.begin(), targets.end(), [&](const SphereTarget& u) { return u.out == t.out; }));
+    const auto sharing = one_rows ? targets.size()
+                                  : static_cast<std::size_t>(std::count_if(targets.begin(), targets.end(), [&](const SphereTarget& u) { return u.out == t.out; }));
     const std::size_t need = out.count + sharing * count + kRowsSlack;
     for (std::vector<float>& row : out.row)
       if (row.size() < need) row.resize(std::max(need, 2 * row.size()));
@@ -379,6 +580,20 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<con
 #endif
   for (; i < rays.size(); ++i)
     if (!skip || !skip[i]) append_one(targets, rays[i], ids[i]);
+}
+
+void append_meeting_spheres(std::span<const SphereTarget> targets, const Ray* rays, const std::uint32_t* ids, std::size_t count) {
+  make_room(targets, count);
+  std::size_t i = 0;
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+  static_assert(kColumnsSlack >= L::kWidth - 1, "a last partial packet reads whole registers");
+  for (; i < count; i += L::kWidth) {
+    F c[8];
+    L::transpose_rows_at(reinterpret_cast<const float*>(rays), ids + i, c);
+    append_packet(targets, c, open_by_ids(nullptr, ids + i, static_cast<int>(std::min<std::size_t>(L::kWidth, count - i))), ids + i);
+  }
+#endif
+  for (; i < count; ++i) append_one(targets, rays[ids[i]], ids[i]);
 }
 
 void append_meeting_spheres(std::span<const SphereTarget> targets, const float* const columns[8], std::size_t count, const std::uint32_t* ids,

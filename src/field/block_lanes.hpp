@@ -18,6 +18,7 @@
 #include "visfield/core/ray.hpp"
 #include "visfield/core/transform.hpp"
 #include "visfield/core/triangle_set.hpp"
+#include "visfield/field/field_scene.hpp"
 #include "visfield/field/object_field.hpp"
 
 namespace vf::field {
@@ -46,6 +47,35 @@ inline constexpr std::size_t kFewObjects = 16;
 /// The indices i of rays[i] (ascending) that may meet the sphere (centre, radius) by
 /// may_meet_sphere(), bit for bit, into out[0 ..) (room for rays.size()); returns how many. O(rays).
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out);
+
+/// A grid over `boxes` (object k's box is boxes[k]) for cells_of_rays(): along each axis longer than
+/// its cells, cells about twice the median box wide, their side and offset fitted so that their
+/// boundaries cut the fewest boxes (objects in rows then sit whole in cells). List s · count + c of
+/// `first` and `items` (items[first[l] .. first[l + 1])) holds, in index order with those of one field
+/// (field_of[k]) side by side, the boxes that reach, grown by the grid's margin (1e-4 of the hull's
+/// diagonal), the cells from cell c up, one an axis or two along the axes whose bit is set in shape s.
+/// No grid (cells 0) when its cells would outnumber 4 an object plus 64, or when the scene lies so far
+/// from the world's origin that float rounding could outgrow the margin. O(boxes · cells' shapes).
+CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectField* const> field_of, std::vector<std::uint32_t>& first,
+                        std::vector<std::uint32_t>& items);
+
+/// The shapes of cells_of_rays()' answers: bit a set, two cells along axis a, else one.
+inline constexpr std::size_t kCellShapes = 8;
+
+/// cells_of_rays()'s answers besides a cell's index.
+inline constexpr std::int32_t kNoCell = -1;  ///< The ray's segment misses the grid's hull: it meets no object's box.
+inline constexpr std::int32_t kManyCells = -2;  ///< Its part in the hull is not within one cell (or it cannot be told).
+
+/// For each ray not skipped (skip[i] != 0, where `skip` is given, gives kManyCells): the cell of `grid`
+/// that holds its segment's part within the grid's hull, kNoCell when it has no such part, or
+/// kManyCells, into cell[i]; the indices of the rays given a cell, ascending, into in_cells (room for
+/// every ray, and whole registers past them); returns how many. Conservative: a ray is given a cell or
+/// kNoCell only when that holds for its exact segment (its points never lie farther than the grid's
+/// tolerance, plus rounding, past the cell); rays with a direction component 0 or below 1e-30, not
+/// finite, or from farther than the grid's near box get kManyCells. Packets of lanes, the rest one by
+/// one, the same answers. O(rays).
+std::size_t cells_of_rays(const CellGrid& grid, std::span<const Ray> rays, const std::uint8_t* skip, std::int32_t* cell,
+                          std::uint32_t* in_cells);
 
 /// Object-space rays as rows (origin x, y, z, direction x, y, z, tmin, tmax), what the field kernel
 /// loads a packet at a time without gathering or transposing, each with its caller's id.
@@ -86,6 +116,9 @@ struct SphereTarget {
 /// for one target follow another's. O(rays · targets).
 void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
                             const std::uint8_t* skip = nullptr);
+/// append_meeting_spheres() for the rays rays[ids[k]], k < count, each with the id ids[k] (ids readable,
+/// as valid indices, up to kColumnsSlack places past count). The same rows, bit for bit. O(count · targets).
+void append_meeting_spheres(std::span<const SphereTarget> targets, const Ray* rays, const std::uint32_t* ids, std::size_t count);
 /// append_meeting_spheres() for rays given as columns (origin x, y, z, direction x, y, z, tmin, tmax;
 /// `count` values each, readable up to kColumnsSlack places past count, as BoxTree::LeafRays holds them): ray k
 /// has the id ids[k] and is left out where `settled` is given and settled[ids[k]] != 0. The same rows,

@@ -243,9 +243,10 @@ constexpr auto kFieldParams = [] {
   params[i++] = {"meshes", ParamType::choice, "all",
                  "which meshes get fields: all (but those a scene marks exact) or marked (only those it marks \"occluder\": \"field\")", 0, 0,
                  "all|marked"};
-  params[i++] = {"cull", ParamType::choice, "tree",
-                 "how rays find the field objects they may meet: tree (a BVH over their spheres, past 16 objects) or each (every sphere tested; same answers)", 0, 0,
-                 "tree|each"};
+  params[i++] = {"cull", ParamType::choice, "grid",
+                 "how rays find the field objects they may meet, past 16 objects: grid (a batch's rays within one or two cells of a grid take "
+                 "their objects, the rest go down a BVH over the spheres), tree (the BVH for every ray) or each (every sphere tested); same answers",
+                 0, 0, "grid|tree|each"};
   return params;
 }();
 
@@ -269,7 +270,9 @@ BuiltStructure build_field(const ParamValues& p, SceneGeometry& geometry, const 
   ProgressBar bar("field", field::FieldScene::progress_total(geometry.scene(), config, field_meshes(p)), context.progress);
   field::FieldScene fields = field::FieldScene::build(geometry.scene(), config, [&](std::size_t n) { bar.tick(n); },
                                                      p.has("cache") ? p.text("cache") : std::string(), field_meshes(p),
-                                                     p.text("cull") == "each" ? field::ObjectCull::each : field::ObjectCull::tree);
+                                                     p.text("cull") == "each"   ? field::ObjectCull::each
+                                                     : p.text("cull") == "tree" ? field::ObjectCull::tree
+                                                                                : field::ObjectCull::grid);
   bar.finish();
   return {std::move(fields), with_params("field", p.canonical()), object_degenerate_count(geometry.scene())};
 }

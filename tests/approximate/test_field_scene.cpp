@@ -226,18 +226,21 @@ Scene boxes_of_two_meshes() {
 
 class FieldSceneTree : public ::testing::TestWithParam<int> {};
 
-// The tree over the objects' spheres gives each ray the objects that testing every sphere gives it,
-// so the answers are the same bit for bit, single rays and batches, closest hits and occlusion: on
-// 400 boxes, some rotated and scaled, with rays from surfaces, random rays through the scene and rays
-// from far outside it; with one field (1) and with two among the tree's leaves (2).
+// The tree over the objects' spheres, and the grid that routes a batch's rays to lists of objects
+// before it, give each ray the objects that testing every sphere gives it, so the answers are the
+// same bit for bit, single rays and batches, closest hits and occlusion: on 400 boxes, some rotated
+// and scaled, with rays from surfaces, random rays through the scene and rays from far outside it;
+// with one field (1) and with two among the tree's leaves and the grid's lists (2).
 
 TEST_P(FieldSceneTree, AnswersAsTestingEverySphere) {
   const Scene scene = GetParam() == 1 ? turned_boxes(400) : boxes_of_two_meshes();
   const TriangleSet set = flatten(scene);
   const field::ObjectFieldConfig config{.positions = 290, .directions = 16};
+  const FieldScene grid = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::grid);
   const FieldScene tree = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::tree);
   const FieldScene each = FieldScene::build(scene, config, {}, "", field::FieldMeshes::all, field::ObjectCull::each);
   ASSERT_GT(tree.stats().leaf_count, 300u);
+  EXPECT_GT(grid.stats().memory_bytes, tree.stats().memory_bytes);  // the grid's lists
   ASSERT_EQ(tree.stats().node_count, static_cast<std::size_t>(GetParam()));  // fields
   EXPECT_GT(tree.stats().memory_bytes, each.stats().memory_bytes);  // the tree's nodes
   std::vector<Ray> rays = surface_origin_rays(set, 11, 20000);
@@ -253,10 +256,15 @@ TEST_P(FieldSceneTree, AnswersAsTestingEverySphere) {
     const Vec3f to = centre + Vec3f{rng.uniform() - 0.5f, rng.uniform() * 0.1f, rng.uniform() - 0.5f} * size;
     rays.push_back(Ray{from, to - from, 0.0f, 2.0f});
   }
-  std::vector<std::uint8_t> occluded_tree(rays.size()), occluded_each(rays.size());
-  std::vector<Hit> hits_tree(rays.size()), hits_each(rays.size());
+  // The grid takes a share of the rays (or it would be compared with nothing); the tree alone none.
+  EXPECT_GT(grid.routed_by_grid(rays), rays.size() / 10);
+  EXPECT_EQ(tree.routed_by_grid(rays), 0u);
+  std::vector<std::uint8_t> occluded_grid(rays.size()), occluded_tree(rays.size()), occluded_each(rays.size());
+  std::vector<Hit> hits_grid(rays.size()), hits_tree(rays.size()), hits_each(rays.size());
+  field::occluded_batch(grid, rays, occluded_grid);
   field::occluded_batch(tree, rays, occluded_tree);
   field::occluded_batch(each, rays, occluded_each);
+  field::intersect_batch(grid, rays, hits_grid);
   field::intersect_batch(tree, rays, hits_tree);
   field::intersect_batch(each, rays, hits_each);
   const auto same = [](const Hit& a, const Hit& b) {
@@ -267,16 +275,17 @@ TEST_P(FieldSceneTree, AnswersAsTestingEverySphere) {
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const bool one = each.occluded(rays[i]);
     occluded += one ? 1 : 0;
-    differ += tree.occluded(rays[i]) != one || occluded_tree[i] != occluded_each[i] ? 1 : 0;
+    differ += tree.occluded(rays[i]) != one || occluded_tree[i] != occluded_each[i] || occluded_grid[i] != occluded_each[i] ? 1 : 0;
     const Hit h = each.intersect(rays[i]);
     field_hits += h.found && !h.has_triangle() ? 1 : 0;
-    differ += !same(tree.intersect(rays[i]), h) || !same(hits_tree[i], hits_each[i]) ? 1 : 0;
+    differ += !same(tree.intersect(rays[i]), h) || !same(hits_tree[i], hits_each[i]) || !same(hits_grid[i], hits_each[i]) ? 1 : 0;
     batch_differs += (occluded_each[i] != 0) != one || !same(hits_each[i], h) ? 1 : 0;
   }
   EXPECT_EQ(batch_differs, 0u);
   EXPECT_GT(occluded, rays.size() / 10);
   EXPECT_GT(field_hits, rays.size() / 20);
   EXPECT_EQ(differ, 0u);
+  std::printf("routed by the grid: %zu of %zu rays\n", grid.routed_by_grid(rays), rays.size());
 }
 
 INSTANTIATE_TEST_SUITE_P(Fields, FieldSceneTree, ::testing::Values(1, 2));

@@ -28,16 +28,38 @@ namespace vf::field {
 struct RayRows;       // src/field/block_lanes.hpp: a block's pending rays, mapped into object space
 struct SphereTarget;  // src/field/block_lanes.hpp: a sphere those rays are culled against
 
+/// A uniform grid of cells over a scene's field objects, as FieldScene routes a batch's rays through it
+/// (ObjectCull::grid): a ray whose part within the objects' boxes lies in one cell (or two neighbouring
+/// cells an axis) can meet only the boxes that reach those cells, and takes their list of objects
+/// instead of walking the tree. Plain data.
+struct CellGrid {
+  float lo[3] = {0.0f, 0.0f, 0.0f}, hi[3] = {0.0f, 0.0f, 0.0f};  ///< The boxes' hull, grown by the margin.
+  float origin[3] = {0.0f, 0.0f, 0.0f};       ///< Cell (0, 0, 0)'s low corner.
+  float edge[3] = {1.0f, 1.0f, 1.0f};         ///< The cells' sides.
+  float inverse_edge[3] = {1.0f, 1.0f, 1.0f};  ///< 1 / edge.
+  int cells[3] = {0, 0, 0};                   ///< Cells along each axis (none: no grid).
+  /// How far past its cell a computed point of a ray may lie, the ray still in the cell: a quarter of the
+  /// margin by which each cell's list reaches past the cell (the rest covers the rounding).
+  float tolerance = 0.0f;
+  /// Rays from origins outside this box are never routed: farther away, rounding could outgrow the margin.
+  float near_lo[3] = {0.0f, 0.0f, 0.0f}, near_hi[3] = {0.0f, 0.0f, 0.0f};
+  /// Cells in all.
+  std::size_t count() const { return static_cast<std::size_t>(cells[0]) * static_cast<std::size_t>(cells[1]) * static_cast<std::size_t>(cells[2]); }
+};
+
 /// Which meshes of a scene a FieldScene represents by fields (the others stay exact triangles).
 enum class FieldMeshes : unsigned char {
   all,     ///< Every mesh an object uses, except those marked MeshOccluder::exact (`--occluders field`).
   marked,  ///< Only the meshes marked MeshOccluder::field (a scene JSON's "occluder": "field").
 };
 
-/// How a scene of several field objects finds the objects a ray may meet.
+/// How a scene of several field objects finds the objects a ray may meet (past kFewObjects; the same
+/// answers, bit for bit, whichever).
 enum class ObjectCull : unsigned char {
-  tree,  ///< A BVH over the objects' spheres (BoxTree): O(log objects) per ray.
-  each,  ///< Every object's sphere tested in turn: O(objects) per ray (the same answers; to measure the tree).
+  grid,  ///< A batch's rays whose part within the objects' boxes lies in one cell of a CellGrid (or two
+         ///< neighbouring cells an axis) take that cell's objects; the others go down the tree. O(1) per ray so routed.
+  tree,  ///< A BVH over the objects' spheres (BoxTree) for every ray: O(log objects) per ray (to measure the grid).
+  each,  ///< Every object's sphere tested in turn: O(objects) per ray (to measure the tree).
 };
 
 /// Fields of a scene's meshes, shared by their objects, under a BVH over the objects' world-space
@@ -56,7 +78,7 @@ class FieldScene {
   /// `cull` chooses how rays find their objects; answers are the same bit for bit either way.
   static FieldScene build(const Scene& scene, const ObjectFieldConfig& config,
                           const std::function<void(std::size_t)>& progress = {}, const std::string& cache_folder = "",
-                          FieldMeshes meshes = FieldMeshes::all, ObjectCull cull = ObjectCull::tree);
+                          FieldMeshes meshes = FieldMeshes::all, ObjectCull cull = ObjectCull::grid);
   /// Peak bytes build() takes: every field's tables, the largest field mesh's BVH build, and the
   /// exact objects' triangles and BVH.
   static double estimate_build_bytes(const Scene& scene, const ObjectFieldConfig& config, FieldMeshes meshes = FieldMeshes::all);
@@ -88,9 +110,12 @@ class FieldScene {
   static std::string name() { return "field"; }
   static constexpr Exactness exactness = Exactness::approximate;
 
-  /// Whether the objects are found through the tree over their spheres (cull tree, and more than a
-  /// few objects) rather than by testing every sphere.
+  /// Whether the objects are found through the tree over their spheres (cull grid or tree, and more
+  /// than a few objects) rather than by testing every sphere.
   bool uses_tree() const;
+  /// How many of `rays` a batch would route through the grid (to a list of objects or to none), not
+  /// down the tree: 0 without a grid (ObjectCull other than grid, or few objects). O(rays).
+  std::size_t routed_by_grid(std::span<const Ray> rays) const;
   /// The boxes a tree over the objects is built over, one per object in order: each sphere grown by
   /// 1% of its radius and 1e-5 of the scene's size, so that no rounding leaves out an object may_meet
   /// lets in. O(objects).
@@ -108,12 +133,14 @@ class FieldScene {
   /// trace_block()'s field part for closest hits when the objects are found through the tree:
   /// best[i] replaced where an object's field answer replaces_closest() it.
   void closest_by_tree(std::span<const Ray> rays, Hit* best) const;
-  /// The block's (ray, object) pairs through the tree: each leaf taken where the walk reaches it, the
-  /// rays its objects' spheres let in (rays[i] with settled[i] set left out, where `settled` is given)
+  /// The block's (ray, object) pairs through the grid (ObjectCull::grid: the rays it routes, a list of
+  /// cells at a time) and the tree (the others): each leaf taken where the walk reaches it, the
+  /// rays its objects' spheres let in (rays[i] with settled[i] set left out, where `settled` is given;
+  /// it marks the grid's rays during the call, and holds only the flushes' marks added on return)
   /// mapped into each object's space onto `rows` (tags: the objects' indices), and flush(field) called
   /// to trace and empty the rows, one field's pairs at a time, every kFlushPairs pairs and at the end.
   template <class Flush>
-  void pairs_by_tree(std::span<const Ray> rays, const std::uint8_t* settled, RayRows& rows, std::vector<SphereTarget>& targets,
+  void pairs_by_tree(std::span<const Ray> rays, std::uint8_t* settled, RayRows& rows, std::vector<SphereTarget>& targets,
                      Flush&& flush) const;
   /// trace_block()'s field part for occlusion when the objects are found through the tree:
   /// occluded[i] set where some object's field occludes rays[i] (rays already occluded left out).
@@ -136,9 +163,12 @@ class FieldScene {
   /// The world-space hit of field answer `a` of object `o` (its normal rotated to world space).
   static Hit field_hit(const Object& o, const FieldAnswer& a);
 
+  CellGrid grid_;  // over object_boxes(), with ObjectCull::grid when uses_tree() (src/field/block_lanes.hpp: cell_grid_over())
+  std::vector<std::uint32_t> cell_first_;    // list l of the grid's cells (cell_grid_over()): cell_objects_[cell_first_[l] .. cell_first_[l + 1])
+  std::vector<std::uint32_t> cell_objects_;
   std::vector<std::shared_ptr<const ObjectField>> fields_;  // by mesh index; null when unused
   std::vector<Object> objects_;
-  ObjectCull cull_ = ObjectCull::tree;
+  ObjectCull cull_ = ObjectCull::grid;
   BoxTree tree_;  // over the objects' widened spheres, when uses_tree()
   std::optional<Bvh> exact_;  // the objects of meshes marked exact, when there are any
   // The same triangles when they are few (kSmallExactTriangles): batches test them all, a packet of

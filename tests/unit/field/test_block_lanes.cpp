@@ -2,7 +2,8 @@
 // are, bit for bit, what may_meet_sphere() and InverseTransform::apply() give ray by ray, in order,
 // settled rays left out; on counts that leave a partial packet for the scalar tail; into rows of
 // their own or shared; from rays as Rays or as columns. And a few exact triangles' closest hits on
-// lanes: the brute-force oracle's, bit for bit.
+// lanes: the brute-force oracle's, bit for bit. And the grid that routes a block's rays to lists of
+// objects: never a box left out.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -168,6 +169,155 @@ TEST(BlockLanes, RaysAsColumnsGetTheRowsOfRaysAsRays) {
     }
     EXPECT_GT(met, n / 4);  // the spheres do meet a share of the rays
   }
+}
+
+TEST(BlockLanes, RaysByIndexGetTheRowsOfRaysAsRays) {
+  const ThreeObjects objects;
+  const std::vector<Ray> rays = rays_around(3000, 43);
+  for (const std::size_t n : {std::size_t{1234}, std::size_t{16}, std::size_t{5}}) {
+    // Every other ray from the end back: ids in no order, the gathered rays as a block of their own.
+    std::vector<std::uint32_t> ids(n + kColumnsSlack, 0), own(n);
+    std::vector<Ray> gathered(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      ids[k] = static_cast<std::uint32_t>(rays.size() - 1 - 2 * k);
+      own[k] = ids[k];
+      gathered[k] = rays[ids[k]];
+    }
+    RayRows by_index[3], as_rays[3];
+    std::vector<SphereTarget> from_index, from_rays;
+    for (int k = 0; k < 3; ++k) {
+      from_index.push_back({objects.centres[k], objects.radii[k], &objects.maps[k], &by_index[k]});
+      from_rays.push_back({objects.centres[k], objects.radii[k], &objects.maps[k], &as_rays[k]});
+    }
+    append_meeting_spheres(from_index, rays.data(), ids.data(), n);
+    append_meeting_spheres(from_rays, gathered, own.data());
+    std::size_t met = 0;
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(by_index[k].count, as_rays[k].count) << "object " << k << ", " << n << " rays";
+      for (std::size_t r = 0; r < as_rays[k].count; ++r)
+        EXPECT_EQ(row_bits(by_index[k], r), row_bits(as_rays[k], r)) << "object " << k << " row " << r << ", " << n << " rays";
+      met += as_rays[k].count;
+    }
+    EXPECT_GT(met, n / 4);
+  }
+}
+
+/// Whether the segment of `ray` meets `box` (closed), in double: the exact answer to rounding far
+/// below a grid's margin.
+bool segment_meets(const Ray& ray, const Bounds3f& box) {
+  double t0 = ray.tmin, t1 = ray.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.org[a], d = ray.dir[a];
+    if (d == 0.0) {
+      if (o < box.lo[a] || o > box.hi[a]) return false;
+      continue;
+    }
+    const double near = (box.lo[a] - o) / d, far = (box.hi[a] - o) / d;
+    t0 = std::max(t0, std::min(near, far));
+    t1 = std::min(t1, std::max(near, far));
+  }
+  return t0 <= t1;
+}
+
+/// 30 x 30 boxes on a jittered lattice in the xz plane, of two fields in turn, each about as wide as
+/// its spacing (some touching, some apart), and a few scattered just above them.
+std::vector<Bounds3f> boxes_in_rows(Rng& rng) {
+  std::vector<Bounds3f> boxes;
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 30; ++j) {
+      const Vec3f centre{0.25f * static_cast<float>(i) + 0.01f * rng.uniform(), 0.1f, 0.25f * static_cast<float>(j)};
+      const float r = 0.1f + 0.03f * rng.uniform();
+      boxes.push_back({centre - Vec3f(r), centre + Vec3f(r)});
+    }
+  for (int k = 0; k < 20; ++k) {
+    const Vec3f centre{7.5f * rng.uniform(), 0.25f + 0.2f * rng.uniform(), 7.5f * rng.uniform()};
+    boxes.push_back({centre - Vec3f(0.05f), centre + Vec3f(0.05f)});
+  }
+  return boxes;
+}
+
+// The grid routes a ray to a list of cells only when every box its segment meets is on that list, and
+// says "no box" only when it meets none: on rays leaving the boxes' surfaces (AO rays, unlimited), long
+// rays across the rows, rays from afar, along an axis, with tiny or NaN components; lanes and one ray at
+// a time give the same cells. Most surface rays are routed (or the test could not fail).
+TEST(BlockLanes, CellsOfRaysNeverLeaveOutABoxTheRayMeets) {
+  Rng rng(51);
+  const std::vector<Bounds3f> boxes = boxes_in_rows(rng);
+  const ObjectField* fields[2] = {nullptr, reinterpret_cast<const ObjectField*>(&fields)};  // two tags, never read
+  std::vector<const ObjectField*> field_of;
+  for (std::size_t k = 0; k < boxes.size(); ++k) field_of.push_back(fields[k % 2]);
+  std::vector<std::uint32_t> first, items;
+  const CellGrid grid = cell_grid_over(boxes, field_of, first, items);
+  ASSERT_GT(grid.count(), 100u);
+  ASSERT_EQ(first.size(), kCellShapes * grid.count() + 1);
+  for (std::size_t list = 0; list + 1 < first.size(); ++list)
+    for (std::uint32_t k = first[list]; k + 1 < first[list + 1]; ++k) {
+      const std::uint32_t a = items[k], b = items[k + 1];
+      ASSERT_TRUE(field_of[a] < field_of[b] || (field_of[a] == field_of[b] && a < b)) << "list " << list;
+    }
+  std::vector<Ray> rays;
+  std::size_t surface = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Bounds3f& box = boxes[rng.next_u32() % boxes.size()];
+    const Vec3f on{box.lo.x + (box.hi.x - box.lo.x) * rng.uniform(), box.hi.y, box.lo.z + (box.hi.z - box.lo.z) * rng.uniform()};
+    const Vec3f dir{rng.uniform() - 0.5f, 0.3f + rng.uniform(), rng.uniform() - 0.5f};
+    rays.push_back(Ray{on, dir, 1e-4f, k % 3 == 0 ? 0.3f : INFINITY});
+  }
+  surface = rays.size();
+  for (int k = 0; k < 3000; ++k) {
+    const Vec3f from{10.0f * rng.uniform() - 1.0f, 2.0f * rng.uniform() - 0.5f, 10.0f * rng.uniform() - 1.0f};
+    const Vec3f to{8.0f * rng.uniform(), 0.2f * rng.uniform(), 8.0f * rng.uniform()};
+    rays.push_back(Ray{from, to - from, 0.0f, rng.uniform() < 0.5f ? 1.0f : 1e30f});
+    rays.push_back(Ray{from * 100.0f, to - from * 100.0f, 0.0f, 1.0f});  // from afar: left to the walk
+    Vec3f along{0.0f, 0.0f, 0.0f};
+    along[static_cast<int>(rng.next_u32() % 3)] = rng.uniform() < 0.5f ? -1.0f : 1.0f;
+    rays.push_back(Ray{to, along, 0.0f, 0.6f * rng.uniform()});
+    rays.push_back(Ray{to, Vec3f{1e-31f, 1.0f, rng.uniform() - 0.5f}, 0.0f, 1.0f});
+    rays.push_back(Ray{to + Vec3f{0.0f, 3.0f, 0.0f}, Vec3f{rng.uniform() - 0.5f, 1.0f, rng.uniform() - 0.5f}, 0.0f, INFINITY});  // away: no box
+  }
+  rays.push_back(Ray{{NAN, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, 0.0f, 1.0f});
+  rays.push_back(Ray{{1.0f, 0.1f, 1.0f}, {1.0f, 0.0f, NAN}, 0.0f, 1.0f});
+  rays.push_back(Ray{{1.0f, 0.1f, 1.0f}, {1.0f, 0.2f, 0.3f}, NAN, 1.0f});
+  rays.push_back(Ray{{1.0f, 0.1f, 1.0f}, {1.0f, 0.2f, 0.3f}, 0.0f, NAN});
+  std::vector<std::uint8_t> skip(rays.size(), 0);
+  for (std::size_t i = 0; i < rays.size(); i += 11) skip[i] = 1;
+  std::vector<std::int32_t> cell(rays.size());
+  std::vector<std::uint32_t> in_cells(rays.size() + kColumnsSlack);
+  const std::size_t placed = cells_of_rays(grid, rays, skip.data(), cell.data(), in_cells.data());
+  std::size_t routed_surface = 0, given = 0, none = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    std::int32_t one;
+    std::uint32_t unused[kColumnsSlack];
+    cells_of_rays(grid, std::span<const Ray>(&rays[i], 1), &skip[i], &one, unused);
+    ASSERT_EQ(one, cell[i]) << "ray " << i << ": lanes and one ray at a time";
+    if (skip[i]) {
+      ASSERT_EQ(cell[i], kManyCells) << "ray " << i;
+      continue;
+    }
+    if (cell[i] == kManyCells) continue;
+    routed_surface += i < surface ? 1 : 0;
+    if (cell[i] == kNoCell) {
+      ++none;
+      for (std::size_t k = 0; k < boxes.size(); ++k) ASSERT_FALSE(segment_meets(rays[i], boxes[k])) << "ray " << i << " box " << k;
+      continue;
+    }
+    ASSERT_LT(given, placed);
+    ASSERT_EQ(in_cells[given++], i);
+    const auto list = static_cast<std::size_t>(cell[i]);
+    ASSERT_LT(list + 1, first.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+      if (!segment_meets(rays[i], boxes[k])) continue;
+      ASSERT_TRUE(std::find(items.begin() + first[list], items.begin() + first[list + 1], k) != items.begin() + first[list + 1])
+          << "ray " << i << " meets box " << k << ", not on its list " << list;
+    }
+  }
+  EXPECT_EQ(given, placed);
+  EXPECT_GT(routed_surface, surface / 2) << "of " << surface << " surface rays";
+  EXPECT_GT(none, 100u);
+  // A scene far from the world's origin, where float rounding would outgrow the margin: no grid.
+  std::vector<Bounds3f> far = boxes;
+  for (Bounds3f& b : far) b = {b.lo + Vec3f(1e6f), b.hi + Vec3f(1e6f)};
+  EXPECT_EQ(cell_grid_over(far, field_of, first, items).count(), 0u);
 }
 
 TEST(BlockLanes, ClosestHitsOfAFewTrianglesAreTheOraclesBitForBit) {
