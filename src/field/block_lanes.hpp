@@ -54,8 +54,10 @@ std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<con
 /// `first` and `items` (items[first[l] .. first[l + 1])) holds, in index order with those of one field
 /// (field_of[k]) side by side, the boxes that reach, grown by the grid's margin (1e-4 of the hull's
 /// diagonal), the cells from cell c up, one an axis or two along the axes whose bit is set in shape s.
-/// No grid (cells 0) when its cells would outnumber 4 an object plus 64, or when the scene lies so far
-/// from the world's origin that float rounding could outgrow the margin. O(boxes · cells' shapes).
+/// Shapes whose lists hold more than 16 objects on average are left out (CellGrid::shapes: their rays
+/// go down the tree). No grid (cells 0) when the cells' own lists are that long, when its cells would
+/// outnumber 4 an object plus 64, or when the scene lies so far from the world's origin that float
+/// rounding could outgrow the margin. O(boxes · cells' shapes).
 CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectField* const> field_of, std::vector<std::uint32_t>& first,
                         std::vector<std::uint32_t>& items);
 
@@ -66,9 +68,9 @@ inline constexpr std::size_t kCellShapes = 8;
 inline constexpr std::int32_t kNoCell = -1;  ///< The ray's segment misses the grid's hull: it meets no object's box.
 inline constexpr std::int32_t kManyCells = -2;  ///< Its part in the hull is not within one cell (or it cannot be told).
 
-/// For each ray not skipped (skip[i] != 0, where `skip` is given, gives kManyCells): the cell of `grid`
-/// that holds its segment's part within the grid's hull, kNoCell when it has no such part, or
-/// kManyCells, into cell[i]; the indices of the rays given a cell, ascending, into in_cells (room for
+/// For each ray not skipped (skip[i] != 0, where `skip` is given, gives kManyCells): the list of `grid`
+/// (shape · count + first cell, a shape the grid uses) whose cells hold its segment's part within the
+/// grid's hull, kNoCell when it has no such part, or kManyCells, into cell[i]; the indices of the rays given a cell, ascending, into in_cells (room for
 /// every ray, and whole registers past them); returns how many. Conservative: a ray is given a cell or
 /// kNoCell only when that holds for its exact segment (its points never lie farther than the grid's
 /// tolerance, plus rounding, past the cell); rays with a direction component 0 or below 1e-30, not

@@ -38,6 +38,7 @@ struct CellGrid {
   float edge[3] = {1.0f, 1.0f, 1.0f};         ///< The cells' sides.
   float inverse_edge[3] = {1.0f, 1.0f, 1.0f};  ///< 1 / edge.
   int cells[3] = {0, 0, 0};                   ///< Cells along each axis (none: no grid).
+  unsigned shapes = 0;  ///< Bit s: the lists of shape s (bit a of s: two cells along axis a) are used.
   /// How far past its cell a computed point of a ray may lie, the ray still in the cell: a quarter of the
   /// margin by which each cell's list reaches past the cell (the rest covers the rounding).
   float tolerance = 0.0f;
