@@ -24,7 +24,7 @@ copies_tables() {
     /usr/bin/python3 scripts/copies-scene.py "$1" "$count" "$2" "$work/$4$count.json" --ground "$3"
     echo '```'
     # From the scene's folder, so that the fields' cache has a short name in the table.
-    (cd "$work" && "$root/$bin/visfield-bench" --scene "$4$count.json" --rays ao --accel field:cache=cache,field:cull=each,cache=cache,embree:levels=2 \
+    (cd "$work" && "$root/$bin/visfield-bench" --scene "$4$count.json" --rays ao --accel field:cache=cache,field:cull=tree,cache=cache,field:cull=each,cache=cache,embree:levels=2 \
       --count 1000000 --threads "$threads" --reps 5)
     echo '```'
     echo
@@ -250,14 +250,21 @@ with the BVH's interleaved walks)."
   echo "| the hits' marks of a packet of consecutive rays set by one 8-byte read-or-write instead of a byte a hit lane (a loop whose exit is mispredicted); the cells' prefetch left out | intra AO bunny, 1 thread, 4 rounds: 9.2-10.3x -> 9.9-10.6x (level); without the prefetch 8.3-9.1x | no; the prefetch stays |"
   echo "| every division, square root and arctangent of the kernel taken out (products instead; answers wrong), to bound the arithmetic | intra AO bunny, 1 thread, 4 rounds: 52-65 -> 60-76 Mrays/s (the divider's \`vsqrtps\`/\`vdivps\` ymm: 5 and 3 cycles each here, ~9% of a ray's time) | timing only: on this machine the divider is not the bound it was on the Xeon |"
   echo "| the sample's line and the frame from two independent divisions (1/len and 1/(sign + w.z)) and the map's local direction as the frame's products with the unnormalised line scaled by 1/len, so that the frame's dot products wait on the division alone and not on the line's square root (the chain from the corner's gather to the cell ~20 cycles shorter; timing only, on lanes) | intra AO bunny, 1 thread, 4 rounds: 8.3-10.6x (median 9.0x) -> 8.8-9.3x (9.1x) | no: level (the kernel is not bound by that chain) |"
+  echo "| (2026-11-29, a later session) a grid in front of the tree over the objects: a block's rays whose part within the objects' boxes lies in one cell (cells ~2 median boxes) take the cell's list of objects, sorted by cell, and skip the walk; the rest go down the tree | 1024 bunnies, AO: the first version (rays placed by scalar doubles, copied by cell) 17.2-18.6 against 28.4 Mrays/s; rays placed on lanes, their ids sorted, 4 rounds: 2.97-3.70x -> 3.57-3.86x (44-46% of the open rays routed) | kept, with the next rows |"
+  echo "| what placing and sorting the rays cost (rdtsc; a bound with both cached between runs) | placing 14.5 -> 9.3 cycles a ray once a lane's settled flag was read without a branch, sorting 10.8; cached: 1024 bunnies 3.46x -> 3.94x (medians of 4) | the sort then took only the rays given a cell |"
+  echo "| the cells fitted to the objects' rows (side 7/8-5/4 of the target, offset: fewest boxes cut), margin 1e-4 of the hull (was 1e-3) | bunnies' cells' lists 5.4 objects; 3 rounds: 3.39-3.52x (tree alone) -> 3.61-3.74x | yes |"
+  echo "| rays whose part spans two neighbouring cells along an axis take the list of those cells (8 shapes of list: one or two cells an axis) | routed 46% -> 88% of the open rays; 1024 bunnies in one process against \`field:cull=tree\`, medians of 7 rounds: 3.66x -> 4.06x; busts 3.98x -> 3.77x | yes, with the next row |"
+  echo "| a shape's lists used only where they hold at most 16 objects on average (busts: cells 14.6, pairs 24.6, fours 41.7; bunnies 5.4, 9.5, 16.7) | busts, medians of 4: nothing routed 3.66x, cells only 3.90x, every shape 3.73x; bunnies, of 3: 3.41x, 3.71x, cells and pairs 3.89x, every shape 3.85x; then against \`field:cull=tree\` in one process, 7 rounds: bunnies 3.57x -> 3.96x, busts 3.91x -> 3.81x | yes |"
+  echo "| the grid's blocks of 32768 rays instead of 16384 (fuller packets a list) | 1024 bunnies, 5 rounds: 4.19x -> 4.09x (medians) | no: level |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
   echo "AO rays (4 per pixel, unlimited length) from what the camera sees of 3 × 3 and 32 × 32 bunnies"
   echo "(\`scripts/copies-scene.py bun_zipper.ply N 0.25 OUT.json --ground 0.025\`), all field objects; the"
-  echo "fields found through the tree over the objects' spheres (\`field\`, the default; up to 16 objects it tests each sphere"
-  echo "on lanes instead) and by testing every sphere (\`field:cull=each\`), beside Embree's instancing;"
-  echo "\`visfield-bench --scene OUT.json --rays ao --accel field,field:cull=each,embree:levels=2 --count 1000000 --threads $threads --reps 5\`."
+  echo "fields found through the grid and the tree over the objects' spheres (\`field\`, the default: rays within one or two"
+  echo "cells of the grid take their list of objects, the others go down the tree; up to 16 objects it tests each sphere on lanes"
+  echo "instead), through the tree alone (\`field:cull=tree\`) and by testing every sphere (\`field:cull=each\`), beside Embree's instancing;"
+  echo "\`visfield-bench --scene OUT.json --rays ao --accel field,field:cull=tree,field:cull=each,embree:levels=2 --count 1000000 --threads $threads --reps 5\`."
   echo
   copies_tables "$models/bun_zipper.ply" 0.25 0.025 bunnies
   if [[ -n "${SNOWDEN:-}" ]]; then
