@@ -256,6 +256,9 @@ with the BVH's interleaved walks)."
   echo "| rays whose part spans two neighbouring cells along an axis take the list of those cells (8 shapes of list: one or two cells an axis) | routed 46% -> 88% of the open rays; 1024 bunnies in one process against \`field:cull=tree\`, medians of 7 rounds: 3.66x -> 4.06x; busts 3.98x -> 3.77x | yes, with the next row |"
   echo "| a shape's lists used only where they hold at most 16 objects on average (busts: cells 14.6, pairs 24.6, fours 41.7; bunnies 5.4, 9.5, 16.7) | busts, medians of 4: nothing routed 3.66x, cells only 3.90x, every shape 3.73x; bunnies, of 3: 3.41x, 3.71x, cells and pairs 3.89x, every shape 3.85x; then against \`field:cull=tree\` in one process, 7 rounds: bunnies 3.57x -> 3.96x, busts 3.91x -> 3.81x | yes |"
   echo "| the grid's blocks of 32768 rays instead of 16384 (fuller packets a list) | 1024 bunnies, 5 rounds: 4.19x -> 4.09x (medians) | no: level |"
+  echo "| the columns walk in one pass: each chunk tested and moved at once into regions with room for all the node's rays (no masks kept, no second load) | 1024 bunnies, 3 rounds: 3.48-3.55x -> 2.99-3.36x | no |"
+  echo "| the columns walk without its per-chunk check of settled rays (4% of a node's rays are settled by then) | 1024 bunnies, 4 rounds: 2.90-3.90x -> 3.29-3.82x | no: level |"
+  echo "| the grid's cells 1.5, 2 or 3 median boxes wide (before the lists' limit) | 5 rounds, medians: bunnies 3.79x, 4.05x, 3.67x; busts 3.89x, 3.70x, 3.40x | 2 |"
   echo
   echo "## Many field objects: copies of the bunny on an exact ground"
   echo
