@@ -24,9 +24,12 @@
 namespace vf::field {
 namespace {
 
-// The grid's cells, in median object boxes (1024 copies' AO, medians of 5 rounds, before the lists'
-// limit below: bunnies 3.79x at 1.5, 4.05x at 2, 3.67x at 3; busts 3.89x, 3.70x, 3.40x).
-constexpr double kCellWidth = 2.0;
+// The grid's cells, in median object boxes, widest first: the widest whose pairs of cells (two
+// neighbours along an axis) have lists short enough to be used, so that a ray crossing one boundary
+// still takes a list. (1024 copies' AO, medians of 9 interleaved rounds: busts 3.72x at 2, 3.90x at
+// 1.5, 3.95x at 1.25, their pairs' lists 24.6, 13.0, 9.1 objects; bunnies 3.89x at 2, 3.88x at 1.75,
+// 3.93x at 1.5, pairs 9.5 at 2.)
+constexpr double kCellWidths[] = {2.0, 1.75, 1.5, 1.25, 1.0};
 // Lists of a shape longer than this on average are not used: their rays go down the tree. (1024
 // copies' AO: the bunnies' pairs, 9.5 objects, paid and their fours, 16.7, were level; the busts'
 // cells, 14.6, paid and their pairs, 24.6, lost.)
@@ -345,37 +348,21 @@ void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<
   for (; i < rays.size(); ++i) best[i] = bvh.intersect(rays[i]);
 }
 
-CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectField* const> field_of, std::vector<std::uint32_t>& first,
-                        std::vector<std::uint32_t>& items) {
+namespace {
+
+/// Cells about `target` wide along each axis of `hull` longer than that: of sides from 7/8 to 5/4 of the
+/// target and shifts of the cells against the hull, the one whose boundaries cut the fewest boxes
+/// (grown by `margin`; per unit of side, so that wider cells do not win by having fewer boundaries),
+/// the side nearest the target of equals. Objects in rows (copies on a lattice) then sit whole in their
+/// cells: their rays stay in one cell more often, and each cell's list holds only its own objects.
+CellGrid fitted_cells(std::span<const Bounds3f> boxes, const Bounds3f& hull, double margin, double target) {
   CellGrid g;
-  first.clear();
-  items.clear();
-  if (boxes.empty()) return g;
-  Bounds3f hull;
-  for (const Bounds3f& b : boxes) hull.extend(b);
-  double diagonal = 0.0, length[3];
   for (int a = 0; a < 3; ++a) {
-    length[a] = static_cast<double>(hull.hi[a]) - hull.lo[a];
-    diagonal += length[a] * length[a];
-  }
-  diagonal = std::sqrt(diagonal);
-  // The margin: far above the rounding of a float ray's points within 3 scene sizes of the hull
-  // (cells_of_rays() routes none from farther), and small against the gaps between objects.
-  const double margin = 1e-4 * diagonal;
-  std::vector<double> sides;
-  for (const Bounds3f& b : boxes) sides.push_back(static_cast<double>(b.hi.x) - b.lo.x);
-  std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
-  const double target = sides[sides.size() / 2] * kCellWidth;
-  // Each axis's cells fitted to the objects: of sides from 7/8 to 5/4 of the target and shifts of the
-  // cells against the hull, the one whose boundaries cut the fewest boxes (per unit of side: so that
-  // wider cells do not win by having fewer boundaries), the side nearest the target of equals. Objects
-  // in rows (copies on a lattice) then sit whole in their cells: their rays stay in one cell more often,
-  // and each cell's list holds only its own objects.
-  for (int a = 0; a < 3; ++a) {
+    const double length = static_cast<double>(hull.hi[a]) - hull.lo[a];
     g.origin[a] = hull.lo[a];
     g.cells[a] = 1;
-    g.edge[a] = length[a] > 0.0 ? static_cast<float>(length[a]) : 1.0f;
-    if (!(target > 0.0) || length[a] <= target) continue;
+    g.edge[a] = length > 0.0 ? static_cast<float>(length) : 1.0f;
+    if (!(target > 0.0) || length <= target) continue;
     double best_score = std::numeric_limits<double>::infinity(), best_edge = target, best_origin = hull.lo[a];
     for (int step = 0; step <= 24; ++step) {
       const double e = target * (0.875 + 0.375 * step / 24.0);
@@ -396,32 +383,19 @@ CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectF
     g.edge[a] = static_cast<float>(best_edge);
     g.cells[a] = static_cast<int>(std::clamp(std::ceil((hull.hi[a] - static_cast<double>(g.origin[a])) / g.edge[a]), 1.0, 1024.0));
   }
-  // At most a few cells an object (a sparse scene's grid would be mostly empty cells): else none.
-  if (static_cast<double>(g.count()) > 4.0 * static_cast<double>(boxes.size()) + 64.0) return CellGrid{};
-  for (int a = 0; a < 3; ++a) {
-    g.lo[a] = static_cast<float>(hull.lo[a] - margin / 8.0);
-    g.hi[a] = static_cast<float>(hull.hi[a] + margin / 8.0);
-    g.inverse_edge[a] = 1.0f / g.edge[a];
-    g.near_lo[a] = static_cast<float>(hull.lo[a] - 2.0 * diagonal);
-    g.near_hi[a] = static_cast<float>(hull.hi[a] + 2.0 * diagonal);
-  }
-  g.tolerance = static_cast<float>(0.25 * margin);
-  // The rounding of a routed ray's points (its origin plus t times its direction, within 3 scene sizes of
-  // the hull) and of the cells' bounds, a few float ulps of the largest coordinate: within an eighth
-  // of the margin, or no ray is routed (a scene far from the world's origin).
-  double largest = 0.0;
-  for (int a = 0; a < 3; ++a) largest = std::max({largest, std::fabs(static_cast<double>(g.near_lo[a])), std::fabs(static_cast<double>(g.near_hi[a]))});
-  if (8.0 * 1.2e-7 * (largest + 3.0 * diagonal) > margin / 8.0) return CellGrid{};
-  // Each box into the cells it reaches, grown by the margin (cell k of an axis spans origin + k·edge ..
-  // + edge, as the rays' test computes it).
+  return g;
+}
+
+/// The lists of `g`'s cells (list shape · count + c, as cell_grid_over() keeps them), each box in
+/// index order into those it reaches grown by `margin` (cell k of an axis spans origin + k·edge ..
+/// + edge, as the rays' test computes it): a box reaching cells from .. to is in the lists of the
+/// shapes that reach back one cell along their axes.
+std::vector<std::vector<std::uint32_t>> cell_lists(const CellGrid& g, std::span<const Bounds3f> boxes, double margin) {
   const auto range = [&](const Bounds3f& b, int a, int& from, int& to) {
     const double e = g.edge[a];
     from = static_cast<int>(std::clamp(std::floor((b.lo[a] - margin - g.origin[a]) / e), 0.0, g.cells[a] - 1.0));
     to = static_cast<int>(std::clamp(std::floor((b.hi[a] + margin - g.origin[a]) / e), 0.0, g.cells[a] - 1.0));
   };
-  // List shape · count + c: the cells from cell c up, one an axis, or two along the axes whose bit
-  // is set in `shape` (one where c is the last): a box reaching cells from .. to is in the lists of the
-  // shapes that reach back one cell along their axes.
   const std::size_t count = g.count();
   std::vector<std::vector<std::uint32_t>> lists(kCellShapes * count);
   for (std::size_t k = 0; k < boxes.size(); ++k) {
@@ -438,16 +412,68 @@ CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectF
                 .push_back(static_cast<std::uint32_t>(k));
     }
   }
-  // The shapes whose lists are short enough to pay, by their mean length over the lists not empty;
-  // none (no grid) when the cells' own are not.
-  for (std::size_t shape = 0; shape < kCellShapes; ++shape) {
-    std::size_t entries = 0, used = 0;
-    for (std::size_t c = 0; c < count; ++c) {
-      entries += lists[shape * count + c].size();
-      used += lists[shape * count + c].empty() ? 0 : 1;
-    }
-    if (static_cast<double>(entries) <= kLongestLists * static_cast<double>(std::max<std::size_t>(used, 1))) g.shapes |= 1u << shape;
+  return lists;
+}
+
+/// Whether the lists of `shape` hold at most kLongestLists objects on average over those not empty.
+bool short_lists(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count, std::size_t shape) {
+  std::size_t entries = 0, used = 0;
+  for (std::size_t c = 0; c < count; ++c) {
+    entries += lists[shape * count + c].size();
+    used += lists[shape * count + c].empty() ? 0 : 1;
   }
+  return static_cast<double>(entries) <= kLongestLists * static_cast<double>(std::max<std::size_t>(used, 1));
+}
+
+}  // namespace
+
+CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectField* const> field_of, std::vector<std::uint32_t>& first,
+                        std::vector<std::uint32_t>& items) {
+  first.clear();
+  items.clear();
+  if (boxes.empty()) return CellGrid{};
+  Bounds3f hull;
+  for (const Bounds3f& b : boxes) hull.extend(b);
+  double diagonal = 0.0;
+  for (int a = 0; a < 3; ++a) diagonal += (static_cast<double>(hull.hi[a]) - hull.lo[a]) * (static_cast<double>(hull.hi[a]) - hull.lo[a]);
+  diagonal = std::sqrt(diagonal);
+  // The margin: far above the rounding of a float ray's points within 3 scene sizes of the hull
+  // (cells_of_rays() routes none from farther), and small against the gaps between objects.
+  const double margin = 1e-4 * diagonal;
+  std::vector<double> sides;
+  for (const Bounds3f& b : boxes) sides.push_back(static_cast<double>(b.hi.x) - b.lo.x);
+  std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
+  const double median = sides[sides.size() / 2];
+  CellGrid g;
+  std::vector<std::vector<std::uint32_t>> lists;
+  for (const double width : kCellWidths) {
+    const CellGrid candidate = fitted_cells(boxes, hull, margin, median * width);
+    // At most a few cells an object (a sparse scene's grid would be mostly empty cells).
+    if (static_cast<double>(candidate.count()) > 4.0 * static_cast<double>(boxes.size()) + 64.0) break;
+    g = candidate;
+    lists = cell_lists(g, boxes, margin);
+    bool pairs_used = true;
+    for (int a = 0; a < 3; ++a) pairs_used = pairs_used && (g.cells[a] == 1 || short_lists(lists, g.count(), std::size_t{1} << a));
+    if (pairs_used) break;
+  }
+  if (lists.empty()) return CellGrid{};
+  for (int a = 0; a < 3; ++a) {
+    g.lo[a] = static_cast<float>(hull.lo[a] - margin / 8.0);
+    g.hi[a] = static_cast<float>(hull.hi[a] + margin / 8.0);
+    g.inverse_edge[a] = 1.0f / g.edge[a];
+    g.near_lo[a] = static_cast<float>(hull.lo[a] - 2.0 * diagonal);
+    g.near_hi[a] = static_cast<float>(hull.hi[a] + 2.0 * diagonal);
+  }
+  g.tolerance = static_cast<float>(0.25 * margin);
+  // The rounding of a routed ray's points (its origin plus t times its direction, within 3 scene sizes of
+  // the hull) and of the cells' bounds, a few float ulps of the largest coordinate: within an eighth
+  // of the margin, or no ray is routed (a scene far from the world's origin).
+  double largest = 0.0;
+  for (int a = 0; a < 3; ++a) largest = std::max({largest, std::fabs(static_cast<double>(g.near_lo[a])), std::fabs(static_cast<double>(g.near_hi[a]))});
+  if (8.0 * 1.2e-7 * (largest + 3.0 * diagonal) > margin / 8.0) return CellGrid{};
+  // The shapes whose lists are short enough to pay; none (no grid) when the cells' own are not.
+  for (std::size_t shape = 0; shape < kCellShapes; ++shape)
+    if (short_lists(lists, g.count(), shape)) g.shapes |= 1u << shape;
   if ((g.shapes & 1u) == 0) return CellGrid{};
   first.push_back(0);
   for (std::vector<std::uint32_t>& list : lists) {

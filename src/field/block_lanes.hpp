@@ -49,8 +49,9 @@ inline constexpr std::size_t kFewObjects = 16;
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out);
 
 /// A grid over `boxes` (object k's box is boxes[k]) for cells_of_rays(): along each axis longer than
-/// its cells, cells about twice the median box wide, their side and offset fitted so that their
-/// boundaries cut the fewest boxes (objects in rows then sit whole in cells). List s · count + c of
+/// its cells, cells from twice the median box wide down to once, the widest whose lists of two cells
+/// along an axis are used (below), their side and offset fitted so that their boundaries cut the
+/// fewest boxes (objects in rows then sit whole in cells). List s · count + c of
 /// `first` and `items` (items[first[l] .. first[l + 1])) holds, in index order with those of one field
 /// (field_of[k]) side by side, the boxes that reach, grown by the grid's margin (1e-4 of the hull's
 /// diagonal), the cells from cell c up, one an axis or two along the axes whose bit is set in shape s.

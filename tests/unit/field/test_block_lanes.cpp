@@ -218,14 +218,15 @@ bool segment_meets(const Ray& ray, const Bounds3f& box) {
   return t0 <= t1;
 }
 
-/// 30 x 30 boxes on a jittered lattice in the xz plane, of two fields in turn, each about as wide as
-/// its spacing (some touching, some apart), and a few scattered just above them.
-std::vector<Bounds3f> boxes_in_rows(Rng& rng) {
+/// 30 x 30 boxes on a jittered lattice in the xz plane, each about `width` times its spacing (0.25;
+/// below 1 some touching, some apart; above, each reaching into its neighbours as the busts' spheres
+/// do in docs/objectfield-measurements.md), and a few scattered just above them.
+std::vector<Bounds3f> boxes_in_rows(Rng& rng, float width) {
   std::vector<Bounds3f> boxes;
   for (int i = 0; i < 30; ++i)
     for (int j = 0; j < 30; ++j) {
       const Vec3f centre{0.25f * static_cast<float>(i) + 0.01f * rng.uniform(), 0.1f, 0.25f * static_cast<float>(j)};
-      const float r = 0.1f + 0.03f * rng.uniform();
+      const float r = width * (0.1f + 0.03f * rng.uniform());
       boxes.push_back({centre - Vec3f(r), centre + Vec3f(r)});
     }
   for (int k = 0; k < 20; ++k) {
@@ -235,18 +236,25 @@ std::vector<Bounds3f> boxes_in_rows(Rng& rng) {
   return boxes;
 }
 
-// The grid routes a ray to a list of cells only when every box its segment meets is on that list, and
-// says "no box" only when it meets none: on rays leaving the boxes' surfaces (AO rays, unlimited), long
-// rays across the rows, rays from afar, along an axis, with tiny or NaN components; lanes and one ray at
-// a time give the same cells. Most surface rays are routed (or the test could not fail).
-TEST(BlockLanes, CellsOfRaysNeverLeaveOutABoxTheRayMeets) {
-  Rng rng(51);
-  const std::vector<Bounds3f> boxes = boxes_in_rows(rng);
+/// The median of the boxes' sides along x (the grid's unit).
+float median_side(const std::vector<Bounds3f>& boxes) {
+  std::vector<float> sides;
+  for (const Bounds3f& b : boxes) sides.push_back(b.hi.x - b.lo.x);
+  std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
+  return sides[sides.size() / 2];
+}
+
+/// The grid over `boxes` routes a ray to a list of cells only when every box its segment meets is on
+/// that list, and says "no box" only when it meets none: on rays leaving the boxes' surfaces (AO rays,
+/// unlimited), long rays across the rows, rays from afar, along an axis, with tiny or NaN components;
+/// lanes and one ray at a time give the same cells. Most surface rays are routed (or the test could
+/// not fail). `grid`: the grid built.
+void expect_lists_hold_every_box_met(const std::vector<Bounds3f>& boxes, Rng& rng, CellGrid& grid) {
   const ObjectField* fields[2] = {nullptr, reinterpret_cast<const ObjectField*>(&fields)};  // two tags, never read
   std::vector<const ObjectField*> field_of;
   for (std::size_t k = 0; k < boxes.size(); ++k) field_of.push_back(fields[k % 2]);
   std::vector<std::uint32_t> first, items;
-  const CellGrid grid = cell_grid_over(boxes, field_of, first, items);
+  grid = cell_grid_over(boxes, field_of, first, items);
   ASSERT_GT(grid.count(), 100u);
   ASSERT_EQ(first.size(), kCellShapes * grid.count() + 1);
   for (std::size_t list = 0; list + 1 < first.size(); ++list)
@@ -313,9 +321,24 @@ TEST(BlockLanes, CellsOfRaysNeverLeaveOutABoxTheRayMeets) {
   EXPECT_EQ(given, placed);
   EXPECT_GT(routed_surface, surface / 2) << "of " << surface << " surface rays";
   EXPECT_GT(none, 100u);
+}
+
+TEST(BlockLanes, CellsOfRaysNeverLeaveOutABoxTheRayMeets) {
+  Rng rng(51);
+  const std::vector<Bounds3f> rows = boxes_in_rows(rng, 1.0f);
+  CellGrid grid, narrow;
+  ASSERT_NO_FATAL_FAILURE(expect_lists_hold_every_box_met(rows, rng, grid));
+  EXPECT_GE(grid.edge[0], 1.75f * median_side(rows)) << "cells of two median boxes: their pairs' lists are short";
+  // Boxes 1.6 times as wide as their spacing: cells of two boxes would have pairs' lists of ~27 boxes,
+  // so the grid's cells narrow until those are used.
+  const std::vector<Bounds3f> wide = boxes_in_rows(rng, 1.6f);
+  ASSERT_NO_FATAL_FAILURE(expect_lists_hold_every_box_met(wide, rng, narrow));
+  EXPECT_LT(narrow.edge[0], 1.75f * median_side(wide));
   // A scene far from the world's origin, where float rounding would outgrow the margin: no grid.
-  std::vector<Bounds3f> far = boxes;
+  std::vector<Bounds3f> far = rows;
   for (Bounds3f& b : far) b = {b.lo + Vec3f(1e6f), b.hi + Vec3f(1e6f)};
+  std::vector<const ObjectField*> field_of(far.size(), nullptr);
+  std::vector<std::uint32_t> first, items;
   EXPECT_EQ(cell_grid_over(far, field_of, first, items).count(), 0u);
 }
 
