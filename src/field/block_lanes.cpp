@@ -43,13 +43,13 @@ bool occluded_one(std::span<const std::array<Vec3f, 3>> triangles, const Ray& ra
   return false;
 }
 
-/// Triangle k of `exact` hit at (t, u, v), as a Bvh reports it.
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+/// Triangle k of `exact` hit at (t, u, v), as a Bvh reports it (the lanes' closest hits only).
 Hit triangle_hit(const TriangleSet& exact, std::size_t k, float t, float u, float v) {
   const std::array<Vec3f, 3>& c = exact.triangles[k];
   return Hit::triangle(t, u, v, exact.prim[k], exact.instance[k], cross(c[1] - c[0], c[2] - c[0]));
 }
 
-#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
 #if defined(__AVX512F__)
 using L = lanes::Avx512;
 #else
