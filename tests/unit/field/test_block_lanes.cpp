@@ -329,8 +329,8 @@ TEST(BlockLanes, CellsOfRaysNeverLeaveOutABoxTheRayMeets) {
   CellGrid grid, narrow;
   ASSERT_NO_FATAL_FAILURE(expect_lists_hold_every_box_met(rows, rng, grid));
   EXPECT_GE(grid.edge[0], 1.75f * median_side(rows)) << "cells of two median boxes: their pairs' lists are short";
-  // Boxes 1.6 times as wide as their spacing: cells of two boxes would have pairs' lists of ~27 boxes,
-  // so the grid's cells narrow until those are used.
+  // Boxes about 1.6 times as wide as their spacing: at cells of two boxes the pairs' lists would hold
+  // more than 16 boxes, so the grid's cells narrow until those are used.
   const std::vector<Bounds3f> wide = boxes_in_rows(rng, 1.6f);
   ASSERT_NO_FATAL_FAILURE(expect_lists_hold_every_box_met(wide, rng, narrow));
   EXPECT_LT(narrow.edge[0], 1.75f * median_side(wide));
