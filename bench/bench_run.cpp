@@ -11,6 +11,7 @@
 #include "query_runner.hpp"
 #include "visfield/accel/aligned_vector.hpp"
 #include "visfield/core/direction_lines.hpp"
+#include "visfield/core/isa.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/scene_file.hpp"
 
@@ -117,6 +118,7 @@ BenchReport run_bench(const BenchOptions& options) {
   report.kind = options.kind;
   report.rays = rays.size();
   report.threads = thread_limit.threads();
+  report.isa = isa_name(active_isa());
   report.width = camera.width;
   report.height = camera.height;
   report.reps = options.reps;

@@ -113,8 +113,8 @@ void print_rows(std::ostream& out, const std::vector<GpuRow>& rows) {
   out << "| query | rays | GPU G rays/s | CPU G rays/s | GPU / CPU | GPU vs CPU |\n|---|---:|---:|---:|---:|---|\n";
   for (const GpuRow& r : rows) {
     const double g = grays(r.rays, r.gpu_ms), c = grays(r.rays, r.cpu_ms);
-    out << "| " << r.query << " | " << r.rays << " | " << format("%.3f", g) << " | " << format("%.4f", c) << " | "
-        << (c > 0.0 ? format("%.1fx", g / c) : std::string("-")) << " | "
+    out << "| " << r.query << " | " << r.rays << " | " << formatted("%.3f", g) << " | " << formatted("%.4f", c) << " | "
+        << (c > 0.0 ? formatted("%.1fx", g / c) : std::string("-")) << " | "
         << (r.disagreements == 0 ? "bit-identical" : std::to_string(r.disagreements) + " " + r.agreement_unit + " differ") << " |\n";
   }
 }
@@ -236,8 +236,8 @@ void run_cuda_bench(const BenchOptions& options, std::ostream& out) {
     const gpu::LookupCost cost = gpu::field_lookup_cost(packed->slots().front().tables, true, options.ao_rays, false);
     const gpu::Roofline bound = gpu::roofline(cost, device.peaks, static_cast<double>(packed->buffer().size()));
     const double measured = grays(ao_rays, rows[field_ao_row].gpu_ms) * 1e9;
-    roofline = gpu::describe(cost, bound) + format("; measured %.1f G lookups/s, ", measured * 1e-9) +
-               format("%.0f%% of the bound", 100.0 * measured / bound.bound_rays_per_s);
+    roofline = gpu::describe(cost, bound) + formatted("; measured %.1f G lookups/s, ", measured * 1e-9) +
+               formatted("%.0f%% of the bound", 100.0 * measured / bound.bound_rays_per_s);
   }
 
   if (options.json) {

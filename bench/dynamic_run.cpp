@@ -13,6 +13,7 @@
 #include "report.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/statistics.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/io/scene_file.hpp"
 
@@ -40,12 +41,6 @@ bool last_commit_rebuilt(const BenchAccel& accel) {
   const auto* ours = std::get_if<AnyStructure>(&accel);
   const auto* field = ours ? std::get_if<BeamField>(ours) : nullptr;
   return field && field->beam_stats().last_commit_rebuilt;
-}
-
-double median(std::vector<double> values) {
-  Timings t;
-  t.run_ms = std::move(values);
-  return t.median_ms();
 }
 
 }  // namespace

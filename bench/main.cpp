@@ -12,6 +12,7 @@
 #endif
 #include "dynamic_run.hpp"
 #include "walk_run.hpp"
+#include "visfield/core/isa.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -34,6 +35,11 @@ int fail(std::string message, int status) {
 
 int main(int argc, char** argv) {
   vf::install_interrupt_handlers();
+  try {
+    vf::check_isa_environment();
+  } catch (const vf::Error& e) {
+    return fail(e.what(), kExitUsage);
+  }
   try {
     const auto options = vf::bench::parse_bench_options(argc, argv, std::cout);
     if (!options || vf::parse_only()) return 0;

@@ -59,7 +59,7 @@ double mrays_per_second(std::size_t rays, double ms) {
 void print_table(std::ostream& out, const BenchReport& report) {
   out << "scene " << report.scene << " | " << with_separators(report.triangles) << " triangles | "
       << ray_kind_name(report.kind) << " rays: " << with_separators(report.rays) << ao_details(report) << " | threads "
-      << report.threads << " | median of " << report.reps << " runs after " << report.warmup << " warm-up | "
+      << report.threads << " | kernels " << report.isa << " | median of " << report.reps << " runs after " << report.warmup << " warm-up | "
       << (report.embree ? *report.embree : std::string("Embree not run"));
   // A timing-bound build's fields answer wrongly on purpose: its tables say so.
   if (*field::ObjectField::timing_bound() != '\0')
@@ -100,6 +100,7 @@ nlohmann::ordered_json report_json(const BenchReport& report) {
   doc["rays"] = report.rays;
   doc["kind"] = std::string(ray_kind_name(report.kind));
   doc["threads"] = report.threads;
+  doc["isa"] = report.isa;
   doc["width"] = report.width;
   doc["height"] = report.height;
   if (report.kind == RayKind::ao) {

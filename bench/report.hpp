@@ -53,6 +53,7 @@ struct BenchReport {
   RayKind kind = RayKind::primary;
   std::size_t rays = 0;       ///< Rays traced per repetition.
   int threads = 1;            ///< Worker threads in force.
+  std::string isa;            ///< The kernels' path that ran (isa_name(active_isa())).
   int width = 0, height = 0;  ///< Camera image the rays were made from (before --count scaling).
   int reps = 0, warmup = 0;
   int ao_rays = 0;                                              ///< AO rays per primary hit (ao kind only).

@@ -8,6 +8,8 @@
 #include "bench_run.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/statistics.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/io/atomic_file.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/io/scene_file.hpp"
@@ -56,16 +58,7 @@ class BenchWalkStructures final : public WalkStructures {
   std::unique_ptr<SceneQueries> queries_;
 };
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-std::string fixed(double v, const char* pattern = "%.2f") {
-  char text[32];
-  std::snprintf(text, sizeof text, pattern, v);
-  return text;
-}
+std::string fixed(double v, const char* pattern = "%.2f") { return formatted(pattern, v); }
 
 }  // namespace
 

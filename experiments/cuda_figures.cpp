@@ -16,6 +16,7 @@
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/cuda/device.hpp"
 #include "visfield/cuda/kernels.hpp"
 #include "visfield/cuda/render_ao.hpp"
@@ -164,7 +165,7 @@ void figure3(const std::string& caster, std::ostream& out) {
   const std::vector<double> cpu_reference = image(cpu_counts(bvh, cpu_rays, 256));
   double worst_percent = 0.0;
   const std::size_t rays = g.frames.size() * 256;
-  out << rays << " AO rays (256 per ground pixel of a 256x256 view). Exact GPU BVH: " << format("%.3f ms (%.2f G rays/s)", exact_ms, grays(rays, exact_ms))
+  out << rays << " AO rays (256 per ground pixel of a 256x256 view). Exact GPU BVH: " << formatted("%.3f ms (%.2f G rays/s)", exact_ms, grays(rays, exact_ms))
       << ".\n\nEach cell: AO kernel ms / RMS (0-255, all pixels) against the exact GPU image (the CPU's against its exact image, "
          "on the same rays) / field memory; the GPU paper's (its 2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
   const char* const paper[3][3] = {{"81.2 ms / 0.596", "82.7 ms / 0.589", "82.9 ms / 0.586"},
@@ -179,11 +180,11 @@ void figure3(const std::string& caster, std::ostream& out) {
       const std::vector<double> field = image(timed_ao(f.device, frames, p, ms));
       const double gpu_rms = rms(field, reference), cpu_rms = rms(image(cpu_counts(f.cpu, cpu_rays, 256)), cpu_reference);
       worst_percent = std::max(worst_percent, percent_apart(gpu_rms, cpu_rms));
-      out << " | " << format("%.3f ms / %.3f (CPU %.3f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
+      out << " | " << formatted("%.3f ms / %.3f (CPU %.3f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
     }
     out << " |\n| paper | " << paper[k][0] << " | " << paper[k][1] << " | " << paper[k][2] << " |\n";
   }
-  out << "\nGPU RMS against the CPU's: at most " << format("%.3f", worst_percent) << "% apart (target: within 1%).\n";
+  out << "\nGPU RMS against the CPU's: at most " << formatted("%.3f", worst_percent) << "% apart (target: within 1%).\n";
 }
 
 // The GPU paper's Figure 5 setting: intra-object AO of the caster alone (the paper's igea), fields of
@@ -221,9 +222,9 @@ void figure5(const std::string& caster, std::ostream& out) {
   out << set.size() << " triangles, 512x512, " << g.frames.size() << " pixels on the model, 121 AO rays each (" << rays
       << " rays), fields 16642 x 64x64 u8 (" << format_bytes(static_cast<double>(f.packed.buffer().size())) << ").\n\n"
       << "| AO pass | ms per frame | G rays/s | RMS (0-255) vs exact |\n|---|---:|---:|---:|\n"
-      << "| fields, kernel | " << format("%.3f | %.2f", field_ms, grays(rays, field_ms)) << " | " << format("%.3f", rms(a, b)) << " |\n"
-      << "| fields, frames up + kernel + counts down | " << format("%.3f | %.2f", frame_ms, grays(rays, frame_ms)) << " | |\n"
-      << "| exact GPU BVH, kernel | " << format("%.3f | %.2f", exact_ms, grays(rays, exact_ms)) << " | 0 |\n\n"
+      << "| fields, kernel | " << formatted("%.3f | %.2f", field_ms, grays(rays, field_ms)) << " | " << formatted("%.3f", rms(a, b)) << " |\n"
+      << "| fields, frames up + kernel + counts down | " << formatted("%.3f | %.2f", frame_ms, grays(rays, frame_ms)) << " | |\n"
+      << "| exact GPU BVH, kernel | " << formatted("%.3f | %.2f", exact_ms, grays(rays, exact_ms)) << " | 0 |\n\n"
       << "Target: at most 5 ms per frame; the paper: 202 ms on a GeForce 8800.\n";
 }
 
@@ -303,8 +304,8 @@ void figure7(const std::string& caster, std::ostream& out) {
   const std::vector<double> exact20 = shadows(exact, 20, exact20_ms);
   const std::size_t rays20 = g.frames.size() * lights.size() * 20;
   out << "256x256 pixels, 3 sphere lights, 20 shadow rays per light and pixel (" << rays20 << " rays). Reference: exact GPU BVH, "
-      << "256 rays per light, " << format("%.3f ms", reference_ms) << ". Exact GPU BVH with 20 rays: "
-      << format("%.3f ms (%.2f G rays/s), RMS %.2f", exact20_ms, grays(rays20, exact20_ms), rms(exact20, reference))
+      << "256 rays per light, " << formatted("%.3f ms", reference_ms) << ". Exact GPU BVH with 20 rays: "
+      << formatted("%.3f ms (%.2f G rays/s), RMS %.2f", exact20_ms, grays(rays20, exact20_ms), rms(exact20, reference))
       << " (the noise of 20 rays alone).\n\nEach cell: kernel ms / RMS (0-255) against the reference (the CPU's against its "
          "reference, on the same rays) / field memory; the GPU paper's (its 2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
   const char* const paper[2][3] = {{"348.0 ms / 5.95 / 4.1 MB", "348.5 ms / 4.82 / 16.5 MB", "348.7 ms / 4.44 / 66.0 MB"},
@@ -318,11 +319,11 @@ void figure7(const std::string& caster, std::ostream& out) {
       const std::vector<double> field = shadows(f.device, 20, ms);
       const double gpu_rms = rms(field, reference), cpu_rms = rms(shade(cpu_counts(f.cpu, cpu_rays20, 20), 20), cpu_reference);
       worst_percent = std::max(worst_percent, percent_apart(gpu_rms, cpu_rms));
-      out << " | " << format("%.3f ms / %.2f (CPU %.2f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
+      out << " | " << formatted("%.3f ms / %.2f (CPU %.2f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
     }
     out << " |\n| paper | " << paper[k][0] << " | " << paper[k][1] << " | " << paper[k][2] << " |\n";
   }
-  out << "\nGPU RMS against the CPU's: at most " << format("%.3f", worst_percent) << "% apart (target: within 1%).\n";
+  out << "\nGPU RMS against the CPU's: at most " << formatted("%.3f", worst_percent) << "% apart (target: within 1%).\n";
 }
 
 }  // namespace

@@ -11,10 +11,12 @@
 #include <unistd.h>
 
 #include "bench_accel.hpp"
+#include "casters.hpp"
 #include "query_runner.hpp"
 #include "visfield/accel/batch.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/memory.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/field/object_field.hpp"
 #include "visfield/render/camera.hpp"
 #include "visfield/render/ray_sets.hpp"
@@ -73,11 +75,6 @@ std::vector<Ray> receiver_rays(const Receiver& r) {
   return rays;
 }
 
-/// Where a caster stands: its bounding sphere's radius and its centre's distance from the walls.
-struct Placement {
-  float radius, x, z;
-};
-
 // The casters alone (the corner only receives), each standing on the floor at its placement by its
 // object transform (so that fields stay in object space, as for any instance).
 Scene corner_scene(const std::vector<std::string>& caster_paths, const std::vector<Placement>& placements) {
@@ -86,11 +83,7 @@ Scene corner_scene(const std::vector<std::string>& caster_paths, const std::vect
     LoadedMesh loaded = load_mesh(caster_paths[c]);
     const TriangleSet set = mesh_triangles(loaded.mesh);
     if (set.size() == 0) throw Error(caster_paths[c] + ": no triangles of non-zero area");
-    const field::BoundingSphere sphere = field::bounding_sphere_of(set);
-    Transform t;
-    t.scale = placements[c].radius / sphere.radius;
-    const Vec3f centre = sphere.centre * t.scale;
-    t.translation = Vec3f{placements[c].x, -set.bounds.lo.y * t.scale, placements[c].z} - Vec3f{centre.x, 0.0f, centre.z};
+    const Transform t = standing_transform(set, placements[c]);
     loaded.mesh.occluder = MeshOccluder::field;
     scene.meshes.push_back(std::move(loaded.mesh));
     scene.add_instance(static_cast<std::uint32_t>(c), t);
@@ -117,12 +110,6 @@ double rms(const std::vector<double>& a, const std::vector<double>& b) {
   double sum = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
   return std::sqrt(sum / static_cast<double>(a.size()));
-}
-
-std::string format(const char* pattern, double a, double b = 0, double c = 0, double d = 0) {
-  char text[128];
-  std::snprintf(text, sizeof(text), pattern, a, b, c, d);
-  return text;
 }
 
 /// One structure's answers on the figure's rays: seconds (median of 3 after a warm-up) and per-vertex AO.
@@ -245,8 +232,8 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
   const FigureView view(geometry.scene(), corner_receiver());
   const std::vector<double> exact_image = view.image(exact.ao);
   std::vector<std::string> image_rows;
-  out << "Exact AO (our BVH): " << format("%.3f s", exact.ao_s);
-  if (kHaveEmbree) out << ", Embree: " << format("%.3f s", run(kEmbreeName, geometry, rays).ao_s);
+  out << "Exact AO (our BVH): " << formatted("%.3f s", exact.ao_s);
+  if (kHaveEmbree) out << ", Embree: " << formatted("%.3f s", run(kEmbreeName, geometry, rays).ao_s);
   out << " for " << rays.size() << " rays.\n\n";
   out << "Each cell: precompute s / AO s / RMS (0-255) of the per-vertex AO with the paper's lookup (one sample, one cell, read "
          "parallel to the ray) / with bilinear + blend / read through the far end (our default) / through + bilinear + blend / "
@@ -271,12 +258,12 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       const Run through = run(cached + ",through=1", geometry, rays);
       const Run best = run(cached + ",through=1,bilinear=1,blend=1", geometry, rays);
       const Run lines = run(cached + ",through=1,lines=1", geometry, rays);
-      out << " | " << format("%.2f / %.4f / ", paper.build_s, through.ao_s)
-          << format("%.3f / %.3f / %.3f / %.3f", rms(paper.ao, exact.ao), rms(blended.ao, exact.ao), rms(through.ao, exact.ao), rms(best.ao, exact.ao))
-          << format(" / %.3f", rms(lines.ao, exact.ao));
-      image_rows.push_back(format("%.3f / %.3f / %.3f / %.3f", rms(view.image(paper.ao), exact_image), rms(view.image(blended.ao), exact_image),
+      out << " | " << formatted("%.2f / %.4f / ", paper.build_s, through.ao_s)
+          << formatted("%.3f / %.3f / %.3f / %.3f", rms(paper.ao, exact.ao), rms(blended.ao, exact.ao), rms(through.ao, exact.ao), rms(best.ao, exact.ao))
+          << formatted(" / %.3f", rms(lines.ao, exact.ao));
+      image_rows.push_back(formatted("%.3f / %.3f / %.3f / %.3f", rms(view.image(paper.ao), exact_image), rms(view.image(blended.ao), exact_image),
                                   rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image)) +
-                           format(" / %.3f", rms(view.image(lines.ao), exact_image)));
+                           formatted(" / %.3f", rms(view.image(lines.ao), exact_image)));
     }
     std::filesystem::remove_all(cache);
     out << " |\n";
@@ -289,7 +276,7 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
   out << "\nThe paper's own measure: RMS (0-255) of the rendered " << FigureView::kSize << "x" << FigureView::kSize
       << " image of the corner (per-vertex AO interpolated over its triangles; the caster and the background drawn alike in both "
          "images; the corner fills "
-      << format("%.0f", 100.0 * static_cast<double>(view.receiver_pixels()) / (FigureView::kSize * FigureView::kSize))
+      << formatted("%.0f", 100.0 * static_cast<double>(view.receiver_pixels()) / (FigureView::kSize * FigureView::kSize))
       << "% of the pixels), with the paper's lookup / bilinear + blend / through / through + bilinear + blend / lines; the paper's RMS below.\n\n"
       << "| positions | 32x32 | 64x64 | 128x128 | 256x256 |\n|---|---|---|---|---|\n";
   for (int p = 0; p < 4; ++p) {
@@ -328,7 +315,7 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       const Run best = run(spec + ",cache=" + cache.string() + ",through=1,bilinear=1,blend=1", geometry, rays);
       out << " | " << bits.directions << "x" << bits.directions << " bits, "
           << format_bytes(field::ObjectField::table_bytes(bits)) << " (u8 " << format_bytes(field::ObjectField::table_bytes(u8)) << "): "
-          << format("%.3f / %.3f / %.2f s", rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image), through.build_s);
+          << formatted("%.3f / %.3f / %.2f s", rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image), through.build_s);
     }
     std::filesystem::remove_all(cache);
     out << " |\n| paper";
@@ -346,11 +333,11 @@ void figure5(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       << "| mapping / storage | RMS | paper |\n|---|---|---|\n";
   for (const char* mapping : {"polar", "rejection", "concentric", "equal-area"}) {
     const Run r = run(std::string("field:positions=4226,directions=64,through=0,mapping=") + mapping, geometry, rays);
-    out << "| " << mapping << " u8 | " << format("%.3f", rms(r.ao, exact.ao)) << " | "
+    out << "| " << mapping << " u8 | " << formatted("%.3f", rms(r.ao, exact.ao)) << " | "
         << (std::string(mapping) == "concentric" ? "0.632 (Figure 6)" : "-") << " |\n";
   }
   const Run bit = run("field:positions=4226,directions=64,through=0,storage=bit", geometry, rays);
-  out << "| concentric bit (Figure 7) | " << format("%.3f", rms(bit.ao, exact.ao)) << " | 4.403 |\n";
+  out << "| concentric bit (Figure 7) | " << formatted("%.3f", rms(bit.ao, exact.ao)) << " | 4.403 |\n";
 }
 
 // The paper's Figure 8 (mach. type 1): triangles, ray casting s, precompute s (4226 x 32^2), AO s.
@@ -382,10 +369,10 @@ void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostre
     std::string paper = "-";
     for (const PaperRow& p : kPaperFigure8)
       if (name.find(p.model) != std::string::npos) paper = p.figures;
-    out << "| " << name << " | " << scene.instanced_triangle_count() << " | " << format("%.3f", exact.ao_s) << " | "
-        << (kHaveEmbree ? format("%.3f", embree_s) : std::string("-")) << " | " << format("%.2f", field.build_s) << " | "
-        << format("%.4f", field.ao_s) << " | " << (kHaveEmbree ? format("%.1fx", embree_s / field.ao_s) : std::string("-")) << " | "
-        << format("%.3f", rms(field.ao, exact.ao)) << " | " << paper << " |\n";
+    out << "| " << name << " | " << scene.instanced_triangle_count() << " | " << formatted("%.3f", exact.ao_s) << " | "
+        << (kHaveEmbree ? formatted("%.3f", embree_s) : std::string("-")) << " | " << formatted("%.2f", field.build_s) << " | "
+        << formatted("%.4f", field.ao_s) << " | " << (kHaveEmbree ? formatted("%.1fx", embree_s / field.ao_s) : std::string("-")) << " | "
+        << formatted("%.3f", rms(field.ao, exact.ao)) << " | " << paper << " |\n";
   };
   std::vector<std::string> found;
   for (const char* model : models) {
@@ -434,9 +421,9 @@ void lookups(const std::string& caster_path, SceneGeometry& corner, const std::v
       const double inter_ns = inter.ao_s * 1e9 / static_cast<double>(corner_rays.size());
       const double intra_ns = intra.ao_s * 1e9 / static_cast<double>(own.size());
       const double inter_rms = rms(inter.ao, corner_exact.ao), intra_differ = disagreement(intra);
-      out << "| " << table << " | " << (std::string(lookup) == ",through=0" ? "through=0 (paper)" : lookup + 1) << " | " << format("%.3f", inter_rms) << " | "
-          << format("%.2f", inter_ns) << " | " << format("%.4f", intra_differ) << " | " << format("%.2f", intra_ns) << " | "
-          << format("%.2f", inter_rms * inter_ns) << " | " << format("%.4f", intra_differ * intra_ns) << " |\n";
+      out << "| " << table << " | " << (std::string(lookup) == ",through=0" ? "through=0 (paper)" : lookup + 1) << " | " << formatted("%.3f", inter_rms) << " | "
+          << formatted("%.2f", inter_ns) << " | " << formatted("%.4f", intra_differ) << " | " << formatted("%.2f", intra_ns) << " | "
+          << formatted("%.2f", inter_rms * inter_ns) << " | " << formatted("%.4f", intra_differ * intra_ns) << " |\n";
     }
 }
 
@@ -506,7 +493,7 @@ void gpu_figure3(const std::string& caster_path, std::ostream& out) {
   const std::vector<double> exact = measure("bvh", build_s, exact_s, bytes);
   if (kHaveEmbree) measure(kEmbreeName, build_s, embree_s, bytes);
   out << rays.size() << " AO rays (" << kRaysPerPixel << " per ground pixel of a 256x256 view). Exact: our BVH "
-      << format("%.3f s", exact_s) << (kHaveEmbree ? ", Embree " + format("%.3f s", embree_s) : std::string()) << ".\n\n"
+      << formatted("%.3f s", exact_s) << (kHaveEmbree ? ", Embree " + formatted("%.3f s", embree_s) : std::string()) << ".\n\n"
       << "Each cell: AO time s / RMS (0-255, all pixels) / field memory; the GPU paper's draw time (on its 2010 GPU) and RMS below.\n\n"
       << "| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
   const char* const paper[3][3] = {{"81.2 ms / 0.596", "82.7 ms / 0.589", "82.9 ms / 0.586"},
@@ -520,7 +507,7 @@ void gpu_figure3(const std::string& caster_path, std::ostream& out) {
       std::size_t field_bytes = 0;
       const std::vector<double> field =
           measure("field:positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(n), field_build, field_s, field_bytes);
-      out << " | " << format("%.4f s / %.3f / ", field_s, rms(field, exact)) << format_bytes(static_cast<double>(field_bytes));
+      out << " | " << formatted("%.4f s / %.3f / ", field_s, rms(field, exact)) << format_bytes(static_cast<double>(field_bytes));
     }
     out << " |\n| paper | " << paper[p][0] << " | " << paper[p][1] << " | " << paper[p][2] << " |\n";
   }

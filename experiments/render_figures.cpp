@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <memory>
 
+#include "casters.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel_threads.hpp"
+#include "visfield/core/text.hpp"
 #include "visfield/field/object_field.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/io/mesh_loader.hpp"
@@ -18,23 +20,12 @@
 namespace vf::experiments {
 namespace {
 
-std::string format(const char* pattern, double a, double b = 0.0) {
-  char text[96];
-  std::snprintf(text, sizeof(text), pattern, a, b);
-  return text;
-}
-
 // RMS on the 0-255 scale of two images clamped to [0, 1], as 8-bit pictures would compare.
 double rms_255(Image a, Image b) {
   for (Image* image : {&a, &b})
     for (Vec3f& p : image->pixels) p = min(max(p, Vec3f{0.0f}), Vec3f{1.0f});
   return 255.0 * compare_images(a, b).rms;
 }
-
-/// Where a caster stands on the ground: its bounding sphere's radius and centre (x, z).
-struct Placement {
-  float radius, x, z;
-};
 
 // The casters (fields) standing on an exact ground square of half-width `ground`, each scaled to its
 // placement's sphere radius; materials: casters `caster`, ground `floor`.
@@ -46,14 +37,10 @@ Scene casters_on_ground(const std::vector<std::string>& paths, const std::vector
     LoadedMesh loaded = load_mesh(paths[c]);
     const TriangleSet set = mesh_triangles(loaded.mesh);
     if (set.size() == 0) throw Error(paths[c] + ": no triangles of non-zero area");
-    const field::BoundingSphere sphere = field::bounding_sphere_of(set);
     Instance object;
     object.mesh = static_cast<std::uint32_t>(scene.meshes.size());
     object.material = 0;
-    object.transform.scale = placements[c].radius / sphere.radius;
-    const Vec3f centre = sphere.centre * object.transform.scale;
-    object.transform.translation =
-        Vec3f{placements[c].x, -set.bounds.lo.y * object.transform.scale, placements[c].z} - Vec3f{centre.x, 0.0f, centre.z};
+    object.transform = standing_transform(set, placements[c]);
     loaded.mesh.occluder = MeshOccluder::field;
     loaded.mesh.material_ids.clear();
     scene.meshes.push_back(std::move(loaded.mesh));
@@ -165,8 +152,8 @@ void figure7(const std::string& caster, const ImageSink& sink, std::ostream& out
   const Built exact(geometry, bvh, "bvh");
   const auto [reference, exact20] = exact_soft_shadows(*exact.queries, scene, camera, sink);
   out << "256x256 pixels, 3 sphere lights, 20 shadow rays per light and pixel (" << exact20.stats.by_kind.shadow
-      << " shadow rays). Reference: exact (BVH), 256 rays per light and pixel, " << format("%.2f s", reference.seconds)
-      << ". Exact with the same 20 rays: " << format("%.3f s, RMS %.2f", exact20.seconds, rms_255(exact20.image, reference.image))
+      << " shadow rays). Reference: exact (BVH), 256 rays per light and pixel, " << formatted("%.2f s", reference.seconds)
+      << ". Exact with the same 20 rays: " << formatted("%.3f s, RMS %.2f", exact20.seconds, rms_255(exact20.image, reference.image))
       << " (the noise of 20 rays alone).\n\n"
       << "Each cell: render s / RMS (0-255) against the reference / field memory; the GPU paper's (its 2010 GPU, 20 rays) below.\n\n"
       << "| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
@@ -179,7 +166,7 @@ void figure7(const std::string& caster, const ImageSink& sink, std::ostream& out
       const Built fields(geometry, bvh, "field:meshes=marked,positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(n));
       const Render r = render(Integrator::softshadow, *fields.queries, scene, camera, soft_options(20));
       sink.keep("field" + std::to_string(positions[p]) + "x" + std::to_string(n), r.image);
-      out << " | " << format("%.3f s / %.2f / ", r.seconds, rms_255(r.image, reference.image)) << format_bytes(static_cast<double>(fields.bytes()));
+      out << " | " << formatted("%.3f s / %.2f / ", r.seconds, rms_255(r.image, reference.image)) << format_bytes(static_cast<double>(fields.bytes()));
     }
     out << " |\n| paper | " << paper[p][0] << " | " << paper[p][1] << " | " << paper[p][2] << " |\n";
   }
@@ -214,11 +201,11 @@ void figure8(const std::string& folder, const ImageSink& sink, std::ostream& out
       << "20 shadow rays per light and pixel (" << field20.stats.by_kind.shadow << " shadow rays); fields 4226 x 64x64 u8 ("
       << format_bytes(static_cast<double>(fields.bytes())) << ").\n\n"
       << "| render | s | ns per shadow ray | RMS (0-255) vs exact 256-ray reference |\n|---|---:|---:|---:|\n"
-      << "| fields, 20 rays | " << format("%.3f | %.1f", field20.seconds, field20.seconds * 1e9 / static_cast<double>(field20.stats.by_kind.shadow))
-      << " | " << format("%.2f", rms_255(field20.image, reference.image)) << " |\n"
-      << "| exact BVH, 20 rays | " << format("%.3f | %.1f", exact20.seconds, exact20.seconds * 1e9 / static_cast<double>(exact20.stats.by_kind.shadow))
-      << " | " << format("%.2f", rms_255(exact20.image, reference.image)) << " |\n"
-      << "| exact BVH, sharp (1 ray per point light) | " << format("%.3f | %.1f", sharp.seconds, sharp.seconds * 1e9 / static_cast<double>(std::max<std::uint64_t>(1, sharp.stats.by_kind.shadow)))
+      << "| fields, 20 rays | " << formatted("%.3f | %.1f", field20.seconds, field20.seconds * 1e9 / static_cast<double>(field20.stats.by_kind.shadow))
+      << " | " << formatted("%.2f", rms_255(field20.image, reference.image)) << " |\n"
+      << "| exact BVH, 20 rays | " << formatted("%.3f | %.1f", exact20.seconds, exact20.seconds * 1e9 / static_cast<double>(exact20.stats.by_kind.shadow))
+      << " | " << formatted("%.2f", rms_255(exact20.image, reference.image)) << " |\n"
+      << "| exact BVH, sharp (1 ray per point light) | " << formatted("%.3f | %.1f", sharp.seconds, sharp.seconds * 1e9 / static_cast<double>(std::max<std::uint64_t>(1, sharp.stats.by_kind.shadow)))
       << " | - |\n\n"
       << "The paper (its 2010 GPU): fields 3268 ms for 11.8M shadow rays (1.9e-4 ms each); its GPU BVH 48047 ms for sharp shadows.\n";
 }
@@ -244,14 +231,14 @@ void figure9(const std::string& caster, const ImageSink& sink, std::ostream& out
   const std::string model = std::filesystem::path(caster).stem().string();
   sink.keep(model + "-exact", reference.image);
   out << "256x256 pixels, " << reference.stats.by_kind.reflection << " reflection rays (4 per reflective pixel). Exact (BVH): "
-      << format("%.3f s", reference.seconds) << "; ray casting alone: " << format("%.3f s", raycast.seconds) << ".\n\n"
+      << formatted("%.3f s", reference.seconds) << "; ray casting alone: " << formatted("%.3f s", raycast.seconds) << ".\n\n"
       << "| fields (u8 distances, oct16 normals) | render s | RMS (0-255) vs exact, same rays | memory |\n|---|---:|---:|---:|\n";
   for (const int n : {32, 64}) {
     const std::string spec = "field:meshes=marked,positions=4226,directions=" + std::to_string(n) + ",normals=oct16";
     const Built fields(geometry, bvh, spec);
     const Render r = render(Integrator::glossy, *fields.queries, scene, camera, o);
     sink.keep(model + "-field4226x" + std::to_string(n), r.image);
-    out << "| 4226 x " << n << "x" << n << " | " << format("%.3f | %.2f", r.seconds, rms_255(r.image, reference.image)) << " | "
+    out << "| 4226 x " << n << "x" << n << " | " << formatted("%.3f | %.2f", r.seconds, rms_255(r.image, reference.image)) << " | "
         << format_bytes(static_cast<double>(fields.bytes())) << " |\n";
   }
   out << "\nThe paper (its 2010 GPU, the bunny): 4226 x 64^2 1900 ms, RMS 8.14, 66 MB; 4226 x 32^2 1897 ms, RMS 9.39, 16.5 MB; "

@@ -2,7 +2,8 @@
 # The GPU run, staged as gpu-bundle/run.sh by scripts/gpu-bundle.sh (docs/cuda.md, "A GPU run").
 # From the repository root of a GPU machine, with gpu-bundle carried: bash gpu-bundle/run.sh
 #
-# No build and nothing installed: the bundle's programs with LD_LIBRARY_PATH at its lib/ folder.
+# No build and nothing installed: payload.tar.xz unpacked into $TMPDIR (xz, else Python's lzma: the
+# device image has Python, not always xz), then its programs with LD_LIBRARY_PATH at its lib/ folder.
 # Steps, each under its own timeout and all within VISFIELD_GPU_BUDGET_S seconds (default 400, so
 # that the run ends inside 7 minutes):
 #   device    nvidia-smi, the driver, the kernels' registers and stack frames (cuobjdump)
@@ -22,9 +23,19 @@
 # Without a GPU it checks that every program loads from the bundle alone, says so in one line and
 # exits 0; a program that does not load is an error (exit 1).
 set -uo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-out=${OUT:-$here/out}
+bundle=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+out=${OUT:-$bundle/out}
 export PATH="/usr/local/cuda/bin:${PATH:-/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin}"
+here=${TMPDIR:-/tmp}/visfield-bundle
+rm -rf "$here"
+mkdir -p "$here"
+if command -v xz >/dev/null; then
+  xz -dc "$bundle/payload.tar.xz" | tar -C "$here" -xf - || { echo "run.sh: error: cannot unpack $bundle/payload.tar.xz" >&2; exit 1; }
+else
+  python3 -c 'import sys, tarfile; tarfile.open(sys.argv[1], "r:xz").extractall(sys.argv[2])' "$bundle/payload.tar.xz" "$here" ||
+    { echo "run.sh: error: cannot unpack $bundle/payload.tar.xz" >&2; exit 1; }
+fi
+cp "$bundle/BUILD" "$here/BUILD"
 export LD_LIBRARY_PATH="$here/lib"
 bin=$here/bin
 budget=${VISFIELD_GPU_BUDGET_S:-400}
@@ -60,13 +71,7 @@ if ! nvidia-smi -L 2>/dev/null | grep -q '^GPU'; then
 fi
 
 mkdir -p "$out"
-models=${TMPDIR:-/tmp}/visfield-models
-mkdir -p "$models"
-# xz where the machine has it, else Python's lzma (the device image has Python, not always xz).
-unxz_to() {
-  if command -v xz >/dev/null; then xz -dc "$1" >"$2"; else python3 -c 'import lzma, shutil, sys; shutil.copyfileobj(lzma.open(sys.argv[1]), open(sys.argv[2], "wb"))' "$1" "$2"; fi
-}
-for m in "$here"/models/*.xz; do unxz_to "$m" "$models/$(basename "${m%.xz}")"; done
+models=$here/models
 export VISFIELD_MODELS_DIR=$models
 threads=$(nproc)
 

@@ -3,6 +3,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "visfield/core/isa.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 
@@ -38,7 +39,8 @@ int run_info(const StructureCommandOptions& o) {
             << "materials:          " << scene.materials.size() << "\n"
             << "lights:             " << scene.point_lights.size() << " point, " << scene.sphere_lights.size() << " sphere\n"
             << "camera:             " << (scene.camera ? "from the scene" : "framed automatically") << "\n"
-            << "load:               " << load_ms << " ms\n";
+            << "load:               " << load_ms << " ms\n"
+            << "kernels:            " << isa_summary() << "\n";
   print_structure(std::cout, "--accel", built, limit.threads());
   return 0;
 }

@@ -9,6 +9,7 @@
 #include "integrator_options.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/statistics.hpp"
 #include "visfield/io/atomic_file.hpp"
 #include "visfield/io/image_io.hpp"
 #include "visfield/registry/walk_structures.hpp"
@@ -36,11 +37,6 @@ std::string formatted_ms(double ms) {
   char text[32];
   std::snprintf(text, sizeof text, "%.2f ms", ms);
   return text;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 int run_walk(const WalkCommandOptions& o) {

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
+#include "visfield/core/isa.hpp"
 #include "visfield/core/parse_only.hpp"
 
 namespace {
@@ -23,6 +24,12 @@ std::string one_line(std::string text) {
 
 int main(int argc, char** argv) {
   vf::install_interrupt_handlers();
+  try {
+    vf::check_isa_environment();
+  } catch (const vf::Error& e) {
+    std::cerr << "visfield: error: " << e.what() << "\n";
+    return 2;
+  }
   CLI::App app{"visfield: fast ray-scene visibility queries (AO, shadows) with exact structures and visibility fields"};
   app.require_subcommand(1);
   vf::cli::Action action;

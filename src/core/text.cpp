@@ -4,9 +4,9 @@
 
 namespace vf {
 
-std::string formatted(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
+std::string formatted(const char* pattern, double a, double b, double c, double d) {
+  char text[256];
+  std::snprintf(text, sizeof text, pattern, a, b, c, d);
   return text;
 }
 

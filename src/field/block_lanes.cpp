@@ -2,6 +2,7 @@
 // with a ray in each lane: the same operations in the same order, the watertight test's per-ray
 // permutation as selects, so a lane decides what the scalar code decides. Lanes whose edge
 // functions come out 0 (where the scalar test falls back to double) are decided by the scalar test itself.
+// A kernel file: compiled once per instruction set (src/core/isa_dispatch.hpp).
 
 // GCC 12 reports the undefined-value operands of its own avx512fintrin.h (_mm512_undefined_*) as
 // uninitialised once inlined (as in field_batch.cpp): a false positive of the compiler's headers.
@@ -16,10 +17,24 @@
 #include <cstring>
 #include <limits>
 
+#include "core/isa_dispatch.hpp"
 #include "field_kernel.hpp"
 #include "kernel_lanes.hpp"
 #include "visfield/core/triangle_intersect.hpp"
 #include "visfield/field/sphere_cull.hpp"
+
+namespace vf::isa_avx512 {
+void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded);
+void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<const Ray> rays, Hit* best);
+std::size_t cells_of_rays(const field::CellGrid& grid, std::span<const Ray> rays, const std::uint8_t* skip, std::int32_t* cell,
+                          std::uint32_t* in_cells);
+std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out);
+void append_meeting_spheres(std::span<const field::SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
+                            const std::uint8_t* skip);
+void append_meeting_spheres(std::span<const field::SphereTarget> targets, const Ray* rays, const std::uint32_t* ids, std::size_t count);
+void append_meeting_spheres(std::span<const field::SphereTarget> targets, const float* const columns[8], std::size_t count,
+                            const std::uint32_t* ids, const std::uint8_t* settled);
+}  // namespace vf::isa_avx512
 
 namespace vf::field {
 namespace {
@@ -297,6 +312,7 @@ std::int32_t cell_of_ray(const CellGrid& g, const Ray& ray) {
 }  // namespace
 
 void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded) {
+  VF_USE_WIDER(occluded_by_small_exact, triangles, rays, occluded);
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   Bounds3f box;
@@ -319,6 +335,7 @@ void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, st
 }
 
 void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<const Ray> rays, Hit* best) {
+  VF_USE_WIDER(closest_by_small_exact, exact, bvh, rays, best);
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
@@ -486,6 +503,7 @@ CellGrid cell_grid_over(std::span<const Bounds3f> boxes, std::span<const ObjectF
 
 std::size_t cells_of_rays(const CellGrid& grid, std::span<const Ray> rays, const std::uint8_t* skip, std::int32_t* cell,
                           std::uint32_t* in_cells) {
+  VF_USE_WIDER(cells_of_rays, grid, rays, skip, cell, in_cells);
   const CellGrid g = grid;  // a copy: the stores to `cell` could alias its integers
   std::size_t i = 0, placed = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
@@ -537,6 +555,7 @@ std::size_t cells_of_rays(const CellGrid& grid, std::span<const Ray> rays, const
 }
 
 std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out) {
+  VF_USE_WIDER(rays_meeting_sphere, centre, radius, rays, out);
   std::size_t i = 0, n = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   for (; i + L::kWidth <= rays.size(); i += L::kWidth) {
@@ -604,6 +623,7 @@ void append_one(std::span<const SphereTarget> targets, const Ray& ray, std::uint
 
 void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
                             const std::uint8_t* skip) {
+  VF_USE_WIDER(append_meeting_spheres, targets, rays, ids, skip);
   make_room(targets, rays.size());
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
@@ -624,6 +644,7 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, std::span<con
 }
 
 void append_meeting_spheres(std::span<const SphereTarget> targets, const Ray* rays, const std::uint32_t* ids, std::size_t count) {
+  VF_USE_WIDER(append_meeting_spheres, targets, rays, ids, count);
   make_room(targets, count);
   std::size_t i = 0;
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
@@ -639,6 +660,7 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, const Ray* ra
 
 void append_meeting_spheres(std::span<const SphereTarget> targets, const float* const columns[8], std::size_t count, const std::uint32_t* ids,
                             const std::uint8_t* settled) {
+  VF_USE_WIDER(append_meeting_spheres, targets, columns, count, ids, settled);
 #if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
   static_assert(kColumnsSlack >= L::kWidth - 1, "a last partial packet reads whole registers");
 #endif
@@ -662,3 +684,33 @@ void append_meeting_spheres(std::span<const SphereTarget> targets, const float* 
 }
 
 }  // namespace vf::field
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void occluded_by_small_exact(std::span<const std::array<Vec3f, 3>> triangles, std::span<const Ray> rays, std::uint8_t* occluded) {
+  field::occluded_by_small_exact(triangles, rays, occluded);
+}
+VF_WIDER_ENTRY void closest_by_small_exact(const TriangleSet& exact, const Bvh& bvh, std::span<const Ray> rays, Hit* best) {
+  field::closest_by_small_exact(exact, bvh, rays, best);
+}
+VF_WIDER_ENTRY std::size_t cells_of_rays(const field::CellGrid& grid, std::span<const Ray> rays, const std::uint8_t* skip, std::int32_t* cell,
+                                         std::uint32_t* in_cells) {
+  return field::cells_of_rays(grid, rays, skip, cell, in_cells);
+}
+VF_WIDER_ENTRY std::size_t rays_meeting_sphere(const Vec3f& centre, float radius, std::span<const Ray> rays, std::uint32_t* out) {
+  return field::rays_meeting_sphere(centre, radius, rays, out);
+}
+VF_WIDER_ENTRY void append_meeting_spheres(std::span<const field::SphereTarget> targets, std::span<const Ray> rays, const std::uint32_t* ids,
+                                           const std::uint8_t* skip) {
+  field::append_meeting_spheres(targets, rays, ids, skip);
+}
+VF_WIDER_ENTRY void append_meeting_spheres(std::span<const field::SphereTarget> targets, const Ray* rays, const std::uint32_t* ids,
+                                           std::size_t count) {
+  field::append_meeting_spheres(targets, rays, ids, count);
+}
+VF_WIDER_ENTRY void append_meeting_spheres(std::span<const field::SphereTarget> targets, const float* const columns[8], std::size_t count,
+                                           const std::uint32_t* ids, const std::uint8_t* settled) {
+  field::append_meeting_spheres(targets, columns, count, ids, settled);
+}
+}  // namespace vf::isa_avx512
+#endif

@@ -1,6 +1,7 @@
 // ObjectField's batch queries: the lanes kernel of field_kernel.hpp at 32, 16 or 8 lanes (two or
 // one AVX-512 packets, two or one AVX2 packets), trace_field() for the remainder, for width 1 and
-// where the kernel does not apply. All give the same bits.
+// where the kernel does not apply. All give the same bits. A kernel file: compiled once per
+// instruction set (src/core/isa_dispatch.hpp).
 
 // GCC 12 reports the undefined-value operands of its own avx512fintrin.h (`__Y = __Y` in _mm512_undefined_*) as
 // uninitialised once the kernel is inlined: a false positive of the compiler's headers.
@@ -13,11 +14,22 @@
 
 #include <tbb/blocked_range.h>
 
+#include "core/isa_dispatch.hpp"
 #include "field_kernel.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/field/object_field.hpp"
+
+namespace vf::isa_avx512 {
+void field_trace_batch(const field::ObjectField& f, const field::ObjectRays& rays, field::FieldAnswer* out, int width);
+void field_trace_rays(const field::ObjectField& f, const Ray* rays, const std::uint32_t* index, std::size_t count,
+                      const InverseTransform& to_object, const float* limit, field::FieldAnswer* out, int width);
+void field_mark_occluded(const field::ObjectField& f, const Ray* rays, const std::uint32_t* index, std::size_t count,
+                         const InverseTransform& to_object, std::uint8_t* occluded, int width);
+void field_mark_occluded(const field::ObjectField& f, const field::ObjectRays& rays, std::uint8_t* occluded, int width);
+int field_batch_width(int width);
+}  // namespace vf::isa_avx512
 
 namespace vf::field {
 namespace {
@@ -110,6 +122,7 @@ void run_culled(const FieldTables& f, int width, const Ray* rays, const std::uin
 }  // namespace
 
 void ObjectField::trace_batch(const ObjectRays& rays, FieldAnswer* out, int width) const {
+  VF_USE_WIDER(field_trace_batch, *this, rays, out, width);
   const FieldTables f = tables();
   const float* const rows[8] = {rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tmin, rays.tmax};
   std::size_t done = run_lanes(
@@ -122,6 +135,7 @@ void ObjectField::trace_batch(const ObjectRays& rays, FieldAnswer* out, int widt
 
 void ObjectField::trace_rays(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                              const float* limit, FieldAnswer* out, int width) const {
+  VF_USE_WIDER(field_trace_rays, *this, rays, index, count, to_object, limit, out, width);
   const FieldTables f = tables();
   // Rays culled by the sphere are misses; the kernel writes the answers of the others.
   std::fill(out, out + count, FieldAnswer{});
@@ -149,6 +163,7 @@ void ObjectField::trace_rays(std::span<const Ray> rays, std::span<FieldAnswer> o
 
 void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std::size_t count, const InverseTransform& to_object,
                                 std::uint8_t* occluded, int width) const {
+  VF_USE_WIDER(field_mark_occluded, *this, rays, index, count, to_object, occluded, width);
   const FieldTables f = tables();
   run_culled(
       f, resolved_width(width), rays, index, count, nullptr, to_object, cells_.size(), normals_.size(),
@@ -163,6 +178,7 @@ void ObjectField::mark_occluded(const Ray* rays, const std::uint32_t* index, std
 }
 
 void ObjectField::mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, int width) const {
+  VF_USE_WIDER(field_mark_occluded, *this, rays, occluded, width);
   const FieldTables f = tables();
   const float* const rows[8] = {rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tmin, rays.tmax};
   std::size_t done = run_lanes(
@@ -175,7 +191,10 @@ void ObjectField::mark_occluded(const ObjectRays& rays, std::uint8_t* occluded, 
       occluded[done] = 1;
 }
 
-int ObjectField::batch_width(int width) { return resolved_width(width); }
+int ObjectField::batch_width(int width) {
+  VF_USE_WIDER(field_batch_width, width);
+  return resolved_width(width);
+}
 
 const char* ObjectField::timing_bound() {
   constexpr const char* names[] = {"", "no-lookups", "read-and-map", "read-only", "cached-cells", "no-map", "no-map-line", "no-map-line-lattice", "sphere-only"};
@@ -183,3 +202,23 @@ const char* ObjectField::timing_bound() {
 }
 
 }  // namespace vf::field
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void field_trace_batch(const field::ObjectField& f, const field::ObjectRays& rays, field::FieldAnswer* out, int width) {
+  f.trace_batch(rays, out, width);
+}
+VF_WIDER_ENTRY void field_trace_rays(const field::ObjectField& f, const Ray* rays, const std::uint32_t* index, std::size_t count,
+                                     const InverseTransform& to_object, const float* limit, field::FieldAnswer* out, int width) {
+  f.trace_rays(rays, index, count, to_object, limit, out, width);
+}
+VF_WIDER_ENTRY void field_mark_occluded(const field::ObjectField& f, const Ray* rays, const std::uint32_t* index, std::size_t count,
+                                        const InverseTransform& to_object, std::uint8_t* occluded, int width) {
+  f.mark_occluded(rays, index, count, to_object, occluded, width);
+}
+VF_WIDER_ENTRY void field_mark_occluded(const field::ObjectField& f, const field::ObjectRays& rays, std::uint8_t* occluded, int width) {
+  f.mark_occluded(rays, occluded, width);
+}
+VF_WIDER_ENTRY int field_batch_width(int width) { return field::ObjectField::batch_width(width); }
+}  // namespace vf::isa_avx512
+#endif

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "block_lanes.hpp"
+#include "core/isa_dispatch.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
@@ -18,6 +19,12 @@
 #include "visfield/field/closest_answer.hpp"
 #include "visfield/field/field_file.hpp"
 #include "visfield/field/field_params.hpp"
+
+namespace vf::isa_avx512 {
+void occluded_batch(const field::FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+void occluded_block(const field::FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+void intersect_batch(const field::FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits);
+}  // namespace vf::isa_avx512
 
 namespace vf::field {
 namespace {
@@ -533,6 +540,7 @@ void FieldScene::occluded_by_tree(std::span<const Ray> rays, std::uint8_t* occlu
 std::size_t FieldScene::block_size() const { return objects_.size() > 1 ? kObjectsBlock : kBlock; }
 
 void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  VF_USE_WIDER(occluded_batch, fields, rays, occluded);
   const std::size_t size = fields.block_size();
   vf::parallel_for(std::size_t{0}, (rays.size() + size - 1) / size, [&](std::size_t block) {
     check_interrupt();
@@ -542,6 +550,7 @@ void occluded_batch(const FieldScene& fields, std::span<const Ray> rays, std::sp
 }
 
 void occluded_block(const FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  VF_USE_WIDER(occluded_block, fields, rays, occluded);
   const std::size_t size = fields.block_size();
   for (std::size_t begin = 0; begin < rays.size(); begin += size) {
     const std::size_t count = std::min(size, rays.size() - begin);
@@ -550,6 +559,7 @@ void occluded_block(const FieldScene& fields, std::span<const Ray> rays, std::sp
 }
 
 void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits) {
+  VF_USE_WIDER(intersect_batch, fields, rays, hits);
   const std::size_t size = fields.block_size();
   vf::parallel_for(std::size_t{0}, (rays.size() + size - 1) / size, [&](std::size_t block) {
     check_interrupt();
@@ -559,3 +569,17 @@ void intersect_batch(const FieldScene& fields, std::span<const Ray> rays, std::s
 }
 
 }  // namespace vf::field
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void occluded_batch(const field::FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  field::occluded_batch(fields, rays, occluded);
+}
+VF_WIDER_ENTRY void occluded_block(const field::FieldScene& fields, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  field::occluded_block(fields, rays, occluded);
+}
+VF_WIDER_ENTRY void intersect_batch(const field::FieldScene& fields, std::span<const Ray> rays, std::span<Hit> hits) {
+  field::intersect_batch(fields, rays, hits);
+}
+}  // namespace vf::isa_avx512
+#endif

@@ -11,8 +11,6 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 // GGX (Trowbridge-Reitz) normal distribution for a half vector at cosine `cos_h` to the normal.
 float ggx_d(float cos_h, float alpha) {
   const float a2 = alpha * alpha;

@@ -11,14 +11,19 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/isa_dispatch.hpp"
 #include "sample_lanes.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/render/bsdf.hpp"
 
+namespace vf::isa_avx512 {
+void sphere_cone_sample(const SphereCone& cone, Rng& rng, std::size_t count, Vec3f* wi, float* distance);
+std::size_t sphere_light_rays(std::span<const SphereLight> lights, const Vec3f& from, const Bsdf& bsdf, const Vec3f& wo, int per_light,
+                              Rng& rng, Ray* rays, Vec3f* contribution);
+}  // namespace vf::isa_avx512
+
 namespace vf {
 namespace {
-
-float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 // 1 - cos of the half-angle a sphere of radius r subtends at distance d > r, without the
 // cancellation of 1 - sqrt(1 - s) for small lights far away.
@@ -284,6 +289,7 @@ LightSample SphereCone::sample(float u, float v) const {
 }
 
 void SphereCone::sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance) const {
+  VF_USE_WIDER(sphere_cone_sample, *this, rng, count, wi, distance);
   std::size_t k = 0;
 #if defined(VF_SAMPLE_LANES)
   if (count >= 4) {
@@ -321,6 +327,7 @@ void SphereCone::sample(Rng& rng, std::size_t count, Vec3f* wi, float* distance)
 
 std::size_t sphere_light_rays(std::span<const SphereLight> lights, const Vec3f& from, const Bsdf& bsdf, const Vec3f& wo, int per_light,
                               Rng& rng, Ray* rays, Vec3f* contribution) {
+  VF_USE_WIDER(sphere_light_rays, lights, from, bsdf, wo, per_light, rng, rays, contribution);
   std::size_t n = 0;
 #if defined(VF_SAMPLE_LANES)
   // Lanes across the samples of all lights (the GPU paper's 20 rays a light: 60 samples in 8 packets
@@ -406,3 +413,15 @@ std::optional<SphereLightHit> SceneLights::first_sphere(const Ray& ray, float t_
 }
 
 }  // namespace vf
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void sphere_cone_sample(const SphereCone& cone, Rng& rng, std::size_t count, Vec3f* wi, float* distance) {
+  cone.sample(rng, count, wi, distance);
+}
+VF_WIDER_ENTRY std::size_t sphere_light_rays(std::span<const SphereLight> lights, const Vec3f& from, const Bsdf& bsdf, const Vec3f& wo,
+                                             int per_light, Rng& rng, Ray* rays, Vec3f* contribution) {
+  return vf::sphere_light_rays(lights, from, bsdf, wo, per_light, rng, rays, contribution);
+}
+}  // namespace vf::isa_avx512
+#endif

@@ -8,9 +8,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/isa_dispatch.hpp"
 #include "sample_lanes.hpp"
 #include "visfield/core/sampling.hpp"
 #include "visfield/render/lights.hpp"
+
+namespace vf::isa_avx512 {
+void ao_rays(const SurfacePoint& point, Rng& rng, float max_distance, std::size_t count, Ray* out);
+}  // namespace vf::isa_avx512
 
 namespace vf {
 namespace {
@@ -119,6 +124,7 @@ void ao_packet(const SurfacePoint& point, float max_distance, render_detail::Pai
 #endif
 
 void ao_rays(const SurfacePoint& point, Rng& rng, float max_distance, std::size_t count, Ray* out) {
+  VF_USE_WIDER(ao_rays, point, rng, max_distance, count, out);
   std::size_t k = 0;
 #if defined(VF_SAMPLE_LANES)
   if (count >= 4) {  // the last packet's spare lanes are not kept
@@ -156,3 +162,11 @@ Ray shadow_ray(const SurfacePoint& point, const Vec3f& target) {
 }
 
 }  // namespace vf
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void ao_rays(const SurfacePoint& point, Rng& rng, float max_distance, std::size_t count, Ray* out) {
+  vf::ao_rays(point, rng, max_distance, count, out);
+}
+}  // namespace vf::isa_avx512
+#endif

@@ -308,7 +308,6 @@ TEST_F(Cli, UnwritableOutputFailsCleanly) {
                        "x.png");
 }
 
-}  // namespace
 TEST_F(Cli, EveryRenderSettingAndFieldParameterIsAnOptionWithTheTablesDefault) {
   // The options are generated from the library's tables (render_setting_specs(), field::kTableParams):
   // each appears in --help as "--option TEXT=default" with its range in its help.
@@ -336,4 +335,5 @@ TEST_F(Cli, EveryRenderSettingAndFieldParameterIsAnOptionWithTheTablesDefault) {
   EXPECT_NE(r.err.find("--ao-rays: 0: expected a non-negative integer in 1..65536"), std::string::npos) << r.err;
 }
 
+}  // namespace
 }  // namespace vf

@@ -15,6 +15,9 @@
 
 namespace vf {
 
+/// The Rec. 709 luminance of a linear RGB colour.
+inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
 /// Roughness below which the specular lobe is a perfect mirror (a delta lobe).
 inline constexpr float kMirrorRoughness = 0.02f;
 

@@ -2,7 +2,7 @@
 // conservatively rasterised into the tiles its projection comes within `slack` of, clipped to each
 // such tile's beam for its depth range, and the tile's references are split into 2^D equal depth
 // leaves. A fresh build and an update share all of it: an update only rebuilds the tiles its old and
-// new triangles touch.
+// new triangles touch. A kernel file: compiled once per instruction set (src/core/isa_dispatch.hpp).
 
 #include <algorithm>
 #include <atomic>
@@ -18,9 +18,16 @@
 #include "beam_field/tile_footprint.hpp"
 #include "beam_field/tile_geometry.hpp"
 #include "beam_field/tile_raster.hpp"
+#include "core/isa_dispatch.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
+
+namespace vf::isa_avx512 {
+void beam_build_all_directions(beam::BeamLayout& layout);
+std::size_t beam_count_tile_references(const beam::BeamLayout& layout, std::size_t line, std::span<const std::array<Vec3f, 3>> triangles);
+void beam_update_directions(beam::BeamLayout& layout, const beam::SlotEdits& edits);
+}  // namespace vf::isa_avx512
 
 namespace vf::beam {
 namespace {
@@ -416,6 +423,7 @@ void update_direction(const BeamLayout& layout, const SlotEdits& edits, std::siz
 }  // namespace
 
 void build_all_directions(BeamLayout& layout) {
+  VF_USE_WIDER(beam_build_all_directions, layout);
   layout.directions.assign(layout.lines.size(), {});
   tbb::enumerable_thread_specific<Scratch> scratch;
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 1), [&](const auto& range) {
@@ -427,6 +435,7 @@ void build_all_directions(BeamLayout& layout) {
 }
 
 std::size_t count_tile_references(const BeamLayout& layout, std::size_t line, std::span<const std::array<Vec3f, 3>> triangles) {
+  VF_USE_WIDER(beam_count_tile_references, layout, line, triangles);
   const Rasterizer raster(layout, line);
   std::vector<std::uint32_t> tiles;
   std::size_t count = 0;
@@ -435,6 +444,7 @@ std::size_t count_tile_references(const BeamLayout& layout, std::size_t line, st
 }
 
 void update_directions(BeamLayout& layout, const SlotEdits& edits) {
+  VF_USE_WIDER(beam_update_directions, layout, edits);
   tbb::enumerable_thread_specific<Scratch> scratch;
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, layout.lines.size(), 1), [&](const auto& range) {
     for (std::size_t line = range.begin(); line != range.end(); ++line)
@@ -443,3 +453,14 @@ void update_directions(BeamLayout& layout, const SlotEdits& edits) {
 }
 
 }  // namespace vf::beam
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void beam_build_all_directions(beam::BeamLayout& layout) { beam::build_all_directions(layout); }
+VF_WIDER_ENTRY std::size_t beam_count_tile_references(const beam::BeamLayout& layout, std::size_t line,
+                                                      std::span<const std::array<Vec3f, 3>> triangles) {
+  return beam::count_tile_references(layout, line, triangles);
+}
+VF_WIDER_ENTRY void beam_update_directions(beam::BeamLayout& layout, const beam::SlotEdits& edits) { beam::update_directions(layout, edits); }
+}  // namespace vf::isa_avx512
+#endif

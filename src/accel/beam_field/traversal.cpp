@@ -12,6 +12,8 @@
 // it. Each kept triangle gets the full watertight test (the same as brute force), so every reported
 // t is brute force's t. The walk stops only when every τ below the best
 // hit has been covered, with a margin for the rounding of the float t.
+//
+// A kernel file: compiled once per instruction set (src/core/isa_dispatch.hpp).
 
 #include <algorithm>
 #include <array>
@@ -30,11 +32,22 @@
 #include "beam_field/tile_footprint.hpp"
 #include "beam_field/tile_geometry.hpp"
 #include "beam_field/tile_raster.hpp"
+#include "core/isa_dispatch.hpp"
 #include "simd/watertight_block.hpp"
 #include "visfield/accel/beam_field.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/core/triangle_intersect.hpp"
+
+namespace vf::isa_avx512 {
+Hit beam_intersect(const BeamField& field, const Ray& ray, BeamQueryCounters* counters);
+bool beam_occluded(const BeamField& field, const Ray& ray, BeamQueryCounters* counters);
+Hit beam_intersect_on_line(const BeamField& field, const Ray& ray, std::uint32_t line);
+bool beam_occluded_on_line(const BeamField& field, const Ray& ray, std::uint32_t line);
+void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::span<Hit> hits);
+void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+}  // namespace vf::isa_avx512
 
 namespace vf {
 namespace beam {
@@ -813,35 +826,45 @@ void occluded_streams_by_line(const BeamLayout& layout, std::span<const Ray> ray
 }  // namespace
 }  // namespace beam
 
-Hit BeamField::intersect(const Ray& ray) const { return beam::Walk<false, beam::NoCount>(*layout_, ray, {}).run(); }
+Hit BeamField::intersect(const Ray& ray) const {
+  VF_USE_WIDER(beam_intersect, *this, ray, nullptr);
+  return beam::Walk<false, beam::NoCount>(*layout_, ray, {}).run();
+}
 
 bool BeamField::occluded(const Ray& ray) const {
+  VF_USE_WIDER(beam_occluded, *this, ray, nullptr);
   return beam::Walk<true, beam::NoCount>(*layout_, ray, {}).run().found;
 }
 
 Hit BeamField::intersect(const Ray& ray, BeamQueryCounters& counters) const {
+  VF_USE_WIDER(beam_intersect, *this, ray, &counters);
   return beam::Walk<false, beam::Count>(*layout_, ray, beam::Count{counters}).run();
 }
 
 bool BeamField::occluded(const Ray& ray, BeamQueryCounters& counters) const {
+  VF_USE_WIDER(beam_occluded, *this, ray, &counters);
   return beam::Walk<true, beam::Count>(*layout_, ray, beam::Count{counters}).run().found;
 }
 
 Hit BeamField::intersect_on_line(const Ray& ray, std::uint32_t line) const {
+  VF_USE_WIDER(beam_intersect_on_line, *this, ray, line);
   return beam::Walk<false, beam::NoCount>(*layout_, ray, {}).run(line);
 }
 
 bool BeamField::occluded_on_line(const Ray& ray, std::uint32_t line) const {
+  VF_USE_WIDER(beam_occluded_on_line, *this, ray, line);
   return beam::Walk<true, beam::NoCount>(*layout_, ray, {}).run(line).found;
 }
 
 void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::span<Hit> hits) {
+  VF_USE_WIDER(intersect_batch, field, rays, hits);
   beam::for_each_by_line(field.layout(), rays, [&](std::size_t i, const Ray& ray, std::uint32_t line) {
     std::construct_at(&hits[i], field.intersect_on_line(ray, line));
   });
 }
 
 void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  VF_USE_WIDER(occluded_batch, field, rays, occluded);
   if (field.config().stream) {
     beam::occluded_streams_by_line(field.layout(), rays, occluded);
     return;
@@ -852,6 +875,7 @@ void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span
 }
 
 void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  VF_USE_WIDER(occluded_block, field, rays, occluded);
   if constexpr (beam::kMeasureCut >= 3) {
     std::fill(occluded.begin(), occluded.end(), std::uint8_t{0});
     return;
@@ -864,3 +888,23 @@ void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span
 }
 
 }  // namespace vf
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY Hit beam_intersect(const BeamField& field, const Ray& ray, BeamQueryCounters* counters) {
+  return counters ? field.intersect(ray, *counters) : field.intersect(ray);
+}
+VF_WIDER_ENTRY bool beam_occluded(const BeamField& field, const Ray& ray, BeamQueryCounters* counters) {
+  return counters ? field.occluded(ray, *counters) : field.occluded(ray);
+}
+VF_WIDER_ENTRY Hit beam_intersect_on_line(const BeamField& field, const Ray& ray, std::uint32_t line) { return field.intersect_on_line(ray, line); }
+VF_WIDER_ENTRY bool beam_occluded_on_line(const BeamField& field, const Ray& ray, std::uint32_t line) { return field.occluded_on_line(ray, line); }
+VF_WIDER_ENTRY void intersect_batch(const BeamField& field, std::span<const Ray> rays, std::span<Hit> hits) { vf::intersect_batch(field, rays, hits); }
+VF_WIDER_ENTRY void occluded_batch(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  vf::occluded_batch(field, rays, occluded);
+}
+VF_WIDER_ENTRY void occluded_block(const BeamField& field, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  vf::occluded_block(field, rays, occluded);
+}
+}  // namespace vf::isa_avx512
+#endif

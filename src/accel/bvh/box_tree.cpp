@@ -1,3 +1,6 @@
+// The tree over boxes: its build, and its walks on lanes. A kernel file: compiled once per instruction
+// set (src/core/isa_dispatch.hpp).
+
 #include "visfield/accel/box_tree.hpp"
 
 #include <algorithm>
@@ -14,10 +17,19 @@
 #include "bvh/box_test.hpp"
 #include "bvh/collapse.hpp"
 #include "bvh/wide_traversal.hpp"
+#include "core/isa_dispatch.hpp"
 #include "visfield/accel/aligned_vector.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/lane_compress.hpp"
 #include "visfield/core/row_transpose.hpp"
+
+namespace vf::isa_avx512 {
+void box_tree_items_met(const BoxTree& tree, const Ray& ray, std::vector<std::uint32_t>& items);
+int box_tree_batch_width(int width);
+void box_tree_rays_by_item(const BoxTree& tree, std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width);
+void box_tree_visit_leaves(const BoxTree& tree, std::span<const Ray> rays, const std::uint8_t* skip, const BoxTree::LeafVisitor& visit,
+                           int width);
+}  // namespace vf::isa_avx512
 
 namespace vf {
 
@@ -57,6 +69,7 @@ BoxTree BoxTree::build(std::span<const Bounds3f> boxes, int leaf_items) {
 }
 
 void BoxTree::items_met(const Ray& ray, std::vector<std::uint32_t>& items) const {
+  VF_USE_WIDER(box_tree_items_met, *this, ray, items);
   if (!layout_ || layout_->nodes.empty()) return;
   const float inv[3] = {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};  // +-inf for +-0
   bvh::BoxRay box;
@@ -542,6 +555,7 @@ void partition_by_columns(const bvh::Node8* nodes, const std::uint32_t* order, s
 }  // namespace
 
 int BoxTree::batch_width(int width) {
+  VF_USE_WIDER(box_tree_batch_width, width);
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   constexpr int widest = 16;
 #elif defined(__AVX2__)
@@ -554,6 +568,7 @@ int BoxTree::batch_width(int width) {
 }
 
 void BoxTree::rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width) const {
+  VF_USE_WIDER(box_tree_rays_by_item, *this, rays, skip, out, width);
   out.lists.clear();
   if (!layout_ || layout_->nodes.empty()) return;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
@@ -573,6 +588,7 @@ void BoxTree::rays_by_item(std::span<const Ray> rays, const std::uint8_t* skip, 
 }
 
 void BoxTree::visit_leaves(std::span<const Ray> rays, const std::uint8_t* skip, const LeafVisitor& visit, int width) const {
+  VF_USE_WIDER(box_tree_visit_leaves, *this, rays, skip, visit, width);
   if (!layout_ || layout_->nodes.empty()) return;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   if (batch_width(width) == 16) {
@@ -627,3 +643,17 @@ std::size_t BoxTree::memory_bytes() const {
 }
 
 }  // namespace vf
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void box_tree_items_met(const BoxTree& tree, const Ray& ray, std::vector<std::uint32_t>& items) { tree.items_met(ray, items); }
+VF_WIDER_ENTRY int box_tree_batch_width(int width) { return BoxTree::batch_width(width); }
+VF_WIDER_ENTRY void box_tree_rays_by_item(const BoxTree& tree, std::span<const Ray> rays, const std::uint8_t* skip, ItemRays& out, int width) {
+  tree.rays_by_item(rays, skip, out, width);
+}
+VF_WIDER_ENTRY void box_tree_visit_leaves(const BoxTree& tree, std::span<const Ray> rays, const std::uint8_t* skip,
+                                          const BoxTree::LeafVisitor& visit, int width) {
+  tree.visit_leaves(rays, skip, visit, width);
+}
+}  // namespace vf::isa_avx512
+#endif

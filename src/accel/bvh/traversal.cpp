@@ -2,6 +2,7 @@
 // conservatively (box_test.hpp) and padded (collapse.cpp); leaves run the same block test as
 // BruteForce, and among equal t the lowest TriangleSet index wins, so closest hits are the oracle's
 // (ties included) whenever the triangle test's rounding keeps a computed hit inside the padded boxes.
+// A kernel file: compiled once per instruction set (src/core/isa_dispatch.hpp).
 
 #include <algorithm>
 #include <array>
@@ -12,6 +13,14 @@
 #include <span>
 
 #include "bvh/bvh_walks.hpp"
+#include "core/isa_dispatch.hpp"
+
+namespace vf::isa_avx512 {
+void bvh_occluded_stream(const bvh::BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded);
+void bvh_intersect_stream(const bvh::BvhLayout& bvh, std::span<const Ray> rays, Hit* hits);
+Hit bvh_intersect(const bvh::BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters);
+bool bvh_occluded(const bvh::BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters);
+}  // namespace vf::isa_avx512
 
 namespace vf::bvh {
 namespace {
@@ -48,6 +57,7 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
 }  // namespace
 
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
+  VF_USE_WIDER(bvh_occluded_stream, bvh, rays, occluded);
   if (bvh.direct()) {
     for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = any_hit_direct<false>(bvh, rays[i], nullptr) ? 1 : 0;
     return;
@@ -69,6 +79,7 @@ void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8
 }
 
 void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) {
+  VF_USE_WIDER(bvh_intersect_stream, bvh, rays, hits);
   if (bvh.nodes.empty() || kMeasureCut == 1) {
     std::fill(hits, hits + rays.size(), Hit{});
     return;
@@ -119,9 +130,36 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
   });
 }
 
-Hit intersect(const BvhLayout& bvh, const Ray& ray) { return closest_hit<false>(bvh, ray, nullptr); }
-bool occluded(const BvhLayout& bvh, const Ray& ray) { return any_hit<false>(bvh, ray, nullptr); }
-Hit intersect(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) { return closest_hit<true>(bvh, ray, counters); }
-bool occluded(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) { return any_hit<true>(bvh, ray, counters); }
+Hit intersect(const BvhLayout& bvh, const Ray& ray) {
+  VF_USE_WIDER(bvh_intersect, bvh, ray, nullptr);
+  return closest_hit<false>(bvh, ray, nullptr);
+}
+bool occluded(const BvhLayout& bvh, const Ray& ray) {
+  VF_USE_WIDER(bvh_occluded, bvh, ray, nullptr);
+  return any_hit<false>(bvh, ray, nullptr);
+}
+Hit intersect(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  VF_USE_WIDER(bvh_intersect, bvh, ray, counters);
+  return closest_hit<true>(bvh, ray, counters);
+}
+bool occluded(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  VF_USE_WIDER(bvh_occluded, bvh, ray, counters);
+  return any_hit<true>(bvh, ray, counters);
+}
 
 }  // namespace vf::bvh
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY void bvh_occluded_stream(const bvh::BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
+  bvh::occluded_stream(bvh, rays, occluded);
+}
+VF_WIDER_ENTRY void bvh_intersect_stream(const bvh::BvhLayout& bvh, std::span<const Ray> rays, Hit* hits) { bvh::intersect_stream(bvh, rays, hits); }
+VF_WIDER_ENTRY Hit bvh_intersect(const bvh::BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  return counters ? bvh::intersect(bvh, ray, counters) : bvh::intersect(bvh, ray);
+}
+VF_WIDER_ENTRY bool bvh_occluded(const bvh::BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
+  return counters ? bvh::occluded(bvh, ray, counters) : bvh::occluded(bvh, ray);
+}
+}  // namespace vf::isa_avx512
+#endif

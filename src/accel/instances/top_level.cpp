@@ -1,14 +1,23 @@
 // Queries of the instance layer: the top level's 8-wide traversal (shared with the Bvh) whose leaves
-// map the ray into each object's space and ask the object's mesh structure.
+// map the ray into each object's space and ask the object's mesh structure. A kernel file: compiled
+// once per instruction set (src/core/isa_dispatch.hpp).
 
 #include <tbb/blocked_range.h>
 
 #include "bvh/box_test.hpp"
 #include "bvh/bvh_walks.hpp"
 #include "bvh/wide_traversal.hpp"
+#include "core/isa_dispatch.hpp"
 #include "instances/instance_layout.hpp"
 #include "visfield/core/interrupt.hpp"
 #include "visfield/core/parallel.hpp"
+
+namespace vf::isa_avx512 {
+Hit instances_intersect(const InstanceLayer& layer, const Ray& ray);
+bool instances_occluded(const InstanceLayer& layer, const Ray& ray);
+void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+void occluded_batch(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded);
+}  // namespace vf::isa_avx512
 
 namespace vf {
 namespace {
@@ -30,6 +39,7 @@ const instances::PlacedObject* leaf_objects(const instances::InstanceLayout& lay
 }  // namespace
 
 Hit InstanceLayer::intersect(const Ray& ray) const {
+  VF_USE_WIDER(instances_intersect, *this, ray);
   const instances::InstanceLayout& layout = *layout_;
   if (layout.nodes.empty()) return Hit{};
   Hit best;
@@ -54,6 +64,7 @@ Hit InstanceLayer::intersect(const Ray& ray) const {
 }
 
 bool InstanceLayer::occluded(const Ray& ray) const {
+  VF_USE_WIDER(instances_occluded, *this, ray);
   const instances::InstanceLayout& layout = *layout_;
   if (layout.nodes.empty()) return false;
   return bvh::any_hit_walk(layout.nodes.data(), box_ray(ray), ray.tmin, ray.tmax, [&](std::uint32_t ref) {
@@ -67,6 +78,7 @@ bool InstanceLayer::occluded(const Ray& ray) const {
 }
 
 void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  VF_USE_WIDER(occluded_block, layer, rays, occluded);
   const instances::InstanceLayout& layout = *layer.layout_;
   if (layout.nodes.empty()) {
     std::fill(occluded.begin(), occluded.end(), std::uint8_t{0});
@@ -143,6 +155,7 @@ void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::
 }
 
 void occluded_batch(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  VF_USE_WIDER(occluded_batch, layer, rays, occluded);
   vf::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](const auto& range) {
     check_interrupt();
     occluded_block(layer, rays.subspan(range.begin(), range.size()), occluded.subspan(range.begin(), range.size()));
@@ -150,3 +163,16 @@ void occluded_batch(const InstanceLayer& layer, std::span<const Ray> rays, std::
 }
 
 }  // namespace vf
+
+#if VF_IN_WIDER_COPY
+namespace vf::isa_avx512 {
+VF_WIDER_ENTRY Hit instances_intersect(const InstanceLayer& layer, const Ray& ray) { return layer.intersect(ray); }
+VF_WIDER_ENTRY bool instances_occluded(const InstanceLayer& layer, const Ray& ray) { return layer.occluded(ray); }
+VF_WIDER_ENTRY void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  vf::occluded_block(layer, rays, occluded);
+}
+VF_WIDER_ENTRY void occluded_batch(const InstanceLayer& layer, std::span<const Ray> rays, std::span<std::uint8_t> occluded) {
+  vf::occluded_batch(layer, rays, occluded);
+}
+}  // namespace vf::isa_avx512
+#endif

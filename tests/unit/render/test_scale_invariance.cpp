@@ -20,8 +20,6 @@
 namespace vf {
 namespace {
 
-constexpr float kInfinity = std::numeric_limits<float>::infinity();
-
 // `scene` with every object and the camera scaled about the origin by `s`.
 Scene scaled(Scene scene, float s) {
   Camera camera = scene.camera_or_default(0, 0);  // before the objects move: it may frame them
@@ -76,7 +74,7 @@ void check_scale_invariance(const Scene& scene, const char* name, int size, int 
 }
 
 TEST(ScaleInvariance, BuiltinCornellRendersTheSameAtEveryScale) {
-  check_scale_invariance(parse_builtin_scene("builtin:cornell"), "builtin:cornell", 96, 32, kInfinity);
+  check_scale_invariance(parse_builtin_scene("builtin:cornell"), "builtin:cornell", 96, 32, std::numeric_limits<float>::infinity());
 }
 
 TEST(ScaleInvariance, ConferenceWithItsAreaRatioOf1e11RendersTheSameAtEveryScale) {
