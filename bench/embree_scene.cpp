@@ -15,6 +15,7 @@
 #include "visfield/core/error.hpp"
 #include "visfield/core/stopwatch.hpp"
 #include "visfield/core/interrupt.hpp"
+#include "visfield/core/isa.hpp"
 #include "visfield/core/parallel.hpp"
 
 namespace vf::bench {
@@ -101,9 +102,14 @@ EmbreeScene::~EmbreeScene() = default;
 
 namespace {
 
+// Where VISFIELD_ISA lowers visfield's kernels below what the processor runs, Embree is held to the same
+// instruction set, so that a comparison on the lower path is like for like.
+bool embree_lowered() { return active_isa() != widest_isa(); }
+
 std::unique_ptr<EmbreeLayout> new_device(int threads) {
   auto layout = std::make_unique<EmbreeLayout>();
-  const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
+  std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
+  if (embree_lowered()) config += std::string(config.empty() ? "" : ",") + "isa=" + isa_name(active_isa());
   layout->device = rtcNewDevice(config.c_str());
   if (layout->device == nullptr)
     throw Error(std::string("embree: rtcNewDevice failed: ") + error_code_name(rtcGetDeviceError(nullptr)));
@@ -312,6 +318,7 @@ namespace {
 // Mirrors Embree's CPU dispatch: the best ISA the library was compiled for (VISFIELD_EMBREE_ISA_*,
 // taken from Embree's CMake package) that this CPU supports.
 std::string dispatched_isa() {
+  if (embree_lowered()) return isa_name(active_isa());
   __builtin_cpu_init();
 #if VISFIELD_EMBREE_ISA_AVX512
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512dq") &&

@@ -16,6 +16,7 @@
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
+#include "visfield/core/statistics.hpp"
 #include "visfield/core/text.hpp"
 #include "visfield/cuda/device.hpp"
 #include "visfield/cuda/kernels.hpp"
@@ -32,13 +33,6 @@ namespace {
 using namespace vf::bench;  // the benchmark's building blocks: structures by spec, ray sets, timing
 
 const TimingPlan kPlan{2, 9};
-
-/// RMS of two images on the 0-255 scale.
-double rms(const std::vector<double>& a, const std::vector<double>& b) {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(sum / static_cast<double>(a.size()));
-}
 
 /// A caster's mesh (a field) and an exact ground square of half-width `half` radii under its lowest
 /// point: the GPU paper's Figures 3 and 7 setting. `scale` sizes the caster to a sphere of that
@@ -178,7 +172,7 @@ void figure3(const std::string& caster, std::ostream& out) {
       const DeviceFields f = device_fields(scene, positions[k], n);
       double ms = 0.0;
       const std::vector<double> field = image(timed_ao(f.device, frames, p, ms));
-      const double gpu_rms = rms(field, reference), cpu_rms = rms(image(cpu_counts(f.cpu, cpu_rays, 256)), cpu_reference);
+      const double gpu_rms = rms_difference(field, reference), cpu_rms = rms_difference(image(cpu_counts(f.cpu, cpu_rays, 256)), cpu_reference);
       worst_percent = std::max(worst_percent, percent_apart(gpu_rms, cpu_rms));
       out << " | " << formatted("%.3f ms / %.3f (CPU %.3f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
     }
@@ -222,7 +216,7 @@ void figure5(const std::string& caster, std::ostream& out) {
   out << set.size() << " triangles, 512x512, " << g.frames.size() << " pixels on the model, 121 AO rays each (" << rays
       << " rays), fields 16642 x 64x64 u8 (" << format_bytes(static_cast<double>(f.packed.buffer().size())) << ").\n\n"
       << "| AO pass | ms per frame | G rays/s | RMS (0-255) vs exact |\n|---|---:|---:|---:|\n"
-      << "| fields, kernel | " << formatted("%.3f | %.2f", field_ms, grays(rays, field_ms)) << " | " << formatted("%.3f", rms(a, b)) << " |\n"
+      << "| fields, kernel | " << formatted("%.3f | %.2f", field_ms, grays(rays, field_ms)) << " | " << formatted("%.3f", rms_difference(a, b)) << " |\n"
       << "| fields, frames up + kernel + counts down | " << formatted("%.3f | %.2f", frame_ms, grays(rays, frame_ms)) << " | |\n"
       << "| exact GPU BVH, kernel | " << formatted("%.3f | %.2f", exact_ms, grays(rays, exact_ms)) << " | 0 |\n\n"
       << "Target: at most 5 ms per frame; the paper: 202 ms on a GeForce 8800.\n";
@@ -305,7 +299,7 @@ void figure7(const std::string& caster, std::ostream& out) {
   const std::size_t rays20 = g.frames.size() * lights.size() * 20;
   out << "256x256 pixels, 3 sphere lights, 20 shadow rays per light and pixel (" << rays20 << " rays). Reference: exact GPU BVH, "
       << "256 rays per light, " << formatted("%.3f ms", reference_ms) << ". Exact GPU BVH with 20 rays: "
-      << formatted("%.3f ms (%.2f G rays/s), RMS %.2f", exact20_ms, grays(rays20, exact20_ms), rms(exact20, reference))
+      << formatted("%.3f ms (%.2f G rays/s), RMS %.2f", exact20_ms, grays(rays20, exact20_ms), rms_difference(exact20, reference))
       << " (the noise of 20 rays alone).\n\nEach cell: kernel ms / RMS (0-255) against the reference (the CPU's against its "
          "reference, on the same rays) / field memory; the GPU paper's (its 2010 GPU) below.\n\n| positions | 32x32 | 64x64 | 128x128 |\n|---|---|---|---|\n";
   const char* const paper[2][3] = {{"348.0 ms / 5.95 / 4.1 MB", "348.5 ms / 4.82 / 16.5 MB", "348.7 ms / 4.44 / 66.0 MB"},
@@ -317,7 +311,7 @@ void figure7(const std::string& caster, std::ostream& out) {
       const DeviceFields f = device_fields(scene, positions[k], n);
       double ms = 0.0;
       const std::vector<double> field = shadows(f.device, 20, ms);
-      const double gpu_rms = rms(field, reference), cpu_rms = rms(shade(cpu_counts(f.cpu, cpu_rays20, 20), 20), cpu_reference);
+      const double gpu_rms = rms_difference(field, reference), cpu_rms = rms_difference(shade(cpu_counts(f.cpu, cpu_rays20, 20), 20), cpu_reference);
       worst_percent = std::max(worst_percent, percent_apart(gpu_rms, cpu_rms));
       out << " | " << formatted("%.3f ms / %.2f (CPU %.2f) / ", ms, gpu_rms, cpu_rms) << format_bytes(static_cast<double>(f.packed.buffer().size()));
     }

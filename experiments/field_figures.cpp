@@ -16,6 +16,7 @@
 #include "visfield/accel/batch.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/memory.hpp"
+#include "visfield/core/statistics.hpp"
 #include "visfield/core/text.hpp"
 #include "visfield/field/object_field.hpp"
 #include "visfield/render/camera.hpp"
@@ -104,12 +105,6 @@ std::vector<double> vertex_ao(const std::vector<std::uint8_t>& occluded) {
     ao[v] = 255.0 * static_cast<double>(clear) / static_cast<double>(per_vertex);
   }
   return ao;
-}
-
-double rms(const std::vector<double>& a, const std::vector<double>& b) {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(sum / static_cast<double>(a.size()));
 }
 
 /// One structure's answers on the figure's rays: seconds (median of 3 after a warm-up) and per-vertex AO.
@@ -259,11 +254,11 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       const Run best = run(cached + ",through=1,bilinear=1,blend=1", geometry, rays);
       const Run lines = run(cached + ",through=1,lines=1", geometry, rays);
       out << " | " << formatted("%.2f / %.4f / ", paper.build_s, through.ao_s)
-          << formatted("%.3f / %.3f / %.3f / %.3f", rms(paper.ao, exact.ao), rms(blended.ao, exact.ao), rms(through.ao, exact.ao), rms(best.ao, exact.ao))
-          << formatted(" / %.3f", rms(lines.ao, exact.ao));
-      image_rows.push_back(formatted("%.3f / %.3f / %.3f / %.3f", rms(view.image(paper.ao), exact_image), rms(view.image(blended.ao), exact_image),
-                                  rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image)) +
-                           formatted(" / %.3f", rms(view.image(lines.ao), exact_image)));
+          << formatted("%.3f / %.3f / %.3f / %.3f", rms_difference(paper.ao, exact.ao), rms_difference(blended.ao, exact.ao), rms_difference(through.ao, exact.ao), rms_difference(best.ao, exact.ao))
+          << formatted(" / %.3f", rms_difference(lines.ao, exact.ao));
+      image_rows.push_back(formatted("%.3f / %.3f / %.3f / %.3f", rms_difference(view.image(paper.ao), exact_image), rms_difference(view.image(blended.ao), exact_image),
+                                  rms_difference(view.image(through.ao), exact_image), rms_difference(view.image(best.ao), exact_image)) +
+                           formatted(" / %.3f", rms_difference(view.image(lines.ao), exact_image)));
     }
     std::filesystem::remove_all(cache);
     out << " |\n";
@@ -315,7 +310,7 @@ void figure6(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       const Run best = run(spec + ",cache=" + cache.string() + ",through=1,bilinear=1,blend=1", geometry, rays);
       out << " | " << bits.directions << "x" << bits.directions << " bits, "
           << format_bytes(field::ObjectField::table_bytes(bits)) << " (u8 " << format_bytes(field::ObjectField::table_bytes(u8)) << "): "
-          << formatted("%.3f / %.3f / %.2f s", rms(view.image(through.ao), exact_image), rms(view.image(best.ao), exact_image), through.build_s);
+          << formatted("%.3f / %.3f / %.2f s", rms_difference(view.image(through.ao), exact_image), rms_difference(view.image(best.ao), exact_image), through.build_s);
     }
     std::filesystem::remove_all(cache);
     out << " |\n| paper";
@@ -333,11 +328,11 @@ void figure5(SceneGeometry& geometry, const std::vector<Ray>& rays, std::ostream
       << "| mapping / storage | RMS | paper |\n|---|---|---|\n";
   for (const char* mapping : {"polar", "rejection", "concentric", "equal-area"}) {
     const Run r = run(std::string("field:positions=4226,directions=64,through=0,mapping=") + mapping, geometry, rays);
-    out << "| " << mapping << " u8 | " << formatted("%.3f", rms(r.ao, exact.ao)) << " | "
+    out << "| " << mapping << " u8 | " << formatted("%.3f", rms_difference(r.ao, exact.ao)) << " | "
         << (std::string(mapping) == "concentric" ? "0.632 (Figure 6)" : "-") << " |\n";
   }
   const Run bit = run("field:positions=4226,directions=64,through=0,storage=bit", geometry, rays);
-  out << "| concentric bit (Figure 7) | " << formatted("%.3f", rms(bit.ao, exact.ao)) << " | 4.403 |\n";
+  out << "| concentric bit (Figure 7) | " << formatted("%.3f", rms_difference(bit.ao, exact.ao)) << " | 4.403 |\n";
 }
 
 // The paper's Figure 8 (mach. type 1): triangles, ray casting s, precompute s (4226 x 32^2), AO s.
@@ -372,7 +367,7 @@ void figure8(const std::string& folder, const std::vector<Ray>& rays, std::ostre
     out << "| " << name << " | " << scene.instanced_triangle_count() << " | " << formatted("%.3f", exact.ao_s) << " | "
         << (kHaveEmbree ? formatted("%.3f", embree_s) : std::string("-")) << " | " << formatted("%.2f", field.build_s) << " | "
         << formatted("%.4f", field.ao_s) << " | " << (kHaveEmbree ? formatted("%.1fx", embree_s / field.ao_s) : std::string("-")) << " | "
-        << formatted("%.3f", rms(field.ao, exact.ao)) << " | " << paper << " |\n";
+        << formatted("%.3f", rms_difference(field.ao, exact.ao)) << " | " << paper << " |\n";
   };
   std::vector<std::string> found;
   for (const char* model : models) {
@@ -420,7 +415,7 @@ void lookups(const std::string& caster_path, SceneGeometry& corner, const std::v
       const Run inter = run(spec, corner, corner_rays), intra = run(spec, caster, own);
       const double inter_ns = inter.ao_s * 1e9 / static_cast<double>(corner_rays.size());
       const double intra_ns = intra.ao_s * 1e9 / static_cast<double>(own.size());
-      const double inter_rms = rms(inter.ao, corner_exact.ao), intra_differ = disagreement(intra);
+      const double inter_rms = rms_difference(inter.ao, corner_exact.ao), intra_differ = disagreement(intra);
       out << "| " << table << " | " << (std::string(lookup) == ",through=0" ? "through=0 (paper)" : lookup + 1) << " | " << formatted("%.3f", inter_rms) << " | "
           << formatted("%.2f", inter_ns) << " | " << formatted("%.4f", intra_differ) << " | " << formatted("%.2f", intra_ns) << " | "
           << formatted("%.2f", inter_rms * inter_ns) << " | " << formatted("%.4f", intra_differ * intra_ns) << " |\n";
@@ -507,7 +502,7 @@ void gpu_figure3(const std::string& caster_path, std::ostream& out) {
       std::size_t field_bytes = 0;
       const std::vector<double> field =
           measure("field:positions=" + std::to_string(positions[p]) + ",directions=" + std::to_string(n), field_build, field_s, field_bytes);
-      out << " | " << formatted("%.4f s / %.3f / ", field_s, rms(field, exact)) << format_bytes(static_cast<double>(field_bytes));
+      out << " | " << formatted("%.4f s / %.3f / ", field_s, rms_difference(field, exact)) << format_bytes(static_cast<double>(field_bytes));
     }
     out << " |\n| paper | " << paper[p][0] << " | " << paper[p][1] << " | " << paper[p][2] << " |\n";
   }

@@ -38,7 +38,9 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
   if command -v ccache >/dev/null; then
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
   fi
-  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DVISFIELD_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90-real \
+  generator=()
+  command -v ninja >/dev/null && generator=(-G Ninja)
+  cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DVISFIELD_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90-real \
     -DVISFIELD_PYTHON=OFF -DVISFIELD_EMBREE=OFF -DBUILD_SHARED_LIBS=ON "${launcher[@]}" >/dev/null
 fi
 cmake --build "$build" -j"$(nproc)" --target test_cuda test_gpu visfield visfield-bench visfield-experiments

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages visfield needs (Debian 12, as root).
 #   scripts/install-deps.sh         what building and running `visfield` needs (the README's first command)
+#   scripts/install-deps.sh --print [--all]   the packages it would install, one line, nothing installed
 #   scripts/install-deps.sh --all   that and what the tests, the benchmark, the Python module, the fuzz
 #                                   targets and the sanitizer runs need (the README's second command, CI):
 #                                   GoogleTest, Google Benchmark, Embree, pybind11 and NumPy, pytest, Dask,
@@ -10,9 +11,14 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config ccache
+  build-essential cmake ninja-build pkg-config ccache
   libtbb-dev libassimp-dev libstb-dev libopenexr-dev nlohmann-json3-dev libcli11-dev
 )
+print=0
+if [[ "${1:-}" == --print ]]; then
+  print=1
+  shift
+fi
 case "${1:-}" in
   "") ;;
   --all)
@@ -23,10 +29,15 @@ case "${1:-}" in
     )
     ;;
   *)
-    echo "install-deps: error: unknown option '$1' (none, or --all)" >&2
+    echo "install-deps: error: unknown option '$1' (none, --all, --print)" >&2
     exit 2
     ;;
 esac
+
+if [[ $print == 1 ]]; then
+  echo "${packages[*]}"
+  exit 0
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,308 @@
+#!/usr/bin/python3
+"""The raw results behind every figure visfield reports, and the tables made from them.
+
+A results folder (bench/results/<date>-<cpu>-<kernels>/) holds machine.json (the processor, its
+kernels' path, the compiler, Embree, the GPU where one ran, the commit and the date) and one file per
+workload, NAME.json: the command line, its wall time, exit status, output, and its JSON output parsed
+where it printed some (visfield-bench --json). scripts/measure.sh writes them through `run`; the
+README's headline table and the measurement pages are made from them by `table` and `readme`.
+
+  results.py machine OUT_DIR VISFIELD_BIN         write OUT_DIR/machine.json
+  results.py run OUT_DIR NAME -- COMMAND...        run COMMAND, write OUT_DIR/NAME.json (fails when it fails)
+  results.py table [RESULTS_DIR...]                print the headline table of the newest results
+  results.py readme README.md [--check | --write]  the README's headline table from bench/results/:
+                                                   --check fails (exit 1) where the README differs
+"""
+import datetime
+import glob
+import json
+import math
+import os
+import platform
+import re
+import shlex
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RESULTS = os.path.join(ROOT, "bench", "results")
+BEGIN = "<!-- headline table: made by scripts/results.py readme README.md --write from bench/results/; do not edit -->"
+END = "<!-- end of the headline table -->"
+
+
+def fail(message):
+    print("results: error: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def git(*args):
+    try:
+        return subprocess.run(["git", "-C", ROOT] + list(args), capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def commit():
+    """The commit measured, marked when the tree had changes."""
+    head = git("rev-parse", "--short=7", "HEAD")
+    dirty = subprocess.run(["git", "-C", ROOT, "diff", "--quiet", "HEAD"]).returncode != 0
+    return head + (" (with uncommitted changes)" if dirty else "")
+
+
+def cpu_model():
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def now():
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%MZ")
+
+
+def write_machine(out_dir, visfield):
+    """machine.json: what the numbers in out_dir were measured on."""
+    info = subprocess.run([visfield, "info", "builtin:cornell"], capture_output=True, text=True)
+    kernels = re.search(r"^kernels: +(.*)$", info.stdout, re.M)
+    cache = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(visfield))), "CMakeCache.txt")
+    compiler = "unknown"
+    if os.path.exists(cache):
+        found = re.search(r"^CMAKE_CXX_COMPILER:\w+=(.*)$", open(cache).read(), re.M)
+        if found:
+            version = subprocess.run([found.group(1), "--version"], capture_output=True, text=True).stdout.splitlines()
+            compiler = version[0] if version else found.group(1)
+    gpu = None
+    try:
+        smi = subprocess.run(["nvidia-smi", "--query-gpu=name,driver_version", "--format=csv,noheader"], capture_output=True, text=True)
+        if smi.returncode == 0 and smi.stdout.strip():
+            gpu = smi.stdout.strip().splitlines()[0]
+    except OSError:
+        pass
+    machine = {
+        "cpu": cpu_model(),
+        "cores": os.cpu_count(),
+        "kernels": kernels.group(1) if kernels else "unknown",
+        "isa": os.environ.get("VISFIELD_ISA") or (kernels.group(1).split()[0] if kernels else "unknown"),
+        "compiler": compiler,
+        "os": platform.platform(),
+        "gpu": gpu,
+        "commit": commit(),
+        "date": now(),
+    }
+    os.makedirs(out_dir, exist_ok=True)
+    with open(os.path.join(out_dir, "machine.json"), "w") as f:
+        json.dump(machine, f, indent=2)
+        f.write("\n")
+    return machine
+
+
+def run(out_dir, name, command):
+    """Runs `command`, keeps what it printed and how long it took in out_dir/name.json."""
+    start = time.monotonic()
+    done = subprocess.run(command, capture_output=True, text=True)
+    seconds = time.monotonic() - start
+    record = {
+        "name": name,
+        "command": " ".join(shlex.quote(os.path.relpath(a, ROOT) if os.path.isabs(a) and a.startswith(ROOT) else a) for a in command),
+        "environment": {k: v for k, v in os.environ.items() if k.startswith("VISFIELD_") and k != "VISFIELD_MODELS_DIR"},
+        "commit": commit(),
+        "date": now(),
+        "seconds": round(seconds, 3),
+        "exit": done.returncode,
+        "stdout": done.stdout,
+        "stderr": done.stderr[-4000:],
+    }
+    try:
+        record["json"] = json.loads(done.stdout)
+    except ValueError:
+        pass
+    with open(os.path.join(out_dir, name + ".json"), "w") as f:
+        json.dump(record, f, indent=1)
+        f.write("\n")
+    print("measure: %-32s %7.1f s%s" % (name, seconds, "" if done.returncode == 0 else "  FAILED (exit %d)" % done.returncode), file=sys.stderr)
+    if done.returncode != 0:
+        sys.stderr.write(done.stderr[-2000:])
+        sys.exit(done.returncode)
+
+
+# ---- reading results
+
+
+def load(folder):
+    """{name: record} of one results folder, and its machine.json."""
+    machine = json.load(open(os.path.join(folder, "machine.json")))
+    records = {}
+    for path in glob.glob(os.path.join(folder, "*.json")):
+        name = os.path.basename(path)[:-5]
+        if name != "machine":
+            records[name] = json.load(open(path))
+    return machine, records
+
+
+def geomean(values):
+    values = [v for v in values if v and v > 0]
+    return math.exp(sum(math.log(v) for v in values) / len(values)) if values else None
+
+
+def bench_rows(record):
+    """{accel: row} of a visfield-bench --json record."""
+    return {row["accel"]: row for row in record.get("json", {}).get("results", [])}
+
+
+def ratio(record, prefix):
+    """The ratio to Embree of the first row whose accel starts with `prefix`."""
+    for accel, row in bench_rows(record).items():
+        if accel.startswith(prefix) and row.get("ratio_to_embree"):
+            return row["ratio_to_embree"]
+    return None
+
+
+def rate(record, prefix):
+    for accel, row in bench_rows(record).items():
+        if accel.startswith(prefix):
+            return row["mrays_per_s"]
+    return None
+
+
+def matching(records, pattern):
+    return [records[n] for n in sorted(records) if re.fullmatch(pattern, n)]
+
+
+def machine_class(machine):
+    """"AMD EPYC, 2 cores, AVX-512 kernels": the processor and the path that ran."""
+    isa = {"avx512": "AVX-512", "avx2": "AVX2"}.get(machine.get("isa"), machine.get("isa", "?"))
+    return "%s, %s cores, %s kernels" % (machine["cpu"], machine["cores"], isa)
+
+
+def render_seconds(record):
+    found = re.search(r", ([0-9.]+) s, [0-9.]+ Mrays/s", record["stderr"] + record["stdout"])
+    return float(found.group(1)) if found else None
+
+
+def headline_rows(folder, machine, records):
+    """The headline rows `folder` has: (key, what, figure, page)."""
+    rows = []
+    isa = machine.get("isa")
+    for number, what in ((1, "README command 1 on a fresh clone: packages, build, the written image"),
+                         (2, "README command 2 on a fresh clone: packages, build, every test")):
+        runs = [r for r in matching(records, r"readme-command%d-\d+" % number) if r["exit"] == 0]
+        if runs:
+            seconds = sorted(r["seconds"] for r in runs)
+            rows.append(("readme%d" % number, what, "%.0f s (median of %d; no compiler cache, packages purged first)" %
+                         (seconds[len(seconds) // 2], len(seconds)), "docs/testing.md"))
+    bvh = [ratio(r, "bvh") for r in matching(records, r"bvh-(ao|shadow|primary|random)-.*")]
+    if bvh and all(bvh):
+        models = len({n.split("-", 2)[2] for n in records if re.fullmatch(r"bvh-(ao|shadow|primary|random)-.*", n)})
+        kinds = len({n.split("-")[1] for n in records if re.fullmatch(r"bvh-(ao|shadow|primary|random)-.*", n)})
+        rows.append(("bvh-" + isa, "Exact BVH, %d meshes x %d ray kinds, against Embree" % (models, kinds),
+                     "%.2fx Embree (geometric mean; %.2f-%.2fx)" % (geomean(bvh), min(bvh), max(bvh)), "docs/bvh-measurements.md"))
+    two = [ratio(r, "bvh:levels=2") for r in matching(records, r"instances-.*")]
+    if two and all(two):
+        rows.append(("instances-" + isa, "Two-level BVH over copies of meshes, AO and camera rays",
+                     "%.2fx Embree's instancing (geometric mean)" % geomean(two), "docs/bvh-measurements.md"))
+    beam = []
+    for r in matching(records, r"beam-table1-.*"):
+        b, m = rate(r, "beam"), max((row["mrays_per_s"] for a, row in bench_rows(r).items() if a.startswith("median-bsp")), default=None)
+        if b and m:
+            beam.append(b / m)
+    if beam:
+        rows.append(("beam-" + isa, "BeamField, VLF-RT's Table 1 workload (AO along 513 lines, 256x256)",
+                     "%.2fx our median BSP (geometric mean of %d meshes), exact" % (geomean(beam), len(beam)), "docs/beamfield-measurements.md"))
+    intra = [ratio(r, "field") for r in matching(records, r"field-intra-.*")]
+    if intra and all(intra):
+        rows.append(("field-intra-" + isa, "ObjectField, AO rays from each mesh's own surface",
+                     "%.1fx Embree (geometric mean of %d meshes), about 3%% of answers differ" % (geomean(intra), len(intra)),
+                     "docs/objectfield-measurements.md"))
+    copies = matching(records, r"field-copies-1024")
+    if copies and ratio(copies[0], "field"):
+        rows.append(("field-copies-" + isa, "ObjectField, 1024 copies of the bunny on a ground, AO",
+                     "%.2fx Embree's instancing" % ratio(copies[0], "field"), "docs/objectfield-measurements.md"))
+    corner = matching(records, r"field-corner")
+    if corner:
+        ratios = [float(x) for x in re.findall(r"\| ([0-9.]+)x \|", corner[0]["stdout"])]
+        if ratios:
+            rows.append(("field-corner-" + isa, "ObjectField, the VLF-RT corner's inter-object AO rays",
+                         "%.1fx Embree (geometric mean of %d scenes)" % (geomean(ratios), len(ratios)), "docs/objectfield-measurements.md"))
+    exact, field = matching(records, r"render-ao-exact"), matching(records, r"render-ao-field")
+    if exact and field:
+        e = [render_seconds(r) for r in matching(records, r"render-ao-exact(-\d+)?")]
+        f = [render_seconds(r) for r in matching(records, r"render-ao-field(-\d+)?")]
+        compare = matching(records, r"render-ao-compare")
+        rms = re.search(r"rms:\s+([0-9.]+)", compare[0]["stdout"]) if compare else None
+        if all(e) and all(f):
+            figure = "%.1fx faster than the BVH render" % (sorted(e)[len(e) // 2] / sorted(f)[len(f) // 2])
+            if rms:
+                figure += ", image RMS %.2f (0-255)" % float(rms.group(1))
+            rows.append(("render-" + isa, "An AO render through fields (Igea, 512x512, 121 rays a pixel)", figure, "docs/render-figures.md"))
+    report = os.path.join(folder, "planner-report.md")
+    if "planner" in records and os.path.exists(report):
+        found = re.search(r"Overall: ([0-9]+) of ([0-9]+) choices right", open(report).read())
+        if found:
+            rows.append(("planner-" + isa, "The planner (`auto`): held-out scenes, ray kinds and counts",
+                         "picks the measured fastest in %s of %s" % found.groups(), "docs/selection-report.md"))
+    return rows
+
+
+def folders(paths=None):
+    """Results folders, newest first (by machine.json's date)."""
+    found = paths or [d for d in glob.glob(os.path.join(RESULTS, "*")) if os.path.exists(os.path.join(d, "machine.json"))]
+    return sorted(found, key=lambda d: json.load(open(os.path.join(d, "machine.json")))["date"], reverse=True)
+
+
+def table(paths=None):
+    """The headline table: each row from the newest folder that has it."""
+    seen, lines = set(), []
+    for folder in folders(paths):
+        machine, records = load(folder)
+        for key, what, figure, page in headline_rows(folder, machine, records):
+            if key in seen:
+                continue
+            seen.add(key)
+            lines.append("| %s | %s | %s | [history](%s) |" % (what, figure, machine_class(machine), page))
+    header = ["| what | measured | machine | page |", "|---|---|---|---|"]
+    return "\n".join(header + lines)
+
+
+def readme(path, mode):
+    text = open(path).read()
+    if BEGIN not in text or END not in text:
+        fail("%s has no headline table markers (%s ... %s)" % (path, BEGIN, END))
+    before, rest = text.split(BEGIN, 1)
+    current, after = rest.split(END, 1)
+    made = "\n" + table() + "\n"
+    if mode == "--write":
+        open(path, "w").write(before + BEGIN + made + END + after)
+        return
+    if current != made:
+        old, new = current.strip().splitlines(), made.strip().splitlines()
+        for i in range(max(len(old), len(new))):
+            a = old[i] if i < len(old) else "(none)"
+            b = new[i] if i < len(new) else "(none)"
+            if a != b:
+                fail("%s: the headline table's line %d is\n  %s\nbut bench/results/ makes it\n  %s\n"
+                     "(scripts/results.py readme %s --write)" % (path, i + 1, a, b, path))
+    print("readme: the headline table matches bench/results/ (%d rows)" % (len(made.strip().splitlines()) - 2))
+
+
+def main(argv):
+    if len(argv) < 2:
+        fail("usage: see the top of scripts/results.py")
+    verb = argv[1]
+    if verb == "machine" and len(argv) == 4:
+        write_machine(argv[2], argv[3])
+    elif verb == "run" and len(argv) >= 6 and argv[4] == "--":
+        run(argv[2], argv[3], argv[5:])
+    elif verb == "table":
+        print(table(argv[2:] or None))
+    elif verb == "readme" and len(argv) == 4 and argv[3] in ("--check", "--write"):
+        readme(argv[2], argv[3])
+    else:
+        fail("unknown or incomplete command: %s (see the top of scripts/results.py)" % " ".join(argv[1:]))
+
+
+if __name__ == "__main__":
+    main(sys.argv)

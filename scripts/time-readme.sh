@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Times the README's two commands as a new user meets them: each run in a fresh clone of HEAD, after
+# the packages the command installs are purged (with what only they pulled in, and the downloaded
+# packages), no compiler cache (CCACHE_DISABLE=1), 2 cores. The raw files (command, wall time, output)
+# go to OUT/readme-command{1,2}-N.json; OUT defaults to bench/results/<date>-<cpu>-<kernels>, the
+# folder scripts/measure.sh writes. Every package is installed again at the end (install-deps.sh --all).
+#
+# Usage (as root: it removes and installs Debian packages): scripts/time-readme.sh [RUNS] [OUT]
+#   RUNS: runs of each command (default 3: the README states their median)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+runs=${1:-3}
+[[ $(id -u) == 0 ]] || { echo "time-readme: error: run as root (it purges and installs packages)" >&2; exit 2; }
+git -C "$root" diff --quiet HEAD || { echo "time-readme: error: commit first: the runs clone HEAD" >&2; exit 2; }
+mapfile -t commands < <(sed -n '/^```sh$/,/^```$/p' "$root/README.md" | sed -n 2,3p)
+[[ ${#commands[@]} == 2 && ${commands[0]} == *"visfield render"* ]] || { echo "time-readme: error: README's two commands not found" >&2; exit 2; }
+kernels=$(grep -q avx512f /proc/cpuinfo && echo avx512 || echo avx2)
+cpu=$(sed -n 's/^model name[^:]*: *//p' /proc/cpuinfo | head -1 | tr 'A-Z' 'a-z' | tr -cs 'a-z0-9' '-' | sed 's/-$//')
+out=${2:-$root/bench/results/$(date -u +%Y-%m-%d)-$cpu-$kernels}
+mkdir -p "$out"
+[[ -f $out/machine.json ]] || /usr/bin/python3 "$root/scripts/results.py" machine "$out" "$root/build/bin/visfield"
+work=$(mktemp -d /tmp/visfield-readme.XXXXXX)
+trap 'rm -rf "$work"; bash "$root/scripts/install-deps.sh" --all >/dev/null' EXIT
+
+purge() {  # purge [--all]: the packages install-deps.sh [--all] installs, as on a machine that never had them
+  # shellcheck disable=SC2046
+  DEBIAN_FRONTEND=noninteractive apt-get purge -y -q $(bash "$root/scripts/install-deps.sh" --print "$@") >/dev/null 2>&1 || true
+  DEBIAN_FRONTEND=noninteractive apt-get autoremove --purge -y -q >/dev/null 2>&1 || true
+  apt-get clean
+}
+
+for number in 1 2; do
+  for run in $(seq "$runs"); do
+    purge $([[ $number == 2 ]] && echo --all)
+    rm -rf "$work/clone"
+    git clone -q "$root" "$work/clone"
+    (cd "$work/clone" && CCACHE_DISABLE=1 /usr/bin/python3 "$root/scripts/results.py" run "$out" "readme-command$number-$run" -- \
+      bash -c "${commands[$((number - 1))]}")
+  done
+done

@@ -1,0 +1,26 @@
+# cmake -DPYTHON=... -DSOURCE=repo -DWORK=dir -P changed_figure.cmake: copies the README with the first
+# figure of its headline table's first row changed (one digit up), and expects
+# scripts/results.py readme --check to refuse it.
+file(READ ${SOURCE}/README.md readme)
+string(FIND "${readme}" "<!-- headline table:" begin)
+if(begin EQUAL -1)
+  message(FATAL_ERROR "README.md has no headline table")
+endif()
+string(SUBSTRING "${readme}" ${begin} -1 table)
+string(REGEX MATCH "\n\\| [^|]+ \\| [^0-9|]*[0-9]" row "${table}")
+if(row STREQUAL "")
+  message(FATAL_ERROR "the headline table has no row with a figure")
+endif()
+string(LENGTH "${row}" length)
+math(EXPR last "${length} - 1")
+string(SUBSTRING "${row}" ${last} 1 digit)
+math(EXPR changed "(${digit} + 1) % 10")
+string(SUBSTRING "${row}" 0 ${last} head)
+string(REPLACE "${row}" "${head}${changed}" altered "${readme}")
+file(WRITE ${WORK}/README-changed.md "${altered}")
+execute_process(COMMAND ${PYTHON} ${SOURCE}/scripts/results.py readme ${WORK}/README-changed.md --check
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc EQUAL 0)
+  message(FATAL_ERROR "results.py readme --check accepted a changed figure:\n${out}${err}")
+endif()
+message("the check refused the changed figure: ${err}")
