@@ -7,12 +7,16 @@
 namespace vf::bench {
 namespace {
 
-// Embree's one parameter: its own instancing (levels=2, one Embree scene per mesh under instances)
-// or one flattened triangle geometry (levels=1, the default, as most users build).
+// Embree's parameters: its own instancing (levels=2, one Embree scene per mesh under instances) or one
+// flattened triangle geometry (levels=1, the default, as most users build); how a batch calls it; its
+// build quality. The defaults are what a typical user writes.
 constexpr ParamSpec kEmbreeParams[] = {
     {"levels", ParamType::choice, "1", "1 = one flattened triangle geometry, 2 = Embree instancing", 0, 0, "1|2"},
-    {"packets", ParamType::choice, "1", "occlusion batches: 1 = rtcOccluded1 ray by ray, 16 = rtcOccluded16 packets (coherent)", 0, 0,
-     "1|16"},
+    {"call", ParamType::choice, "1",
+     "1 = rtcIntersect1/rtcOccluded1 ray by ray, 16 = rtcIntersect16/rtcOccluded16 packets (coherent), stream = "
+     "rtcIntersect1M/rtcOccluded1M, best = each of them at both qualities, the fastest reported",
+     0, 0, "1|16|stream|best"},
+    {"quality", ParamType::choice, "medium", "build quality: medium (Embree's default) or high (spatial splits)", 0, 0, "medium|high"},
 };
 
 ParamValues embree_params(const std::string& spec) {
@@ -43,21 +47,42 @@ void check_bench_accel(const std::string& spec) {
   }
 }
 
-BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geometry, const BuildContext& context,
-                                  [[maybe_unused]] int threads) {
+std::vector<BuiltBenchAccel> build_bench_rows(const std::string& spec, SceneGeometry& geometry, const BuildContext& context,
+                                              [[maybe_unused]] int threads) {
+  std::vector<BuiltBenchAccel> built;
 #if VISFIELD_HAVE_EMBREE
   if (names_embree(spec)) {
     const ParamValues params = embree_params(spec);
-    const bool instanced = params.text("levels") == "2";
-    EmbreeScene embree = instanced ? EmbreeScene::build_instanced(geometry.scene(), threads) : EmbreeScene::build(geometry.flattened(), threads);
-    embree.set_packet_size(std::stoi(params.text("packets")));
-    std::string resolved = std::string(kEmbreeName) + ":levels=" + (instanced ? "2" : "1");
-    if (embree.packet_size() != 1) resolved += ",packets=" + std::to_string(embree.packet_size());
-    return {std::move(embree), resolved};
+    const bool instanced = params.text("levels") == "2", best = params.text("call") == "best";
+    const auto build = [&](const EmbreeSettings& settings) {
+      return instanced ? EmbreeScene::build_instanced(geometry.scene(), threads, settings)
+                       : EmbreeScene::build(geometry.flattened(), threads, settings);
+    };
+    if (!best) {
+      const EmbreeSettings settings{params.text("call") == "16"       ? EmbreeCall::packet16
+                                    : params.text("call") == "stream" ? EmbreeCall::stream
+                                                                      : EmbreeCall::one,
+                                    params.text("quality") == "high"};
+      built.push_back({build(settings), embree_spec(instanced, settings)});
+      return built;
+    }
+    for (const bool high : {false, true}) {
+      const EmbreeScene scene = build({EmbreeCall::one, high});
+      for (const EmbreeCall call : {EmbreeCall::one, EmbreeCall::packet16, EmbreeCall::stream})
+        built.push_back({scene.with_call(call), embree_spec(instanced, {call, high}), true});
+    }
+    return built;
   }
 #endif
-  BuiltStructure built = build_structure(spec, geometry, context);
-  return {std::move(built.structure), std::move(built.resolved)};
+  BuiltStructure result = build_structure(spec, geometry, context);
+  built.push_back({std::move(result.structure), std::move(result.resolved)});
+  return built;
+}
+
+BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geometry, const BuildContext& context, int threads) {
+  std::vector<BuiltBenchAccel> rows = build_bench_rows(spec, geometry, context, threads);
+  if (rows.size() != 1) throw UsageError("--accel " + spec + ": call=best runs in visfield-bench's table only");
+  return std::move(rows.front());
 }
 
 AccelStats bench_accel_stats(const BenchAccel& accel) {

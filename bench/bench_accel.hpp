@@ -39,13 +39,18 @@ void check_bench_accel(const std::string& spec);
 /// One structure built for the benchmark, with the spec as resolved.
 struct BuiltBenchAccel {
   BenchAccel accel;
-  std::string resolved;  ///< e.g. "bvh:levels=1", "embree:levels=2".
+  std::string resolved;       ///< e.g. "bvh:levels=1", "embree:levels=2,call=1,quality=medium".
+  bool best_of_spec = false;  ///< One of the rows `embree:call=best` tries; the report keeps the fastest.
 };
 
 /// Builds the structure `spec` names over `geometry`; `threads` is handed to Embree's device (ours
-/// follow TBB's limit). Throws vf::Error on a failed build.
-BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geometry, const BuildContext& context,
-                                  int threads);
+/// follow TBB's limit). Throws vf::Error on a failed build, and for `embree:call=best`, which only a
+/// table of rows runs (build_bench_rows).
+BuiltBenchAccel build_bench_accel(const std::string& spec, SceneGeometry& geometry, const BuildContext& context, int threads);
+
+/// The rows `spec` stands for in visfield-bench's table: build_bench_accel's one, or for
+/// `embree:call=best` one per call at each build quality (each quality built once).
+std::vector<BuiltBenchAccel> build_bench_rows(const std::string& spec, SceneGeometry& geometry, const BuildContext& context, int threads);
 
 /// Calls `f` with the concrete structure `accel` holds.
 template <class F>

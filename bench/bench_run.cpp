@@ -86,9 +86,12 @@ BenchReport run_bench(const BenchOptions& options) {
   // (grid build + sample rays) is not part of the row's build time.
   const BuildContext context{estimated_ray_count(options, camera)};
   std::vector<BuiltBenchAccel> built;
-  built.reserve(options.accels.size());
-  for (const std::string& spec : options.accels)
-    built.push_back(build_bench_accel(spec, geometry, context, thread_limit.threads()));
+  std::vector<std::size_t> row_spec;  // the --accel entry each row comes from
+  for (std::size_t s = 0; s < options.accels.size(); ++s)
+    for (BuiltBenchAccel& row : build_bench_rows(options.accels[s], geometry, context, thread_limit.threads())) {
+      built.push_back(std::move(row));
+      row_spec.push_back(s);
+    }
 
   // In huge-page storage, for every structure alike: a million rays span 8,000 small pages, and the
   // field kernel, streaming them fastest, waited on the TLB (under perf, 12% of its samples on the
@@ -104,7 +107,18 @@ BenchReport run_bench(const BenchOptions& options) {
   for (const BuiltBenchAccel& entry : built) accels.push_back(&entry.accel);
   const std::vector<QueryMeasurement> measurements = measure_queries(accels, rays, options.kind, plan);
 
-  const auto embree = std::find_if(built.begin(), built.end(), is_embree);
+  // Of the rows `embree:call=best` tried, the fastest stands for it.
+  std::vector<bool> shown(built.size(), true);
+  for (std::size_t i = 0; i < built.size(); ++i) {
+    if (!built[i].best_of_spec) continue;
+    for (std::size_t j = 0; j < built.size(); ++j)
+      if (j != i && row_spec[j] == row_spec[i] && measurements[j].timings.median_ms() < measurements[i].timings.median_ms()) shown[i] = false;
+  }
+  // Ratios are to the first Embree row shown; its answers (any Embree row's) are the reference.
+  std::size_t first_embree = built.size();
+  for (std::size_t i = 0; i < built.size() && first_embree == built.size(); ++i)
+    if (shown[i] && is_embree(built[i])) first_embree = i;
+  const auto embree = first_embree < built.size() ? built.begin() + static_cast<std::ptrdiff_t>(first_embree) : built.end();
   // The reference answers are exact ones: Embree's, else the first exact structure's.
   const auto first_exact =
       std::find_if(built.begin(), built.end(), [](const BuiltBenchAccel& b) { return bench_accel_is_exact(b.accel); });
@@ -130,9 +144,12 @@ BenchReport run_bench(const BenchOptions& options) {
   if (embree != built.end()) report.embree = embree_description();
 #endif
   for (std::size_t i = 0; i < built.size(); ++i) {
+    if (!shown[i]) continue;
     const AccelStats stats = bench_accel_stats(built[i].accel);
     ResultRow row;
-    row.accel = built[i].resolved;
+    row.accel = built[i].best_of_spec ? options.accels[row_spec[i]] + " -> " + built[i].resolved.substr(built[i].resolved.find(':') + 1)
+                                      : built[i].resolved;
+    row.embree = is_embree(built[i]);
     row.build_ms = stats.build_ms;
     row.bytes = stats.memory_bytes;
     row.median_ms = measurements[i].timings.median_ms();
@@ -153,6 +170,15 @@ BenchReport run_bench(const BenchOptions& options) {
                              counters->triangle_tests * per_ray};
     }
     report.rows.push_back(std::move(row));
+  }
+  // Embree at its best: the fastest of its rows, and every row against it.
+  const ResultRow* best = nullptr;
+  for (const ResultRow& row : report.rows)
+    if (row.embree && (!best || row.mrays_per_s > best->mrays_per_s)) best = &row;
+  if (best && best->mrays_per_s > 0.0) {
+    report.embree_best = best->accel;
+    const double best_mrays = best->mrays_per_s;
+    for (ResultRow& row : report.rows) row.ratio_to_embree_best = row.mrays_per_s / best_mrays;
   }
   return report;
 }

@@ -69,15 +69,22 @@ void print_table(std::ostream& out, const BenchReport& report) {
   std::size_t name_width = 5;
   for (const ResultRow& row : report.rows) name_width = std::max(name_width, row.accel.size());
   const std::string mismatch_title = "mismatches vs " + report.reference;
+  // With more than one Embree row, a column against the fastest of them ("Embree best").
+  std::size_t embree_rows = 0;
+  for (const ResultRow& row : report.rows) embree_rows += row.embree ? 1 : 0;
+  const bool best_column = embree_rows > 1;
   out << padded_right("accel", name_width) << "  " << padded_left("build ms", 10) << "  " << padded_left("bytes", 15)
-      << "  " << padded_left("Mrays/s", 9) << "  " << padded_left("ratio to Embree", 15) << "  " << mismatch_title
-      << "\n";
+      << "  " << padded_left("Mrays/s", 9) << "  " << padded_left("ratio to Embree", 15) << "  "
+      << (best_column ? padded_left("to Embree best", 14) + "  " : std::string()) << mismatch_title << "\n";
   for (const ResultRow& row : report.rows) {
     const std::string ratio = row.ratio_to_embree ? formatted("%.2fx", *row.ratio_to_embree) : std::string("-");
+    const std::string to_best = row.ratio_to_embree_best ? formatted("%.2fx", *row.ratio_to_embree_best) : std::string("-");
     out << padded_right(row.accel, name_width) << "  " << padded_left(formatted("%.1f", row.build_ms), 10) << "  "
         << padded_left(with_separators(row.bytes), 15) << "  " << padded_left(formatted("%.2f", row.mrays_per_s), 9)
-        << "  " << padded_left(ratio, 15) << "  " << padded_left(mismatch_cell(row), mismatch_title.size()) << "\n";
+        << "  " << padded_left(ratio, 15) << "  " << (best_column ? padded_left(to_best, 14) + "  " : std::string())
+        << padded_left(mismatch_cell(row), mismatch_title.size()) << "\n";
   }
+  if (report.embree_best && embree_rows > 1) out << "Embree best for " << ray_kind_name(report.kind) << " rays: " << *report.embree_best << "\n";
   for (const ResultRow& row : report.rows) {
     if (!row.beam_work) continue;
     const BeamWork& w = *row.beam_work;
@@ -112,6 +119,7 @@ nlohmann::ordered_json report_json(const BenchReport& report) {
   doc["warmup"] = report.warmup;
   doc["reference"] = report.reference;
   doc["embree"] = or_null(report.embree);
+  doc["embree_best"] = or_null(report.embree_best);
   nlohmann::ordered_json& results = doc["results"] = nlohmann::ordered_json::array();
   for (const ResultRow& row : report.rows) {
     results.push_back({{"accel", row.accel},
@@ -120,6 +128,7 @@ nlohmann::ordered_json report_json(const BenchReport& report) {
                        {"median_ms", row.median_ms},
                        {"mrays_per_s", row.mrays_per_s},
                        {"ratio_to_embree", or_null(row.ratio_to_embree)},
+                       {"ratio_to_embree_best", or_null(row.ratio_to_embree_best)},
                        {"mismatches", row.mismatches}});
     if (row.approximate) {
       results.back()["mismatches"] = nullptr;

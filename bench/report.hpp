@@ -39,11 +39,13 @@ struct ResultRow {
   std::size_t bytes = 0;                  ///< Memory held by the built structure.
   double median_ms = 0.0;                 ///< Median time to trace the whole ray set.
   double mrays_per_s = 0.0;               ///< Rays / median time, in millions per second.
-  std::optional<double> ratio_to_embree;  ///< mrays_per_s / Embree's (> 1 = faster); absent without Embree.
+  std::optional<double> ratio_to_embree;  ///< mrays_per_s / the first Embree row's (> 1 = faster); absent without Embree.
   std::size_t mismatches = 0;             ///< Rays answered differently from the reference structure (exact rows).
   std::optional<ApproximateAgreement> approximate;  ///< Approximate rows (fields): their error against the reference.
   std::optional<BeamWork> beam_work;      ///< BeamField rows only: its work per ray.
   std::optional<BvhWork> bvh_work;        ///< Flattened Bvh rows only: its work per ray.
+  std::optional<double> ratio_to_embree_best;  ///< mrays_per_s / the fastest Embree row's; absent without Embree.
+  bool embree = false;                    ///< An Embree row.
 };
 
 /// Everything one run reports.
@@ -60,6 +62,7 @@ struct BenchReport {
   float max_distance = std::numeric_limits<float>::infinity();  ///< AO ray length (ao kind only).
   std::string reference;                                        ///< Structure the mismatches are counted against.
   std::optional<std::string> embree;                            ///< embree_description() when Embree ran.
+  std::optional<std::string> embree_best;                       ///< The fastest Embree row's accel ("Embree best" for these rays).
   std::vector<ResultRow> rows;                                  ///< In --accel order.
 };
 

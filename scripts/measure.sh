@@ -49,13 +49,14 @@ pick() { if [[ $quick == 1 ]]; then echo "$1"; else echo "$@"; fi; }
 need() { for m in "$@"; do [[ -f $models/$m ]] || { echo "measure: error: $models/$m is missing" >&2; exit 2; }; done; }
 reps=$([[ $quick == 1 ]] && echo 3 || echo 5)
 
-# 1. The exact BVH against Embree: each mesh, each ray kind, 1M rays, 2 threads.
+# 1. The exact BVH against Embree, as most users call it and at its best: each mesh, each ray kind,
+#    1M rays, 2 threads.
 bvh_models=$(pick bun_zipper.ply dragon_vrip_res2.ply Armadillo.ply sponza.obj conference.obj cow.obj)
 need $bvh_models
 for m in $bvh_models; do
   for kind in ao shadow primary random; do
-    record "bvh-$kind-${m%%.*}" -- "$bench" --scene "$models/$m" --rays "$kind" --accel bvh,embree --count 1000000 --threads 2 \
-      --reps "$reps" --json
+    record "bvh-$kind-${m%%.*}" -- "$bench" --scene "$models/$m" --rays "$kind" --accel bvh,embree,embree:call=best --count 1000000 \
+      --threads 2 --reps "$reps" --json
   done
 done
 
@@ -65,8 +66,8 @@ $py "$root/scripts/copies-scene.py" "$models/bun_zipper.ply" 100 0.25 "$work/bun
 $py "$root/scripts/copies-scene.py" "$models/cow.obj" 1000 15 "$work/cows1000.json" >/dev/null
 for scene in $(pick bunnies100 cows1000); do
   for kind in ao primary; do
-    record "instances-$kind-$scene" -- "$bench" --scene "$work/$scene.json" --rays "$kind" --accel bvh:levels=2,embree:levels=2 \
-      --count 1000000 --threads 2 --reps "$reps" --json
+    record "instances-$kind-$scene" -- "$bench" --scene "$work/$scene.json" --rays "$kind" \
+      --accel bvh:levels=2,embree:levels=2,embree:levels=2,call=best --count 1000000 --threads 2 --reps "$reps" --json
   done
 done
 
@@ -106,8 +107,45 @@ for round in $(seq "$rounds"); do
   done
 done
 record render-ao-compare -- "$visfield" compare "$work/igea-field.exr" "$work/igea-exact.exr"
+# The GPU fields paper's rendered figures on the CPU: soft shadows (Figures 7 and 8), glossy
+# reflections with normal fields (Figure 9).
+if [[ $quick == 0 ]]; then
+  need bun_zipper.ply dragon_vrip_res2.ply Armadillo.ply
+  record render-gpu7 -- "$experiments" --figure gpu7 --scene "$models/bun_zipper.ply" --threads 2
+  record render-gpu8 -- "$experiments" --figure gpu8 --scene "$models" --threads 2
+  record render-gpu9-bunny -- "$experiments" --figure gpu9 --scene "$models/bun_zipper.ply" --threads 2
+fi
 
-# 6. The planner: every structure measured on the meshes, built-in scenes and copies; how often its
+# 6. The VLF-RT paper's walkthrough (its Figure 6) on Sponza: 420 frames of 256x256, 4 point lights.
+if [[ $quick == 0 ]]; then
+  need sponza.obj
+  cat >"$work/sponza-walk.json" <<JSON
+{
+  "name": "sponza-walk",
+  "meshes": [{"name": "sponza", "path": "$models/sponza.obj"}],
+  "camera": {"position": [-14, 2, 0], "look_at": [0, 2.5, 0], "fov_deg": 60, "width": 256, "height": 256},
+  "camera_path": [
+    {"time": 0, "position": [-14, 2, 0], "look_at": [0, 2.5, 0]},
+    {"time": 1, "position": [-4, 2.5, 2], "look_at": [8, 3, 0]},
+    {"time": 2, "position": [8, 3, 1], "look_at": [14, 6, -4]},
+    {"time": 3, "position": [12, 6, 0], "look_at": [0, 4, -3]},
+    {"time": 4, "position": [0, 8, -3], "look_at": [-12, 3, 2]}
+  ],
+  "lights": [
+    {"type": "point", "position": [-10, 12, 0], "intensity": [120, 115, 100]},
+    {"type": "point", "position": [-3, 12, 0], "intensity": [120, 115, 100]},
+    {"type": "point", "position": [3, 12, 0], "intensity": [120, 115, 100]},
+    {"type": "point", "position": [10, 12, 0], "intensity": [120, 115, 100]}
+  ]
+}
+JSON
+  for mode in raycast whitted; do
+    record "walk-$mode" -- "$bench" --walk 420 --scene "$work/sponza-walk.json" --accel beam:dirs=513,n=128,median-bsp,kdtree,bvh,embree \
+      --integrator "$mode" --threads 2
+  done
+fi
+
+# 7. The planner: every structure measured on the meshes, built-in scenes and copies; how often its
 #    choice is the measured fastest on scenes it was not calibrated on.
 if [[ $quick == 0 ]]; then
   record planner -- "$visfield" report --models "$models" --scene "$work/bunnies100.json" --rays 20000 --sample-rays 500 \

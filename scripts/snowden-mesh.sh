@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes Snowden's bust as a binary PLY: a scanned mesh of 109,259 triangles that is not among the
-# shared models, for the many-copies measurement (scripts/field-figures.sh takes it with
-# SNOWDEN=OUT.ply). The mesh comes from the npm package `snowden` 1.0.1 (stackgl, MIT; the bust's
+# shared models, for the many-copies measurement (scripts/copies-scene.py BUST.ply N 10 OUT.json
+# --ground 0, then visfield-bench --scene OUT.json --rays ao --accel field,embree:levels=2). The mesh comes from the npm package `snowden` 1.0.1 (stackgl, MIT; the bust's
 # scan was published on Thingiverse, thing 815042), fetched with `npm pack` into a temporary folder
 # and converted by node; nothing of it is kept in the repository.
 # Usage: scripts/snowden-mesh.sh OUT.ply   (needs npm and node: apt-get install npm)

@@ -10,6 +10,7 @@
 
 #include "bvh/box_test.hpp"
 #include "bvh/wide_nodes.hpp"
+#include "visfield/core/lane_compress.hpp"
 
 namespace vf::bvh {
 
@@ -63,6 +64,14 @@ inline std::uint32_t descend_and_push(const Node8& node, simd::LaneBits lanes, s
   const __m256i children = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
   const __m256i hit = _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes), children);
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(stack + sp), _mm256_alignr_epi32(hit, hit, 1));
+  sp += std::popcount(lanes) - 1;
+  return static_cast<std::uint32_t>(_mm256_cvtsi256_si32(hit));
+#elif defined(__AVX2__)
+  // AVX2 has no compress: a permute by the mask's lane numbers does it, then another moves lanes
+  // 1..7 down by one to be stored at once.
+  const __m256i children = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
+  const __m256i hit = _mm256_permutevar8x32_epi32(children, simd::compress_index8(lanes));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(stack + sp), _mm256_permutevar8x32_epi32(hit, _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 7)));
   sp += std::popcount(lanes) - 1;
   return static_cast<std::uint32_t>(_mm256_cvtsi256_si32(hit));
 #else
@@ -176,7 +185,7 @@ class ClosestHitState {
           return true;
         }
         // Three or more: sort by entry distance, push far to near, descend into the nearest.
-#if defined(__AVX512VL__)
+#if defined(__AVX2__)
         ref_ = sort_and_push(node, t_near, lanes | (1u << first) | (1u << second));
         return true;
 #else
@@ -217,15 +226,23 @@ class ClosestHitState {
     std::uint32_t ref;
     float t_near;
   };
-#if defined(__AVX512VL__)
+#if defined(__AVX2__)
   // Sorts the children in `lanes` by entry distance without branches (an odd-even merge network of 8
   // keys: the distance's bits with the lane in the 3 lowest, so equal distances keep tree order and
   // the order is near to far up to those bits, which only order, never cull), pushes all but the
   // nearest far to near (eight entries stored, the stack has the slack) and returns the nearest.
+  // Blends, unpacks and permutes of AVX2 alone, but for one mask move and one interleave on AVX-512.
   std::uint32_t sort_and_push(const Node8& node, const V8& t_near, simd::LaneBits lanes) {
     const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     __m256i key = _mm256_or_si256(_mm256_and_si256(_mm256_castps_si256(t_near.v), _mm256_set1_epi32(~7)), lane);
-    key = _mm256_mask_mov_epi32(_mm256_set1_epi32(-1), static_cast<__mmask8>(lanes), key);  // missed lanes last
+    // Missed lanes last.
+#if defined(__AVX512VL__)
+    key = _mm256_mask_mov_epi32(_mm256_set1_epi32(-1), static_cast<__mmask8>(lanes), key);
+#else
+    const __m256i bit = _mm256_sllv_epi32(_mm256_set1_epi32(1), lane);
+    const __m256i met = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(lanes)), bit), bit);
+    key = _mm256_blendv_epi8(_mm256_set1_epi32(-1), key, met);
+#endif
     const auto layer = [&](__m256i partner, auto max_lanes) {
       const __m256i other = _mm256_permutevar8x32_epi32(key, partner);
       key = _mm256_blend_epi32(_mm256_min_epu32(key, other), _mm256_max_epu32(key, other), decltype(max_lanes)::value);
@@ -243,10 +260,17 @@ class ClosestHitState {
     const __m256i children = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
     const __m256i refs = _mm256_permutevar8x32_epi32(children, far_first);
     const __m256i dists = _mm256_permutevar8x32_epi32(_mm256_castps_si256(t_near.v), far_first);
+#if defined(__AVX512F__)
     const __m512i entries = _mm512_permutex2var_epi32(_mm512_castsi256_si512(refs),
                                                       _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23),
                                                       _mm512_castsi256_si512(dists));
     _mm512_storeu_si512(stack_.data() + sp_, entries);
+#else
+    // (ref, distance) pairs: the unpacks interleave within 128-bit halves, the permutes put them in order.
+    const __m256i low = _mm256_unpacklo_epi32(refs, dists), high = _mm256_unpackhi_epi32(refs, dists);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(stack_.data() + sp_), _mm256_permute2x128_si256(low, high, 0x20));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(stack_.data() + sp_ + 4), _mm256_permute2x128_si256(low, high, 0x31));
+#endif
     sp_ += count - 1;
     return node.child[_mm256_cvtsi256_si32(order)];
   }

@@ -127,7 +127,7 @@ TEST_F(BenchCli, CountGivesExactlyThatManyRaysFewerOrMoreThanTheImageHas) {
 // --ray-order line: the AO rays along the lines, grouped by line, through every structure (Embree
 // in packets too), all agreeing; the same number of rays as in pixel order.
 TEST_F(BenchCli, LineOrderGivesEveryStructureTheSameStreams) {
-  const std::string accels = std::string("beam:dirs=33,n=16,median-bsp,bvh") + (kHaveEmbree ? ",embree,embree:packets=16" : "");
+  const std::string accels = std::string("beam:dirs=33,n=16,median-bsp,bvh") + (kHaveEmbree ? ",embree,embree:call=16" : "");
   const std::string run = kScene + kSmallRun + "--rays ao --ao-directions 33 --accel " + accels;
   const json by_line = bench_json(run + " --ray-order line");
   const json by_pixel = bench_json(run);
@@ -137,14 +137,33 @@ TEST_F(BenchCli, LineOrderGivesEveryStructureTheSameStreams) {
   for (const json& row : by_line.at("results")) EXPECT_EQ(row.at("mismatches"), 0) << row.at("accel");
 }
 
+// embree:call=best tries every call at both build qualities and shows the fastest as one row; the
+// report names "Embree best" and gives each row's ratio to it (1 for that row).
+TEST_F(BenchCli, EmbreeBestIsTheFastestOfItsCallsAndQualities) {
+  if (!kHaveEmbree) GTEST_SKIP() << "this build has no Embree";
+  const json doc = bench_json(kScene + kSmallRun + "--rays ao --accel bvh,embree:call=best");
+  const json& results = doc.at("results");
+  ASSERT_EQ(results.size(), 2u);
+  const std::string best = results[1].at("accel");
+  EXPECT_EQ(best.rfind("embree:call=best -> levels=1", 0), 0u) << best;
+  EXPECT_EQ(doc.at("embree_best"), best);
+  EXPECT_DOUBLE_EQ(results[1].at("ratio_to_embree_best").get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(results[0].at("ratio_to_embree_best").get<double>(), results[0].at("ratio_to_embree").get<double>());
+  for (const json& row : results) EXPECT_EQ(row.at("mismatches"), 0) << row.at("accel");
+}
+
 TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
   const auto r = bench(kScene + kSmallRun + accel_option() + "--rays ao");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
   const auto specs = structures();
-  // Header, column titles, a row per structure, then the flattened bvh's work per ray (the only
-  // structure here with counters: bvh:levels=2 is an instance layer).
-  ASSERT_EQ(lines.size(), 2 + specs.size() + 1) << r.out;
+  // Header, column titles, a row per structure, with two Embree rows the line naming the fastest
+  // ("Embree best"), then the flattened bvh's work per ray (the only structure here with counters:
+  // bvh:levels=2 is an instance layer).
+  ASSERT_EQ(lines.size(), 2 + specs.size() + (kHaveEmbree ? 1 : 0) + 1) << r.out;
+  if (kHaveEmbree) {
+    EXPECT_EQ(lines[2 + specs.size()].rfind("Embree best for ao rays: embree:levels=", 0), 0u) << r.out;
+  }
   EXPECT_EQ(lines.back().rfind("bvh:levels=1 work per ray: ", 0), 0u) << lines.back();
   EXPECT_NE(lines.back().find(" nodes, "), std::string::npos) << lines.back();
   EXPECT_NE(lines[0].find("triangles"), std::string::npos) << lines[0];
