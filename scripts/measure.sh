@@ -36,7 +36,7 @@ py=/usr/bin/python3
 results="$py $root/scripts/results.py"
 kernels=$("$visfield" info builtin:cornell | sed -n 's/^kernels: *\([a-z0-9]*\).*/\1/p')
 cpu=$(sed -n 's/^model name[^:]*: *//p' /proc/cpuinfo | head -1 | tr 'A-Z' 'a-z' | tr -cs 'a-z0-9' '-' | sed 's/-$//')
-out=${out:-$root/bench/results/$(date -u +%Y-%m-%d)-$cpu-$kernels$([[ $quick == 1 ]] && echo -quick)}
+out=${out:-$root/bench/results/$(date -u +%Y-%m-%d)-$cpu-$kernels$([[ $quick == 1 ]] && echo -quick || true)}
 mkdir -p "$out"
 $results machine "$out" "$visfield"
 work=$(mktemp -d)

@@ -21,4 +21,9 @@ inline std::size_t scaled_count(std::size_t n) {
   return std::max<std::size_t>(1, static_cast<std::size_t>(static_cast<double>(n) * test_scale()));
 }
 
+/// Whether configuration `i` of a test's list runs: every one normally; under the scaled-down
+/// sanitizer run only every `stride`-th, the first among them, for the heaviest accuracy tests, whose
+/// configurations share their code paths (the full list runs in the Release stage).
+inline bool sampled(std::size_t i, std::size_t stride) { return test_scale() >= 1.0 || i % stride == 0; }
+
 }  // namespace vf::test

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "support/test_scale.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
@@ -24,6 +25,9 @@
 
 namespace vf::field {
 namespace {
+
+using test::sampled;
+using test::scaled_count;
 
 TriangleSet sphere_object() {
   const Scene scene = make_builtin_scene("sphere", {.size = 2000});
@@ -218,8 +222,10 @@ TEST(ObjectField, ConvexObjectAnswersAlmostExactly) {
 TEST(ObjectField, CoarsePositionsWithFineDirectionsDoNotShadowAConvexObject) {
   const TriangleSet set = sphere_object();
   const Bvh bvh = Bvh::build(set);
+  std::size_t config = 0;
   for (const int positions : {290, 1090})
     for (const int directions : {64, 128}) {
+      if (!sampled(config++, 4)) continue;
       const ObjectField field = ObjectField::build(set, {.positions = positions, .directions = directions});
       EXPECT_LE(intra_object_errors(field, set, bvh, 20000, 1e30f).disagreement(), positions == 290 ? 0.006 : 0.0022)
           << positions << " x " << directions;
@@ -243,6 +249,7 @@ TEST(ObjectField, NonConvexErrorsStayWithinTheirMeasuredBoundsAndFallWithResolut
 
 TEST(ObjectField, InterpolationLowersTheInterObjectError) {
   for (const bool knot : {true, false}) {
+    if (!sampled(knot ? 0 : 1, 2)) continue;
     const TriangleSet set = knot ? knot_object() : cornell_object();
     const Bvh bvh = Bvh::build(set);
     const ObjectField paper = ObjectField::build(set, {.positions = 4226, .directions = 32, .sample_line = SampleLine::parallel});
@@ -261,6 +268,7 @@ TEST(ObjectField, InterpolationLowersTheInterObjectError) {
 // nearest cell read through the far end (the default): fewer wrong inter-object answers.
 TEST(ObjectField, TheChordLinesLowerTheInterObjectError) {
   for (const bool knot : {true, false}) {
+    if (!sampled(knot ? 0 : 1, 2)) continue;
     const TriangleSet set = knot ? knot_object() : cornell_object();
     const Bvh bvh = Bvh::build(set);
     const ObjectField through = ObjectField::build(set, {.positions = 4226, .directions = 32});
@@ -279,6 +287,7 @@ TEST(ObjectField, ReadingThroughTheFarEndLowersTheErrors) {
     const TriangleSet set = knot ? knot_object() : cornell_object();
     const Bvh bvh = Bvh::build(set);
     for (const int positions : {1090, 4226}) {
+      if (!sampled((knot ? 0 : 2) + (positions == 1090 ? 0 : 1), 4)) continue;
       const ObjectField parallel = ObjectField::build(set, {.positions = positions, .directions = 32, .sample_line = SampleLine::parallel});
       const ObjectField through = ObjectField::build(set, {.positions = positions, .directions = 32, .sample_line = SampleLine::through});
       const std::string what = std::string(knot ? "knot " : "cornell ") + std::to_string(positions);
@@ -373,9 +382,12 @@ TEST(ObjectField, BatchAnswersAsTraceDoesBitForBit) {
     configs.push_back(configs[k]);
     configs.back().sample_line = configs[k].sample_line == SampleLine::through ? SampleLine::parallel : SampleLine::through;
   }
-  for (const ObjectFieldConfig& config : configs) {
+  for (std::size_t k = 0; k < configs.size(); ++k) {
+    if (!sampled(k, 3)) continue;
+    const ObjectFieldConfig& config = configs[k];
     const ObjectField field = ObjectField::build(set, config);
-    const ProbeRows rows = probe_rows(field.sphere(), 20011, 41);  // not a multiple of 16: the tail runs trace()
+    // Not a multiple of 16: the tail runs trace().
+    const ProbeRows rows = probe_rows(field.sphere(), scaled_count(20000) + 11, 41);
     const std::string what = mapping_name(config.mapping) + " " + storage_name(config.storage) + " " + normals_name(config.normals) +
                              (config.direction_lookup == DirectionLookup::bilinear ? " bilinear" : "") +
                              (config.position_lookup == PositionLookup::blend ? " blend" : "") +
