@@ -9,7 +9,7 @@
 # which would double the kernels' bytes), host code portable as every build's is (x86-64-v3 with AVX-512
 # kernels chosen at run time: the GPU machine's processor is not this one) and every module a shared library (BUILD_SHARED_LIBS=ON: the five programs share one copy of the
 # library instead of linking it five times), in build-gpu-bundle/ (incremental after the first time;
-# ccache when installed), then stages in gpu-bundle/ (ignored through .git/info/exclude):
+# ccache when installed), then stages in gpu-bundle/ (ignored through .gitignore):
 #   payload.tar.xz  bin/ (test_cuda, test_gpu, visfield, visfield-bench, visfield-experiments, without
 #                   Embree), lib/ (the modules and every shared library the programs load except
 #                   glibc's and the driver's, found with ldd), models/ (the meshes the checks read):
@@ -30,7 +30,6 @@ command -v nvcc >/dev/null || { echo "gpu-bundle: error: no nvcc (looked in /usr
 for m in "${meshes[@]}"; do
   [[ -f "$models/$m" ]] || { echo "gpu-bundle: error: $models/$m is missing" >&2; exit 2; }
 done
-grep -qxF "/$bundle/" .git/info/exclude 2>/dev/null || echo "/$bundle/" >>.git/info/exclude
 
 # 1. Build (configure once; later runs rebuild only what changed).
 if [[ ! -f "$build/CMakeCache.txt" ]]; then
