@@ -25,6 +25,29 @@ ParamValues embree_params(const std::string& spec) {
 
 bool names_embree(const std::string& spec) { return spec.substr(0, spec.find(':')) == kEmbreeName; }
 
+// One of our specs: the registry's part, and whether the benchmark's call=1 asks for one query a ray.
+struct OwnSpec {
+  std::string structure;
+  bool one_ray = false;
+};
+
+OwnSpec own_spec(const std::string& spec) {
+  const Spec parsed = parse_spec(spec, "--accel ");
+  OwnSpec own{parsed.name, false};
+  std::string params;
+  for (const auto& [key, value] : parsed.params) {
+    if (key != "call") {
+      params += (params.empty() ? ":" : ",") + key + "=" + value;
+    } else if (value == "1" || value == "batch") {
+      own.one_ray = value == "1";
+    } else {
+      throw UsageError("--accel " + parsed.name + ": call must be batch (the batch path) or 1 (one query a ray), got '" + value + "'");
+    }
+  }
+  own.structure += params;
+  return own;
+}
+
 }  // namespace
 
 std::vector<std::string> bench_accel_names() {
@@ -36,7 +59,7 @@ std::vector<std::string> bench_accel_names() {
 void check_bench_accel(const std::string& spec) {
   try {
     if (!names_embree(spec)) {
-      check_structure_spec(spec);
+      check_structure_spec(own_spec(spec).structure);
     } else if (!kHaveEmbree) {
       throw UsageError("--accel embree: this visfield-bench was built without Embree (configure with -DVISFIELD_EMBREE=ON)");
     } else {
@@ -74,8 +97,10 @@ std::vector<BuiltBenchAccel> build_bench_rows(const std::string& spec, SceneGeom
     return built;
   }
 #endif
-  BuiltStructure result = build_structure(spec, geometry, context);
-  built.push_back({std::move(result.structure), std::move(result.resolved)});
+  const OwnSpec own = own_spec(spec);
+  BuiltStructure result = build_structure(own.structure, geometry, context);
+  if (own.one_ray) result.resolved += (result.resolved.find(':') == std::string::npos ? ":" : ",") + std::string("call=1");
+  built.push_back({std::move(result.structure), std::move(result.resolved), false, own.one_ray});
   return built;
 }
 

@@ -29,7 +29,10 @@ using BenchAccel = std::variant<AnyStructure, EmbreeScene>;
 using BenchAccel = std::variant<AnyStructure>;
 #endif
 
-/// Every name --accel accepts: the registry's, then "embree" when this build links Embree.
+/// Every name --accel accepts: the registry's, then "embree" when this build links Embree. Ours take,
+/// beside the registry's parameters, the benchmark's `call`: batch (the default: the structure's batch
+/// path) or 1 (one query a ray in the same parallel loop, a row that tells the tree's quality from the
+/// batch's latency hiding).
 std::vector<std::string> bench_accel_names();
 
 /// Checks a --accel spec without building (UsageError on an unknown name, a bad parameter, or
@@ -41,6 +44,7 @@ struct BuiltBenchAccel {
   BenchAccel accel;
   std::string resolved;       ///< e.g. "bvh:levels=1", "embree:levels=2,call=1,quality=medium".
   bool best_of_spec = false;  ///< One of the rows `embree:call=best` tries; the report keeps the fastest.
+  bool one_ray = false;       ///< Ours with `call=1`: one intersect()/occluded() a ray, not the batch path.
 };
 
 /// Builds the structure `spec` names over `geometry`; `threads` is handed to Embree's device (ours

@@ -104,8 +104,9 @@ BenchReport run_bench(const BenchOptions& options) {
 
   const TimingPlan plan{options.warmup, options.reps};
   std::vector<const BenchAccel*> accels;
-  for (const BuiltBenchAccel& entry : built) accels.push_back(&entry.accel);
-  const std::vector<QueryMeasurement> measurements = measure_queries(accels, rays, options.kind, plan);
+  std::vector<bool> one_ray;
+  for (const BuiltBenchAccel& entry : built) accels.push_back(&entry.accel), one_ray.push_back(entry.one_ray);
+  const std::vector<QueryMeasurement> measurements = measure_queries(accels, rays, options.kind, plan, one_ray);
 
   // Of the rows `embree:call=best` tried, the fastest stands for it.
   std::vector<bool> shown(built.size(), true);

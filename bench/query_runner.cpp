@@ -12,26 +12,37 @@
 namespace vf::bench {
 
 std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const> accels, std::span<const Ray> rays,
-                                              RayKind kind, const TimingPlan& plan) {
+                                              RayKind kind, const TimingPlan& plan, const std::vector<bool>& one_ray) {
   std::vector<QueryMeasurement> measurements(accels.size());
   std::vector<std::function<void()>> jobs;
   jobs.reserve(accels.size());
   for (std::size_t i = 0; i < accels.size(); ++i) {
     const BenchAccel& accel = *accels[i];
     QueryResults& results = measurements[i].results;
-    // Result arrays are allocated here, outside the timed runs.
+    const bool single = i < one_ray.size() && one_ray[i];
+    // Result arrays are allocated here, outside the timed runs. With `single`, batch.hpp's generic
+    // loop (one query a ray) is named explicitly, past the structure's own batch overload.
     if (is_occlusion_kind(kind)) {
       results.occluded.resize(rays.size());
-      jobs.emplace_back([&accel, &results, rays] {
+      jobs.emplace_back([&accel, &results, rays, single] {
         visit_accel(accel, [&](const auto& structure) {
+          using S = std::decay_t<decltype(structure)>;
+          if constexpr (OcclusionQuery<S>) {
+            if (single) return vf::occluded_batch<S>(structure, rays, std::span<std::uint8_t>(results.occluded));
+          }
           occluded_batch(structure, rays, std::span<std::uint8_t>(results.occluded));
         });
       });
     } else {
       results.hits.resize(rays.size());
-      jobs.emplace_back([&accel, &results, rays] {
-        visit_accel(accel,
-                    [&](const auto& structure) { intersect_batch(structure, rays, std::span<Hit>(results.hits)); });
+      jobs.emplace_back([&accel, &results, rays, single] {
+        visit_accel(accel, [&](const auto& structure) {
+          using S = std::decay_t<decltype(structure)>;
+          if constexpr (ClosestHitQuery<S>) {
+            if (single) return vf::intersect_batch<S>(structure, rays, std::span<Hit>(results.hits));
+          }
+          intersect_batch(structure, rays, std::span<Hit>(results.hits));
+        });
       });
     }
   }

@@ -32,8 +32,9 @@ struct QueryMeasurement {
 /// kinds) with intersect_batch / occluded_batch: the same TBB loop over chunks of rays for every
 /// structure, under the caller's ThreadLimit. Warm-up and repetitions as `plan` says, the
 /// repetitions interleaved across structures (time_interleaved). One measurement per structure.
+/// `one_ray[i]` (when given) runs structure i one intersect()/occluded() a ray in the same loop instead.
 std::vector<QueryMeasurement> measure_queries(std::span<const BenchAccel* const> accels, std::span<const Ray> rays,
-                                              RayKind kind, const TimingPlan& plan);
+                                              RayKind kind, const TimingPlan& plan, const std::vector<bool>& one_ray = {});
 
 /// BeamField's work on `rays` (the queries `kind` asks, with counters on; untimed), or nothing when
 /// `accel` is not a BeamField. Parallel; the sums do not depend on the thread count.

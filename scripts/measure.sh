@@ -50,12 +50,12 @@ need() { for m in "$@"; do [[ -f $models/$m ]] || { echo "measure: error: $model
 reps=$([[ $quick == 1 ]] && echo 3 || echo 5)
 
 # 1. The exact BVH against Embree, as most users call it and at its best: each mesh, each ray kind,
-#    1M rays, 2 threads.
+#    1M rays, 2 threads; our BVH through its batch path and one ray at a time (call=1).
 bvh_models=$(pick bun_zipper.ply dragon_vrip_res2.ply Armadillo.ply sponza.obj conference.obj cow.obj)
 need $bvh_models
 for m in $bvh_models; do
   for kind in ao shadow primary random; do
-    record "bvh-$kind-${m%%.*}" -- "$bench" --scene "$models/$m" --rays "$kind" --accel bvh,embree,embree:call=best --count 1000000 \
+    record "bvh-$kind-${m%%.*}" -- "$bench" --scene "$models/$m" --rays "$kind" --accel bvh,bvh:call=1,embree,embree:call=best --count 1000000 \
       --threads 2 --reps "$reps" --json
   done
 done

@@ -196,13 +196,14 @@ def headline_rows(folder, machine, records):
     """The headline rows `folder` has: (key, what, figure, page)."""
     rows = []
     isa = machine.get("isa")
-    for number, what in ((1, "README command 1 on a fresh clone: packages, build, the written image"),
-                         (2, "README command 2 on a fresh clone: packages, build, every test")):
-        runs = [r for r in matching(records, r"readme-command%d-\d+" % number) if r["exit"] == 0]
+    medians = []
+    for number in (1, 2):
+        runs = sorted(r["seconds"] for r in matching(records, r"readme-command%d-\d+" % number) if r["exit"] == 0)
         if runs:
-            seconds = sorted(r["seconds"] for r in runs)
-            rows.append(("readme%d" % number, what, "%.0f s (median of %d; no compiler cache, packages purged first)" %
-                         (seconds[len(seconds) // 2], len(seconds)), "docs/testing.md"))
+            medians.append("command %d %.0f s (median of %d)" % (number, runs[len(runs) // 2], len(runs)))
+    if medians:
+        rows.append(("readme", "The README's commands on a fresh clone, packages purged, no compiler cache",
+                     ", ".join(medians), "docs/testing.md"))
     runs = matching(records, r"bvh-(ao|shadow|primary|random)-.*")
     bvh = [best_ratio(r, "bvh") for r in runs]
     if bvh and all(bvh):
@@ -231,12 +232,7 @@ def headline_rows(folder, machine, records):
     if copies and ratio(copies[0], "field"):
         rows.append(("field-copies-" + isa, "ObjectField, 1024 copies of the bunny on a ground, AO",
                      "%.2fx Embree's instancing" % ratio(copies[0], "field"), "docs/objectfield-measurements.md"))
-    corner = matching(records, r"field-corner")
-    if corner:
-        ratios = [float(x) for x in re.findall(r"\| ([0-9.]+)x \|", corner[0]["stdout"])]
-        if ratios:
-            rows.append(("field-corner-" + isa, "ObjectField, the VLF-RT corner's inter-object AO rays",
-                         "%.1fx Embree (geometric mean of %d scenes)" % (geomean(ratios), len(ratios)), "docs/objectfield-measurements.md"))
+    # The VLF-RT corner's figures are on the ObjectField page (page_field), not in the headline: ten rows at most.
     exact, field = matching(records, r"render-ao-exact"), matching(records, r"render-ao-field")
     if exact and field:
         e = [render_seconds(r) for r in matching(records, r"render-ao-exact(-\d+)?")]
@@ -331,8 +327,9 @@ def page_bvh(sources):
     lines = ["# The exact BVH against Embree", "",
              "Made by `scripts/results.py pages --write` from the raw files of [bench/results/](../bench/results/), which",
              "`scripts/measure.sh` writes; do not edit. Each row: `visfield-bench --scene MESH --rays KIND --accel",
-             "bvh,embree,embree:call=best --count 1000000 --threads 2 --reps 5` (the same rays through each structure, in one",
-             "process, repetitions interleaved); Embree's first row is called as most users call it (`rtcIntersect1` /",
+             "bvh,bvh:call=1,embree,embree:call=best --count 1000000 --threads 2 --reps 5` (the same rays through each structure,",
+             "in one process, repetitions interleaved); *one ray at a time* is our BVH called ray by ray (`call=1`), not through",
+             "its batch path; Embree's first row is called as most users call it (`rtcIntersect1` /",
              "`rtcOccluded1`, medium build quality), *Embree best* is the fastest of its calls (single rays, 16-ray packets,",
              "streams) at both build qualities. Work per ray: the BVH's nodes, leaves and triangle tests.", ""]
     for folder, machine, records in sources:
@@ -342,8 +339,8 @@ def page_bvh(sources):
             continue
         lines += section(folder, machine, machine_class(machine))
         if runs:
-            lines += ["| mesh | rays | BVH Mrays/s | Embree Mrays/s | BVH ÷ Embree | Embree best | BVH ÷ Embree best | nodes / leaves / tests a ray | |",
-                      "|---|---|--:|--:|--:|---|--:|---|---|"]
+            lines += ["| mesh | rays | BVH Mrays/s | one ray at a time | Embree Mrays/s | BVH ÷ Embree | Embree best | BVH ÷ Embree best | nodes / leaves / tests a ray | |",
+                      "|---|---|--:|--:|--:|--:|---|--:|---|---|"]
             ratios, best_ratios = [], []
             for r in runs:
                 doc = r["json"]
@@ -353,8 +350,10 @@ def page_bvh(sources):
                 work = row.get("bvh_work") if row else None
                 ratios.append(row["mrays_per_s"] / embree["mrays_per_s"])
                 best_ratios.append(row["mrays_per_s"] / best_rate)
-                lines.append("| %s | %s | %.2f | %.2f | %.2fx | %s | %.2fx | %s | %s |" % (
-                    doc["scene"], doc["kind"], row["mrays_per_s"], embree["mrays_per_s"], ratios[-1],
+                single = [x for a, x in bench_rows(r).items() if a.startswith("bvh") and "call=1" in a]
+                lines.append("| %s | %s | %.2f | %s | %.2f | %.2fx | %s | %.2fx | %s | %s |" % (
+                    doc["scene"], doc["kind"], row["mrays_per_s"], "%.2f" % single[0]["mrays_per_s"] if single else "-",
+                    embree["mrays_per_s"], ratios[-1],
                     best.split("->")[-1].strip() if best else "-", best_ratios[-1],
                     "%.1f / %.1f / %.1f" % (work["nodes"], work["leaves"], work["triangle_tests"]) if work else "-",
                     raw_link(folder, r["name"])))

@@ -6,10 +6,13 @@
 # folder scripts/measure.sh writes. Every package is installed again at the end (install-deps.sh --all).
 #
 # Usage (as root: it removes and installs Debian packages): scripts/time-readme.sh [RUNS] [OUT]
-#   RUNS: runs of each command (default 3: the README states their median)
+#   RUNS: runs of each command (default 3: the README states their median), or N1,N2: N1 runs of
+#         command 1 and N2 of command 2 (0 skips it)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 runs=${1:-3}
+[[ $runs =~ ^[0-9]+(,[0-9]+)?$ ]] || { echo "time-readme: error: RUNS is N or N1,N2, got '$runs'" >&2; exit 2; }
+runs_of=([1]=${runs%%,*} [2]=${runs##*,})
 [[ $(id -u) == 0 ]] || { echo "time-readme: error: run as root (it purges and installs packages)" >&2; exit 2; }
 git -C "$root" diff --quiet HEAD || { echo "time-readme: error: commit first: the runs clone HEAD" >&2; exit 2; }
 mapfile -t commands < <(sed -n '/^```sh$/,/^```$/p' "$root/README.md" | sed -n 2,3p)
@@ -23,14 +26,18 @@ work=$(mktemp -d /tmp/visfield-readme.XXXXXX)
 trap 'rm -rf "$work"; bash "$root/scripts/install-deps.sh" --all >/dev/null' EXIT
 
 purge() {  # purge [--all]: the packages install-deps.sh [--all] installs, as on a machine that never had them
-  # shellcheck disable=SC2046
-  DEBIAN_FRONTEND=noninteractive apt-get purge -y -q $(bash "$root/scripts/install-deps.sh" --print "$@") >/dev/null 2>&1 || true
+  # but for python3 itself, which runs the timer (scripts/results.py) and which Debian's cloud images have.
+  local packages
+  packages=$(bash "$root/scripts/install-deps.sh" --print "$@" | tr ' ' '\n' | grep -vx python3 | tr '\n' ' ')
+  apt-mark manual python3 >/dev/null
+  # shellcheck disable=SC2086
+  DEBIAN_FRONTEND=noninteractive apt-get purge -y -q $packages >/dev/null 2>&1 || true
   DEBIAN_FRONTEND=noninteractive apt-get autoremove --purge -y -q >/dev/null 2>&1 || true
   apt-get clean
 }
 
 for number in 1 2; do
-  for run in $(seq "$runs"); do
+  for run in $(seq "${runs_of[$number]}"); do
     purge $([[ $number == 2 ]] && echo --all)
     rm -rf "$work/clone"
     git clone -q "$root" "$work/clone"

@@ -2,20 +2,24 @@
 
 Scenes come from mesh files, scene .json files, built-in scenes or NumPy arrays; any structure of
 visfield's registry is built by its spec ("bvh", "kdtree:kt=10", "beam:dirs=513", "field:...");
-queries take float32 arrays in place and release the GIL while they run::
+queries take arrays of real numbers (float32 read in place, other dtypes converted once) and release
+the GIL while they run::
 
     import numpy as np
     import visfield as vf
 
-    scene = vf.Scene.load("bunny.ply")
+    scene = vf.load("bunny.ply")
     bvh = vf.build(scene, "bvh")
-    hits = bvh.intersect(origins, directions)          # Hits(t, prim, instance, u, v, normal)
-    blocked = bvh.occluded(origins, directions, tmax=1.0)
+    hits = bvh.intersect(np.random.rand(1000, 3), np.random.rand(1000, 3) - 0.5)   # visfield.Hits
+    blocked = bvh.occluded(rays_n_by_6, tmax=1.0)      # origin and direction in one (N, 6) array
     image = vf.render(scene, integrator="ao", ao_rays=64, width=256, height=256)
 
 Fields (ObjectField), BeamField updates, renders with every integrator, image comparison, and
 renders or field builds spread over a Dask cluster (visfield.distributed) are here too.
 """
+
+from os import PathLike
+from typing import Union
 
 from . import _visfield
 from ._visfield import (  # noqa: F401  (the public API)
@@ -38,9 +42,10 @@ from ._visfield import (  # noqa: F401  (the public API)
     threads,
     write_image,
 )
+from .hits import FieldHits, Hits
 
 
-def set_threads(threads):
+def set_threads(threads: int) -> None:
     """Worker threads for every build, query and render from now on (0 = all hardware threads).
 
     A Python function (not the extension's own) so that it pickles by name: client.run(visfield.set_threads, 1)
@@ -48,7 +53,7 @@ def set_threads(threads):
     _visfield.set_threads(threads)
 
 
-def load(path):
+def load(path: Union[str, "PathLike[str]"]) -> Scene:
     """A scene from a mesh file, a scene .json file, or "builtin:NAME[:key=value,...]" (Scene.load)."""
     return Scene.load(str(path))
 
@@ -58,6 +63,8 @@ __all__ = [
     "Camera",
     "Error",
     "Field",
+    "FieldHits",
+    "Hits",
     "Renderer",
     "Scene",
     "Structure",

@@ -125,9 +125,10 @@ void bind_fields(py::module_& m) {
           "The bounding sphere in object space: ((x, y, z), radius).")
       .def(
           "intersect",
-          [](const FieldHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+          [](const FieldHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
             const FieldHolder& f = h.get();
-            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            const RayInput in = ray_input(origins, directions, tmin, tmax);
+            const RayArrays& rays = in.rays;
             py::array_t<float> t(static_cast<py::ssize_t>(rays.count));
             py::array_t<float> normal({static_cast<py::ssize_t>(rays.count), py::ssize_t{3}});
             {
@@ -143,15 +144,17 @@ void bind_fields(py::module_& m) {
                 np[3 * i + 2] = a.has_normal ? a.normal.z : 0.0f;
               }
             }
-            return py::make_tuple(t, normal);
+            return answer_type("FieldHits")(per_ray(t, in.single), per_ray(normal, in.single));
           },
-          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
-          "Approximate closest hits of object-space rays: (t, normal), t = inf for a miss, the unit normal where the field has a normal field.")
+          py::arg("origins"), py::arg("directions") = py::none(), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Approximate closest hits of object-space rays (arguments as Structure.intersect()): visfield.FieldHits(t, normal), "
+          "t = inf for a miss, the unit normal where the field has a normal field (zero otherwise).")
       .def(
           "occluded",
-          [](const FieldHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+          [](const FieldHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
             const FieldHolder& f = h.get();
-            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            const RayInput in = ray_input(origins, directions, tmin, tmax);
+            const RayArrays& rays = in.rays;
             py::array_t<bool> out(static_cast<py::ssize_t>(rays.count));
             {
               py::gil_scoped_release release;
@@ -159,10 +162,10 @@ void bind_fields(py::module_& m) {
               bool* o = out.mutable_data();
               for (std::size_t i = 0; i < answers.size(); ++i) o[i] = answers[i].hit;
             }
-            return out;
+            return per_ray(out, in.single);
           },
-          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
-          "Approximate occlusion of object-space rays: a bool array.")
+          py::arg("origins"), py::arg("directions") = py::none(), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Approximate occlusion of object-space rays (arguments as Structure.intersect()): a bool array (a bool for one ray).")
       .def("close", &FieldHandle::close, "Frees the field now.")
       .def_property_readonly("closed", &FieldHandle::closed)
       .def("__enter__", [](FieldHandle& h) -> FieldHandle& { return h; })

@@ -20,12 +20,6 @@
 namespace vf::python {
 namespace {
 
-// The namedtuple intersect() returns: Hits(t, prim, instance, u, v, normal).
-py::object hits_type() {
-  static py::object type = py::module_::import("collections").attr("namedtuple")("Hits", "t prim instance u v normal");
-  return type;
-}
-
 template <class T>
 py::array_t<T> new_array(std::size_t n) {
   return py::array_t<T>(static_cast<py::ssize_t>(n));
@@ -148,9 +142,10 @@ void bind_structures(py::module_& m) {
           "Build time (ms), memory (bytes), nodes, leaves, references, depth.")
       .def(
           "intersect",
-          [](const StructureHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+          [](const StructureHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
             const BuiltHandle& b = h.get();
-            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
+            const RayInput in = ray_input(origins, directions, tmin, tmax);
+            const RayArrays& rays = in.rays;
             auto t = new_array<float>(rays.count), u = new_array<float>(rays.count), v = new_array<float>(rays.count);
             auto prim = new_array<std::uint32_t>(rays.count), instance = new_array<std::uint32_t>(rays.count);
             py::array_t<float> normal({static_cast<py::ssize_t>(rays.count), py::ssize_t{3}});
@@ -163,27 +158,31 @@ void bind_structures(py::module_& m) {
               py::gil_scoped_release release;
               intersect_arrays(b.structure, rays, out);
             }
-            return hits_type()(t, prim, instance, u, v, normal);
+            const bool one = in.single;
+            return answer_type("Hits")(per_ray(t, one), per_ray(prim, one), per_ray(instance, one), per_ray(u, one), per_ray(v, one), per_ray(normal, one));
           },
-          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
-          "Closest hits of rays origins[i] + t*directions[i], t in (tmin, tmax]: origins and directions float32 (N, 3) (read in place), "
-          "tmin/tmax numbers or float32 (N,). Returns Hits(t, prim, instance, u, v, normal): a miss has t = inf and prim = instance = "
-          "INVALID_ID; a field's hit has prim = INVALID_ID. The GIL is released while it runs.")
+          py::arg("origins"), py::arg("directions") = py::none(), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Closest hits of rays origins[i] + t*directions[i], t in (tmin, tmax]. origins and directions: real numbers of shape (N, 3), "
+          "or (3,) for one shared by every ray (float32 is read in place whatever its strides; other dtypes and lists are converted "
+          "to float32 first, one pass and 12 bytes a ray); or, with directions left out, origins holds whole rays (N, 6): origin then "
+          "direction. tmin/tmax: numbers or arrays (N,). Returns visfield.Hits(t, prim, instance, u, v, normal), one entry per ray "
+          "(scalars for one ray given as (3,) vectors): a miss has t = inf and prim = instance = INVALID_ID; a field's hit has "
+          "prim = INVALID_ID. The GIL is released while it runs.")
       .def(
           "occluded",
-          [](const StructureHandle& h, const py::array& origins, const py::array& directions, const py::object& tmin, const py::object& tmax) {
+          [](const StructureHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
             const BuiltHandle& b = h.get();
-            const RayArrays rays = ray_arrays(origins, directions, tmin, tmax);
-            py::array_t<bool> out(static_cast<py::ssize_t>(rays.count));
+            const RayInput in = ray_input(origins, directions, tmin, tmax);
+            py::array_t<bool> out(static_cast<py::ssize_t>(in.rays.count));
             static_assert(sizeof(bool) == sizeof(std::uint8_t));
             {
               py::gil_scoped_release release;
-              occluded_arrays(b.structure, rays, StridedOut<std::uint8_t>{reinterpret_cast<std::uint8_t*>(out.mutable_data()), 1});
+              occluded_arrays(b.structure, in.rays, StridedOut<std::uint8_t>{reinterpret_cast<std::uint8_t*>(out.mutable_data()), 1});
             }
-            return out;
+            return per_ray(out, in.single);
           },
-          py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
-          "Whether each ray hits anything in (tmin, tmax]: a bool array. Arguments as intersect().")
+          py::arg("origins"), py::arg("directions") = py::none(), py::arg("tmin") = 0.0, py::arg("tmax") = std::numeric_limits<double>::infinity(),
+          "Whether each ray hits anything in (tmin, tmax]: a bool array (a bool for one ray given as (3,) vectors). Arguments as intersect().")
       .def(
           "remove", [](StructureHandle& h, ObjectId id) { edit(h, [&](AnyStructure& s) { remove_object(s, id); }); }, py::arg("id"),
           "Stages removing object `id` (updatable structures; commit() applies).")

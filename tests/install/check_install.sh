@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
-# Installs the build tree into a temporary prefix, then configures, builds and runs consumer
-# projects against it: a C++ one that finds visfield with find_package, and the C example built
-# once through find_package and once through pkg-config alone.
+# Installs the build tree into a temporary prefix, then configures, builds and runs the examples
+# against it: the C++ one (examples/cpp) through find_package, and the C example built once through
+# find_package and once through pkg-config alone.
 set -euo pipefail
 build_dir=$1 source_dir=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 prefix="$work/prefix"
 cmake --install "$build_dir" --prefix "$prefix" >/dev/null
-cmake -S "$source_dir/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
-cmake --build "$work/consumer" -j2 >/dev/null
-"$work/consumer/consumer"
+cmake -S "$source_dir/examples/cpp" -B "$work/cpp" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build "$work/cpp" -j2 >/dev/null
+"$work/cpp/trace" builtin:sphere bvh
+"$work/cpp/trace" builtin:boxes beam:dirs=33,n=16 >/dev/null
 
 example="$(cd "$source_dir" && pwd)/examples/c/visfield_example.c"
 cmake -S "$source_dir/tests/install/c_consumer" -B "$work/c_consumer" -DCMAKE_PREFIX_PATH="$prefix" -DEXAMPLE="$example" >/dev/null

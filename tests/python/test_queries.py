@@ -156,3 +156,60 @@ def test_plan_weighs_every_structure_and_auto_builds_its_choice():
         vf.plan(scene, rays=10, kind="diffuse")
     with pytest.raises(ValueError, match="error must be"):
         vf.plan(scene, rays=10, error=300)
+
+
+def test_any_real_dtype_equals_the_float32_call_bit_for_bit():
+    scene = vf.load(SCENE)
+    bvh = vf.build(scene, "bvh")
+    rng = np.random.default_rng(5)
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in scene.bounds)
+    origins = lo + rng.random((4000, 3)) * (hi - lo)  # float64, NumPy's default
+    directions = rng.random((4000, 3)) - 0.5
+    reference = bvh.intersect(origins.astype(np.float32), directions.astype(np.float32))
+    assert (reference.t < np.inf).sum() > 500
+    got = bvh.intersect(origins, directions)
+    assert np.array_equal(hits_as_words(got), hits_as_words(reference))
+    assert np.array_equal(hits_as_words(bvh.intersect(origins.astype(np.float16), directions.astype(np.float16))),
+                          hits_as_words(bvh.intersect(origins.astype(np.float16).astype(np.float32),
+                                                      directions.astype(np.float16).astype(np.float32))))
+    assert np.array_equal(bvh.occluded(origins, directions, tmax=np.full(4000, 2.0)),
+                          bvh.occluded(origins.astype(np.float32), directions.astype(np.float32), tmax=2.0))
+    # Integers and lists are real numbers too.
+    assert np.array_equal(bvh.intersect(np.zeros((3, 3), dtype=np.int64), np.tile([0, 0, 1], (3, 1))).t,
+                          bvh.intersect(np.zeros((3, 3), dtype=np.float32), np.tile(np.float32([0, 0, 1]), (3, 1))).t)
+    assert np.array_equal(bvh.intersect([[0.0, 0.0, 0.0]], [[0.0, 0.0, 1.0]]).t, bvh.intersect(np.zeros((1, 3)), np.float32([[0, 0, 1]])).t)
+
+
+def test_whole_rays_one_ray_and_one_origin_for_many_rays():
+    scene = vf.load(SCENE)
+    bvh = vf.build(scene, "bvh")
+    rays = random_rays(scene, 3000, 13)
+    reference = bvh.intersect(rays[:, 0:3], rays[:, 3:6])
+    # (N, 6): origin then direction, in one array (a strided view of the (N, 8) one too).
+    assert np.array_equal(hits_as_words(bvh.intersect(np.ascontiguousarray(rays[:, 0:6]))), hits_as_words(reference))
+    assert np.array_equal(hits_as_words(bvh.intersect(rays[:, 0:6])), hits_as_words(reference))
+    assert np.array_equal(bvh.occluded(rays[:, 0:6]), bvh.occluded(rays[:, 0:3], rays[:, 3:6]))
+    # One ray as (3,) vectors: scalars, the same as row i of the batch.
+    i = int(np.flatnonzero(reference.t < np.inf)[0])
+    one = bvh.intersect(rays[i, 0:3], rays[i, 3:6])
+    assert np.ndim(one.t) == 0 and one.t == reference.t[i] and one.prim == reference.prim[i]
+    assert one.instance == reference.instance[i] and one.u == reference.u[i] and one.v == reference.v[i]
+    assert np.array_equal(one.normal, reference.normal[i]) and one.hit
+    assert bool(bvh.occluded(rays[i, 0:6])) is True
+    assert "t=" in repr(one) and "prim=" in repr(one)
+    # One origin shared by every direction (a camera, a shading point).
+    origin = rays[0, 0:3]
+    shared = bvh.intersect(origin, rays[:, 3:6])
+    assert np.array_equal(hits_as_words(shared), hits_as_words(bvh.intersect(np.tile(origin, (len(rays), 1)), rays[:, 3:6])))
+
+
+def test_hits_is_a_named_tuple_with_a_readable_repr():
+    scene = vf.load(SCENE)
+    bvh = vf.build(scene, "bvh")
+    rays = random_rays(scene, 1000, 17)
+    hits = bvh.intersect(rays[:, 0:3], rays[:, 3:6])
+    assert isinstance(hits, vf.Hits) and hits._fields == ("t", "prim", "instance", "u", "v", "normal")
+    assert repr(hits) == f"Hits(1000 rays, {int(np.isfinite(hits.t).sum())} hits; fields t, prim, instance, u, v, normal)"
+    assert np.array_equal(hits.hit, np.isfinite(hits.t))
+    t, prim, instance, u, v, normal = hits  # unpacks as a tuple
+    assert normal.shape == (1000, 3) and prim.dtype == np.uint32 and t.dtype == np.float32

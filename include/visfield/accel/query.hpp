@@ -40,7 +40,7 @@ struct ErrorBounds {
 
 /// A built structure: a static name() (its registry name), a static `exactness`, and stats().
 template <class S>
-concept Structure = requires(const S& s) {
+concept StructureType = requires(const S& s) {
   { S::name() } -> std::convertible_to<std::string>;
   { S::exactness } -> std::convertible_to<Exactness>;
   { s.stats() } -> std::convertible_to<AccelStats>;
@@ -49,14 +49,14 @@ concept Structure = requires(const S& s) {
 /// The closest-hit role: intersect(ray) returns the nearest hit with tmin <= t <= tmax, or a miss.
 /// Const and thread-safe.
 template <class S>
-concept ClosestHitQuery = Structure<S> && requires(const S& s, const Ray& ray) {
+concept ClosestHitQuery = StructureType<S> && requires(const S& s, const Ray& ray) {
   { s.intersect(ray) } -> std::same_as<Hit>;
 };
 
 /// The occlusion role: occluded(ray) tells whether anything lies on the ray within (tmin, tmax].
 /// Const and thread-safe.
 template <class S>
-concept OcclusionQuery = Structure<S> && requires(const S& s, const Ray& ray) {
+concept OcclusionQuery = StructureType<S> && requires(const S& s, const Ray& ray) {
   { s.occluded(ray) } -> std::same_as<bool>;
 };
 
@@ -66,11 +66,11 @@ concept Accelerator = ClosestHitQuery<S> && OcclusionQuery<S>;
 
 /// A structure whose answers are exactly brute force's (same t, same triangle except on exact ties).
 template <class S>
-concept ExactStructure = Structure<S> && (S::exactness == Exactness::exact);
+concept ExactStructure = StructureType<S> && (S::exactness == Exactness::exact);
 
 /// A structure whose answers are approximate, with the bounds it promises.
 template <class S>
-concept ApproximateStructure = Structure<S> && (S::exactness == Exactness::approximate) && requires(const S& s) {
+concept ApproximateStructure = StructureType<S> && (S::exactness == Exactness::approximate) && requires(const S& s) {
   { s.error_bounds() } -> std::convertible_to<ErrorBounds>;
 };
 
@@ -79,7 +79,7 @@ concept ApproximateStructure = Structure<S> && (S::exactness == Exactness::appro
 /// for the last committed state; after it, they answer exactly as a fresh build over the edited scene
 /// would. Edits and commit() must not run concurrently with queries or with each other.
 template <class S>
-concept UpdatableStructure = Structure<S> && requires(S& s, const Scene& scene, ObjectId id, const Transform& t) {
+concept UpdatableStructure = StructureType<S> && requires(S& s, const Scene& scene, ObjectId id, const Transform& t) {
   s.remove(id);         ///< Takes object `id` out.
   s.insert(scene, id);  ///< Adds object `id` of `scene` (its mesh and transform as they are now).
   s.move(id, t);        ///< Places object `id` by `t`.

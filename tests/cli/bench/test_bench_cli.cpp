@@ -152,6 +152,19 @@ TEST_F(BenchCli, EmbreeBestIsTheFastestOfItsCallsAndQualities) {
   for (const json& row : results) EXPECT_EQ(row.at("mismatches"), 0) << row.at("accel");
 }
 
+// Our structures one ray at a time (call=1): the same answers as their batch path, bit for bit, in a
+// row of their own named by the spec as resolved.
+TEST_F(BenchCli, OneRayAtATimeIsARowOfItsOwnWithTheBatchsAnswers) {
+  const json doc = bench_json(kScene + kSmallRun + "--rays ao --accel bvh,bvh:call=1,kdtree:call=1");
+  const json& results = doc.at("results");
+  ASSERT_EQ(results.size(), 3u);
+  EXPECT_EQ(results[0].at("accel"), "bvh:levels=1");
+  EXPECT_EQ(results[1].at("accel"), "bvh:levels=1,call=1");
+  EXPECT_EQ(results[2].at("accel").get<std::string>().rfind("kdtree:", 0), 0u);
+  EXPECT_NE(results[2].at("accel").get<std::string>().find(",call=1"), std::string::npos);
+  for (const json& row : results) EXPECT_EQ(row.at("mismatches"), 0) << row.at("accel");
+}
+
 TEST_F(BenchCli, TableHasHeaderColumnsAndOneRowPerStructure) {
   const auto r = bench(kScene + kSmallRun + accel_option() + "--rays ao");
   ASSERT_EQ(r.exit_code, 0) << r.err;

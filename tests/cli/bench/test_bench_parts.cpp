@@ -96,6 +96,9 @@ TEST(BenchOptions, BadValuesAreUsageErrors) {
   // Line order needs AO rays along lines.
   EXPECT_THROW(parse(with({"--accel", "bvh", "--ray-order", "line"})), UsageError);
   EXPECT_THROW(parse(with({"--accel", "bvh", "--ray-order", "diagonal"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "bvh:call=2"})), UsageError);
+  EXPECT_THROW(parse(with({"--accel", "kdtree:call=16"})), UsageError);
+  EXPECT_TRUE(parse(with({"--accel", "bvh:call=1,leaf=4,kdtree:call=batch"})));
   if (kHaveEmbree) {
     EXPECT_THROW(parse(with({"--accel", "embree:call=8"})), UsageError);
     EXPECT_THROW(parse(with({"--accel", "embree:quality=low"})), UsageError);
