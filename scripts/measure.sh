@@ -3,7 +3,8 @@
 # it, its raw output kept, then the headline table printed (the README's, made from these files).
 #
 # Usage: scripts/measure.sh [--quick] [--models DIR] [--out DIR] [--build DIR]
-#   --quick    one mesh a workload, fewer repetitions: about 10 minutes on 2 cores (the full run: 45)
+#   --quick    one mesh a workload, fewer repetitions, no walkthroughs or planner (the target: 10 minutes
+#              on 2 cores, the full run 45; bench/results has the measured times)
 #   --models   the test meshes (default ../shared/models; docs/testing.md names their public sources)
 #   --out      where the raw files go (default bench/results/<date>-<cpu>-<kernels>)
 #   --build    the build whose programs run (default build; it needs visfield-bench, hence

@@ -145,6 +145,11 @@ def load(folder):
     return machine, records
 
 
+def meshes(n):
+    """'1 mesh', '6 meshes'."""
+    return "%d mesh%s" % (n, "" if n == 1 else "es")
+
+
 def geomean(values):
     values = [v for v in values if v and v > 0]
     return math.exp(sum(math.log(v) for v in values) / len(values)) if values else None
@@ -210,7 +215,7 @@ def headline_rows(folder, machine, records):
         models = len({n.split("-", 2)[2] for n in records if re.fullmatch(r"bvh-(ao|shadow|primary|random)-.*", n)})
         kinds = len({n.split("-")[1] for n in records if re.fullmatch(r"bvh-(ao|shadow|primary|random)-.*", n)})
         single = [ratio(r, "bvh") for r in runs]
-        rows.append(("bvh-" + isa, "Exact BVH, %d meshes x %d ray kinds" % (models, kinds),
+        rows.append(("bvh-" + isa, "Exact BVH, %s x %d ray kinds" % (meshes(models), kinds),
                      "%.2fx Embree's best call (%.2f-%.2fx), %.2fx its rtcIntersect1 (geometric means)" %
                      (geomean(bvh), min(bvh), max(bvh), geomean(single)), "docs/bvh-measurements.md"))
     two = [best_ratio(r, "bvh:levels=2") for r in matching(records, r"instances-.*")]
@@ -224,11 +229,11 @@ def headline_rows(folder, machine, records):
             beam.append(b / m)
     if beam:
         rows.append(("beam", "BeamField, VLF-RT's Table 1 workload (AO along 513 lines, 256x256)",
-                     "%.2fx our median BSP (geometric mean of %d meshes), exact" % (geomean(beam), len(beam)), "docs/beamfield-measurements.md"))
+                     "%.2fx our median BSP (geometric mean of %s), exact" % (geomean(beam), meshes(len(beam))), "docs/beamfield-measurements.md"))
     intra = [ratio(r, "field") for r in matching(records, r"field-intra-.*")]
     if intra and all(intra):
         rows.append(("field-intra", "ObjectField, AO rays from each mesh's own surface",
-                     "%.1fx Embree (geometric mean of %d meshes), about 3%% of answers differ" % (geomean(intra), len(intra)),
+                     "%.1fx Embree (geometric mean of %s), about 3%% of answers differ" % (geomean(intra), meshes(len(intra))),
                      "docs/objectfield-measurements.md"))
     copies = matching(records, r"field-copies-1024")
     if copies and ratio(copies[0], "field"):
