@@ -205,7 +205,13 @@ def headline_rows(folder, machine, records):
     for number in (1, 2):
         runs = sorted(r["seconds"] for r in matching(records, r"readme-command%d-\d+" % number) if r["exit"] == 0)
         if runs:
-            medians.append("command %d %.0f s (median of %d)" % (number, runs[len(runs) // 2], len(runs)))
+            note = "median of %d" % len(runs) if len(runs) > 1 else "1 run"
+            last = matching(records, r"readme-command%d-\d+" % number)[-1]
+            counted = re.findall(r"tests passed, \d+ tests failed out of (\d+)", last["stdout"])
+            skipped = len(re.findall(r"\(Skipped\)", last["stdout"]))
+            if counted and skipped:
+                note += "; %d of %s tests skip there: no shared meshes" % (skipped, counted[-1])
+            medians.append("command %d %.0f s (%s)" % (number, runs[len(runs) // 2], note))
     if medians:
         rows.append(("readme", "The README's commands on a fresh clone, packages purged, no compiler cache",
                      ", ".join(medians), "docs/testing.md"))
