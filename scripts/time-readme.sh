@@ -37,7 +37,9 @@ purge() {  # purge [--all]: the packages install-deps.sh [--all] installs, as on
 }
 
 for number in 1 2; do
-  for run in $(seq "${runs_of[$number]}"); do
+  # Numbered after the runs already in OUT, so that more runs add to them.
+  first=$(($(find "$out" -maxdepth 1 -name "readme-command$number-*.json" | wc -l) + 1))
+  for run in $(seq "$first" $((first + runs_of[$number] - 1))); do
     purge $([[ $number == 2 ]] && echo --all)
     rm -rf "$work/clone"
     git clone -q "$root" "$work/clone"
