@@ -6,6 +6,7 @@
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "integrator_options.hpp"
+#include "visfield/core/error.hpp"
 #include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/io/atomic_file.hpp"
@@ -13,7 +14,6 @@
 #if VISFIELD_HAVE_CUDA
 #include <variant>
 
-#include "visfield/core/error.hpp"
 #include "visfield/core/spec.hpp"
 #include "visfield/cuda/device.hpp"
 #include "visfield/cuda/render_ao.hpp"
@@ -33,6 +33,8 @@ struct RenderOptions {
   int threads = 0;
   bool no_progress = false;
   std::string device = "cpu";
+  std::string up, view, camera, background;  // as written; read into `settings` by the callback
+  RenderSettings settings;                   // the render settings, view and background included
 };
 
 std::string output_path(const RenderOptions& o) { return o.out.empty() ? "visfield-" + o.shading.integrator() + ".png" : o.out; }
@@ -61,7 +63,7 @@ int run_render_cuda(const RenderOptions& o) {
   ThreadLimit limit(o.threads);
   const Scene scene = load_scene_argument(o.scene);
   SceneGeometry geometry(scene);
-  const Camera camera = scene.camera_or_default(o.width, o.height);
+  const Camera camera = render_camera(scene, o.settings);
   require_memory(static_cast<double>(camera.width) * static_cast<double>(camera.height) * (sizeof(Vec3f) + 12.0 + 56.0),
                  "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image and its surface points");
   const BuildContext context{rays_of_render(camera, o, scene), !o.no_progress};
@@ -90,7 +92,8 @@ int run_render_cuda(const RenderOptions& o) {
   }
   const std::unique_ptr<SceneQueries> queries = scene_queries(closest.structure, closest.structure);
   RenderStats stats;
-  const Image image = cuda::render_ao(*queries, scene, camera, ao_options(o.shading, !o.no_progress), occluder, &stats);
+  Image image = cuda::render_ao(*queries, scene, camera, ao_options(o.shading, !o.no_progress), occluder, &stats);
+  put_render_background(image, *queries, camera, o.settings);
   write_image(out, image);
   std::cout << "wrote " << std::filesystem::absolute(out).string() << "\n";
   std::cout << "render: " << scene.instanced_triangle_count() - closest.degenerate_triangles << " triangles, accel "
@@ -111,9 +114,9 @@ int run_render(const RenderOptions& o) {
   ThreadLimit limit(o.threads);
   const Scene scene = load_scene_argument(o.scene);
   SceneGeometry geometry(scene);
-  const Camera camera = scene.camera_or_default(o.width, o.height);
-  // The float image and its encoded copy (at most 4 bytes a pixel for PNG, 12 for EXR).
-  require_memory(static_cast<double>(camera.width) * static_cast<double>(camera.height) * (sizeof(Vec3f) + 12.0),
+  const Camera camera = render_camera(scene, o.settings);
+  // The float image, its coverage and alpha, and its encoded copy (at most 4 bytes a pixel for PNG, 16 for EXR).
+  require_memory(static_cast<double>(camera.width) * static_cast<double>(camera.height) * (sizeof(Vec3f) + 8.0 + 16.0),
                  "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
   const BuildContext context{rays_of_render(camera, o, scene), !o.no_progress};
   const BuiltStructure closest = build_structure_for(o.shading.accel, geometry, context, "--accel", o.scene);
@@ -125,9 +128,10 @@ int run_render(const RenderOptions& o) {
 
   RenderStats stats;
   const Integrator integrator = integrator_of(o.shading);
-  const Image image = integrator == Integrator::ao
-                          ? render_ao(*queries, scene, camera, ao_options(o.shading, !o.no_progress), &stats)
-                          : render_shaded(integrator, *queries, scene, camera, shading_options(o.shading, !o.no_progress), &stats);
+  Image image = integrator == Integrator::ao
+                    ? render_ao(*queries, scene, camera, ao_options(o.shading, !o.no_progress), &stats)
+                    : render_shaded(integrator, *queries, scene, camera, shading_options(o.shading, !o.no_progress), &stats);
+  put_render_background(image, *queries, camera, o.settings);
   write_image(out, image);
 
   std::cout << "wrote " << std::filesystem::absolute(out).string() << "\n";
@@ -150,6 +154,18 @@ void register_render_command(CLI::App& app, Action& action) {
   cmd->add_option("--height", options->height, "Image height in pixels (default: the scene camera's, else 512)")
       ->check(CLI::Range(1, 16384));
   add_resource_options(*cmd, options->threads);
+  cmd->add_option("--up", options->up, "The world's up axis: x, y or z with an optional sign (+z, -y; default +y, or the scene camera's)");
+  cmd->add_option("--view", options->view,
+                  "AZIMUTH,ELEVATION in degrees: look from there at the whole scene, framed (azimuth 0 is the front, "
+                  "positive turns right; elevation within [-90, 90]; default " +
+                      std::to_string(static_cast<int>(kDefaultAzimuth)) + "," + std::to_string(static_cast<int>(kDefaultElevation)) +
+                      " when the scene has no camera)");
+  cmd->add_option("--camera", options->camera,
+                  "FROM,TO[,UP[,FOV]]: a camera at FROM looking at TO (three numbers each), up UP (default --up), vertical "
+                  "field of view FOV degrees (default the scene camera's, else 45)");
+  cmd->add_option("--background", options->background,
+                  "What shows where nothing is hit: transparent (a PNG or EXR with alpha), white, black, grey, #RRGGBB or "
+                  "R,G,B in [0, 1] (sRGB; default #3A3F47, a dark slate)");
   cmd->add_option("-o,--out", options->out, "Output image (.png 8-bit sRGB or .exr float; default visfield-INTEGRATOR.png)");
   cmd->add_flag("--no-progress", options->no_progress, "Do not draw the progress bar");
   add_device_option(*cmd, options->device);
@@ -157,6 +173,23 @@ void register_render_command(CLI::App& app, Action& action) {
     // --occluders and --occluder must agree; checked while parsing, so a conflict is a usage error.
     check_integrator_options(*cmd, options->shading);
     check_device_option(options->device, options->shading);
+    if (!options->camera.empty() && !options->view.empty()) throw CLI::ValidationError("--view", "--camera places the camera itself: give one of them");
+    RenderSettings& s = options->settings;
+    s = render_settings(options->shading, !options->no_progress);
+    s.width = options->width, s.height = options->height;
+    // The library's one-line messages ("up: expected ..."), as usage errors naming the option instead.
+    auto read = [](const std::string& option, auto parse) {
+      try {
+        parse();
+      } catch (const Error& e) {
+        const std::string message = e.what(), key = option.substr(2) + ": ";
+        throw CLI::ValidationError(option, message.starts_with(key) ? message.substr(key.size()) : message);
+      }
+    };
+    if (!options->up.empty()) read("--up", [&] { s.up = parse_up(options->up); });
+    if (!options->view.empty()) read("--view", [&] { s.view = parse_view(options->view); });
+    if (!options->camera.empty()) read("--camera", [&] { s.camera = parse_camera_placement(options->camera); });
+    if (!options->background.empty()) read("--background", [&] { s.background = parse_background(options->background); });
     action = [options] { return run_render(*options); };
   });
 }

@@ -166,7 +166,8 @@ def _structures(accel, occluder, occluders):
 def render_tiles(client, scene, *, tile=128, accel="bvh", occluder=None, occluders=None, width=0, height=0, retries=2, failures=None,
                  **settings):
     """Renders one image of `scene` (a path every worker can read) in tiles of `tile` x `tile`
-    pixels spread over the cluster, and assembles them: an array (height, width, 3) float32 equal
+    pixels spread over the cluster, and assembles them: an array (height, width, 3) float32 (4 with
+    background="transparent") equal
     to visfield.render(visfield.load(scene), ...) with the same settings. `settings` are
     visfield.render's (integrator, spp, ao_rays, seed, ...)."""
     if tile < 1:
@@ -178,7 +179,7 @@ def render_tiles(client, scene, *, tile=128, accel="bvh", occluder=None, occlude
     structures = _structures(accel, occluder, occluders)
     tasks = [(os.path.abspath(scene), structures, settings, i, region) for i, region in enumerate(regions)]
     parts = _run(client, "tile", _render_tile, tasks, retries, failures)
-    image = np.zeros((h, w, 3), dtype=np.float32)
+    image = np.zeros((h, w, parts[0].shape[2]), dtype=np.float32)  # 4 channels with background="transparent"
     for (x0, y0, x1, y1), part in zip(regions, parts):
         image[y0:y1, x0:x1] = part
     return image

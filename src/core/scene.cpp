@@ -110,10 +110,111 @@ Camera framing_camera(const Bounds3f& target, const Vec3f& view_direction, float
 }
 
 Camera Scene::camera_or_default(int width, int height) const {
-  Camera c = camera ? *camera : framing_camera(bounds(), Vec3f{0.35f, 0.3f, 1.0f}, Camera{}.fov_degrees);
+  if (!camera) return framed_view(*this, Vec3f{0.0f, 1.0f, 0.0f}, kDefaultAzimuth, kDefaultElevation, Camera{}.fov_degrees, width, height);
+  Camera c = *camera;
   if (width > 0) c.width = width;
   if (height > 0) c.height = height;
   return c;
+}
+
+namespace {
+
+// The points a framing keeps in view: every object's vertices, or each object's 8 box corners when
+// there are more than a million vertices in all (or the scene's 8 when even those are too many).
+std::vector<Vec3f> framing_points(const Scene& scene) {
+  constexpr std::size_t kMaxPoints = 1u << 20;
+  std::size_t vertices = 0;
+  for (const Instance& inst : scene.instances()) vertices += scene.meshes[inst.mesh].positions.size();
+  std::vector<Vec3f> points;
+  auto corners = [&points](const Bounds3f& b) {
+    if (b.empty()) return;
+    for (int k = 0; k < 8; ++k) points.push_back(Vec3f{(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z});
+  };
+  if (vertices <= kMaxPoints) {
+    points.reserve(vertices);
+    for (const Instance& inst : scene.instances())
+      for (const Vec3f& p : scene.meshes[inst.mesh].positions) points.push_back(inst.transform.apply_point(p));
+  } else if (8 * scene.instances().size() <= kMaxPoints) {
+    const std::vector<Bounds3f> mesh_bounds = bounds_of_meshes(scene.meshes);
+    for (const Instance& inst : scene.instances()) corners(inst.transform.apply_bounds(mesh_bounds[inst.mesh]));
+  } else {
+    corners(scene.bounds());
+  }
+  return points;
+}
+
+}  // namespace
+
+Camera framed_view(const Scene& scene, const Vec3f& up, float azimuth_degrees, float elevation_degrees, float fov_degrees,
+                   int width, int height) {
+  if (!is_finite(up) || !(length(up) > 0.0f)) throw Error("view: the up direction must be finite and non-zero");
+  if (!std::isfinite(azimuth_degrees)) throw Error("view: the azimuth must be a finite number of degrees");
+  if (!(elevation_degrees >= -90.0f && elevation_degrees <= 90.0f))
+    throw Error("view: the elevation must be within [-90, 90] degrees, got " + std::to_string(elevation_degrees));
+  if (!(fov_degrees > 0.0f && fov_degrees < 180.0f)) throw Error("view: the field of view must be in (0, 180) degrees");
+  Camera camera;
+  camera.fov_degrees = fov_degrees;
+  if (width > 0) camera.width = width;
+  if (height > 0) camera.height = height;
+
+  // The view's frame: `u` up, `f` the front (azimuth 0), `r` the right; `w` points from the scene to the camera.
+  const Vec3f u = normalize(up);
+  Vec3f r = std::fabs(u.x) > 0.5f ? Vec3f{0.0f, 1.0f, 0.0f} : Vec3f{1.0f, 0.0f, 0.0f};
+  r = normalize(r - u * dot(r, u));
+  const Vec3f f = cross(r, u);
+  const float degree = std::numbers::pi_v<float> / 180.0f;
+  const float az = azimuth_degrees * degree, el = elevation_degrees * degree;
+  const Vec3f horizontal = f * std::cos(az) + r * std::sin(az);
+  const Vec3f w = normalize(horizontal * std::cos(el) + u * std::sin(el));
+  // Looking straight down (or up) the world's up is the view direction: the far side is the image's up.
+  camera.up = std::fabs(elevation_degrees) < 89.9f ? u : horizontal * (elevation_degrees > 0.0f ? -1.0f : 1.0f);
+  // The camera's own axes, as PinholeCamera makes them.
+  const Vec3f right = normalize(cross(-w, camera.up));
+  const Vec3f image_up = cross(right, -w);
+
+  const Bounds3f bounds = scene.bounds();
+  const Vec3f center = bounds.empty() ? Vec3f{0.0f} : bounds.center();
+  const double radius = bounds.empty() ? 0.0 : 0.5 * static_cast<double>(length(bounds.extent()));
+  if (!(radius > 0.0)) {
+    camera.look_at = center;
+    camera.position = center + w;
+    return camera;
+  }
+  struct Local {
+    double x, y, z;
+  };
+  std::vector<Local> local;
+  for (const Vec3f& p : framing_points(scene)) {
+    const Vec3f d = p - center;
+    local.push_back({dot(d, right), dot(d, image_up), dot(d, w)});
+  }
+  constexpr double kFill = 0.9;
+  const double tan_y = std::tan(0.5 * static_cast<double>(fov_degrees) * std::numbers::pi / 180.0);
+  const double tan_x = tan_y * camera.width / camera.height;
+  double shift_x = 0.0, shift_y = 0.0, distance = 0.0;
+  // The distance that keeps every point within kFill of the image for the current shift; then the
+  // shift that centres the projection. A few rounds settle both.
+  for (int round = 0; round < 4; ++round) {
+    distance = 0.0;
+    double z_max = -radius;
+    for (const Local& p : local) {
+      z_max = std::max(z_max, p.z);
+      distance = std::max({distance, p.z + std::fabs(p.x - shift_x) / (kFill * tan_x), p.z + std::fabs(p.y - shift_y) / (kFill * tan_y)});
+    }
+    distance = std::max(distance, z_max + 0.01 * radius);
+    if (round == 3) break;
+    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
+    for (const Local& p : local) {
+      const double depth = distance - p.z;
+      x_lo = std::min(x_lo, (p.x - shift_x) / depth), x_hi = std::max(x_hi, (p.x - shift_x) / depth);
+      y_lo = std::min(y_lo, (p.y - shift_y) / depth), y_hi = std::max(y_hi, (p.y - shift_y) / depth);
+    }
+    shift_x += 0.5 * (x_lo + x_hi) * distance;
+    shift_y += 0.5 * (y_lo + y_hi) * distance;
+  }
+  camera.look_at = center + right * static_cast<float>(shift_x) + image_up * static_cast<float>(shift_y);
+  camera.position = camera.look_at + w * static_cast<float>(distance);
+  return camera;
 }
 
 const Material& Scene::material_of(ObjectId id, std::uint32_t prim) const {

@@ -47,6 +47,18 @@ bool parse_number(const ParamSpec& p, const std::string& text, double& out) {
 
 }  // namespace
 
+std::optional<std::vector<double>> parse_number_list(std::string_view text) {
+  std::vector<double> numbers;
+  for (std::size_t start = 0; start <= text.size();) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    double value = 0.0;
+    if (!parse_double(std::string(text.substr(start, end - start)), value)) return std::nullopt;
+    numbers.push_back(value);
+    start = end + 1;
+  }
+  return numbers;
+}
+
 std::string expected_value(const ParamSpec& p) {
   switch (p.type) {
     case ParamType::whole: {

@@ -6,6 +6,7 @@
 
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "file_checks.hpp"
 #include "image_formats.hpp"
@@ -32,8 +33,18 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   try {
     Imf::Header header(image.width, image.height);
     for (const char* name : kChannels) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    // EXR's colour is premultiplied by its alpha.
+    std::vector<Vec3f> premultiplied;
+    if (!image.alpha.empty()) {
+      header.channels().insert("A", Imf::Channel(Imf::FLOAT));
+      premultiplied.resize(image.pixels.size());
+      for (std::size_t i = 0; i < image.pixels.size(); ++i) premultiplied[i] = image.pixels[i] * image.alpha[i];
+    }
     Imf::OutputFile file(path.c_str(), header);
-    file.setFrameBuffer(rgb_frame_buffer(image.pixels.data(), header.dataWindow()));
+    Imf::FrameBuffer frame = rgb_frame_buffer(image.alpha.empty() ? image.pixels.data() : premultiplied.data(), header.dataWindow());
+    if (!image.alpha.empty())
+      frame.insert("A", Imf::Slice::Make(Imf::FLOAT, image.alpha.data(), header.dataWindow(), sizeof(float)));
+    file.setFrameBuffer(frame);
     file.writePixels(image.height);
   } catch (const std::exception& e) {
     throw Error(path.string() + ": cannot write EXR: " + one_line(e.what()));
@@ -50,8 +61,17 @@ Image read_exr(const std::filesystem::path& path) {
       throw Error(path.string() + ": EXR data window of " + std::to_string(width) + "x" + std::to_string(height) +
                   " pixels is out of range");
     Image image(static_cast<int>(width), static_cast<int>(height));
-    file.setFrameBuffer(rgb_frame_buffer(image.pixels.data(), window));
+    Imf::FrameBuffer frame = rgb_frame_buffer(image.pixels.data(), window);
+    const bool with_alpha = file.header().channels().findChannel("A") != nullptr;
+    if (with_alpha) {
+      image.alpha.resize(image.pixels.size());
+      frame.insert("A", Imf::Slice::Make(Imf::FLOAT, image.alpha.data(), window, sizeof(float)));
+    }
+    file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
+    if (with_alpha)
+      for (std::size_t i = 0; i < image.pixels.size(); ++i)
+        image.pixels[i] = image.alpha[i] > 0.0f ? image.pixels[i] * (1.0f / image.alpha[i]) : Vec3f{0.0f};
     return image;
   } catch (const Error&) {
     throw;

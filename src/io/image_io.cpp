@@ -29,6 +29,9 @@ void write_image(const std::filesystem::path& path, const Image& image) {
   if (image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
     throw Error(path.string() + ": image has " + std::to_string(image.pixels.size()) + " pixels, expected " +
                 std::to_string(image.width) + "x" + std::to_string(image.height));
+  if (!image.alpha.empty() && image.alpha.size() != image.pixels.size())
+    throw Error(path.string() + ": image has " + std::to_string(image.alpha.size()) + " alpha values for " +
+                std::to_string(image.pixels.size()) + " pixels");
   write_atomically(path, [&](const std::filesystem::path& temp) {
     if (format == ImageFormat::png) io_detail::write_png(temp, image);
     else io_detail::write_exr(temp, image);

@@ -35,27 +35,39 @@ float decode_srgb8(std::uint8_t code) {
 namespace io_detail {
 
 void write_png(const std::filesystem::path& path, const Image& image) {
-  std::vector<std::uint8_t> rgb(image.pixels.size() * 3);
-  for (std::size_t i = 0; i < image.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = encode_srgb8(image.pixels[i][c]);
+  const int channels = image.alpha.empty() ? 3 : 4;
+  std::vector<std::uint8_t> bytes(image.pixels.size() * static_cast<std::size_t>(channels));
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int c = 0; c < 3; ++c) bytes[channels * i + c] = encode_srgb8(image.pixels[i][c]);
+    if (channels == 4) {
+      const float a = image.alpha[i] > 0.0f ? (image.alpha[i] < 1.0f ? image.alpha[i] : 1.0f) : 0.0f;  // alpha is linear
+      bytes[4 * i + 3] = static_cast<std::uint8_t>(std::lround(a * 255.0f));
+    }
+  }
   std::string encoded;
   const auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
   };
-  if (stbi_write_png_to_func(append, &encoded, image.width, image.height, 3, rgb.data(), image.width * 3) == 0)
+  if (stbi_write_png_to_func(append, &encoded, image.width, image.height, channels, bytes.data(), image.width * channels) == 0)
     throw Error(path.string() + ": cannot encode PNG");
   write_file_bytes(path, encoded);
 }
 
 Image read_png(const std::filesystem::path& path) {
   int width = 0, height = 0, channels = 0;
+  if (!stbi_info(path.c_str(), &width, &height, &channels)) throw Error(path.string() + ": malformed PNG: " + stbi_failure_reason());
+  const bool with_alpha = channels == 2 || channels == 4;  // grey + alpha, RGBA
+  const int stride = with_alpha ? 4 : 3;
   const std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> data(
-      stbi_load(path.c_str(), &width, &height, &channels, 3), &stbi_image_free);
+      stbi_load(path.c_str(), &width, &height, &channels, stride), &stbi_image_free);
   if (!data) throw Error(path.string() + ": malformed PNG: " + stbi_failure_reason());
   Image image(width, height);
-  for (std::size_t i = 0; i < image.pixels.size(); ++i)
-    image.pixels[i] = {decode_srgb8(data.get()[3 * i]), decode_srgb8(data.get()[3 * i + 1]),
-                       decode_srgb8(data.get()[3 * i + 2])};
+  if (with_alpha) image.alpha.resize(image.pixels.size());
+  const stbi_uc* p = data.get();
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    image.pixels[i] = {decode_srgb8(p[stride * i]), decode_srgb8(p[stride * i + 1]), decode_srgb8(p[stride * i + 2])};
+    if (with_alpha) image.alpha[i] = static_cast<float>(p[stride * i + 3]) / 255.0f;
+  }
   return image;
 }
 

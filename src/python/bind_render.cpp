@@ -20,18 +20,40 @@
 namespace vf::python {
 namespace {
 
+// (height, width, 3), or (height, width, 4) with the alpha channel of a transparent background.
 py::array_t<float> to_numpy(const Image& image) {
-  py::array_t<float> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), py::ssize_t{3}});
-  std::memcpy(out.mutable_data(), image.pixels.data(), image.pixels.size() * sizeof(Vec3f));
+  const py::ssize_t channels = image.alpha.empty() ? 3 : 4;
+  py::array_t<float> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width), channels});
+  float* data = out.mutable_data();
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    for (int c = 0; c < 3; ++c) data[channels * i + c] = image.pixels[i][c];
+    if (channels == 4) data[4 * i + 3] = image.alpha[i];
+  }
   return out;
 }
 
 Image from_numpy(const py::array& array, const char* name) {
   const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(array);
-  if (!a || a.ndim() != 3 || a.shape(2) != 3) throw py::value_error(std::string(name) + ": expected an image of shape (height, width, 3)");
+  if (!a || a.ndim() != 3 || (a.shape(2) != 3 && a.shape(2) != 4))
+    throw py::value_error(std::string(name) + ": expected an image of shape (height, width, 3), or (height, width, 4) with alpha");
+  const py::ssize_t channels = a.shape(2);
   Image image(static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
-  std::memcpy(static_cast<void*>(image.pixels.data()), a.data(), image.pixels.size() * sizeof(Vec3f));
+  if (channels == 4) image.alpha.resize(image.pixels.size());
+  const float* data = a.data();
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    image.pixels[i] = {data[channels * i], data[channels * i + 1], data[channels * i + 2]};
+    if (channels == 4) image.alpha[i] = data[4 * i + 3];
+  }
   return image;
+}
+
+// A keyword's value as the command line writes it: a string as it is, a sequence of numbers
+// joined by commas ((45, 30) -> "45,30").
+std::string option_text(const py::handle& value) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  std::string text;
+  for (const py::handle item : py::iter(value)) text += (text.empty() ? "" : ",") + py::str(item).cast<std::string>();
+  return text;
 }
 
 // What render() and Renderer.render() take besides the render settings.
@@ -39,6 +61,16 @@ struct Frame {
   std::optional<Camera> camera;
   bool with_stats = false;
 };
+
+// Runs `read`; a vf::Error (a value the view or background options refuse) raises ValueError.
+template <class Read>
+void view_error_as_value_error(Read&& read) {
+  try {
+    read();
+  } catch (const Error& e) {
+    throw py::value_error(e.what());
+  }
+}
 
 // render()'s and Renderer.render()'s keyword arguments: the render settings (render_setting_specs(),
 // checked by the library), the image size and region, the camera, progress and stats, and with
@@ -58,7 +90,19 @@ RenderSettings settings_of(const py::kwargs& kwargs, bool structures, Frame& fra
       const auto r = value.cast<std::array<int, 4>>();
       s.region = ImageTile{r[0], r[1], r[2], r[3]};
     } else if (key == "camera") {
-      if (!value.is_none()) frame.camera = value.cast<Camera>();
+      if (value.is_none()) continue;
+      if (py::isinstance<Camera>(value))
+        frame.camera = value.cast<Camera>();
+      else
+        view_error_as_value_error([&] { s.camera = parse_camera_placement(option_text(value)); });
+    } else if (key == "up" || key == "view" || key == "background") {
+      if (value.is_none()) continue;
+      view_error_as_value_error([&] {
+        const std::string text = option_text(value);
+        if (key == "up") s.up = parse_up(text);
+        else if (key == "view") s.view = parse_view(text);
+        else s.background = parse_background(text);
+      });
     } else if (key == "progress") {
       s.progress = value.cast<bool>();
     } else if (key == "stats") {
@@ -68,7 +112,7 @@ RenderSettings settings_of(const py::kwargs& kwargs, bool structures, Frame& fra
       for (const RenderSettingSpec& spec : render_setting_specs()) setting = setting || spec.param.key == key;
       if (!setting) {
         std::string valid = structures ? "accel, occluder, occluders, " : "";
-        valid += "width, height, region, camera, progress, stats";
+        valid += "width, height, region, camera, up, view, background, progress, stats";
         for (const RenderSettingSpec& spec : render_setting_specs()) valid += ", " + std::string(spec.param.key);
         throw py::type_error("unknown keyword argument '" + key + "' (valid: " + valid + ")");
       }
@@ -129,15 +173,20 @@ std::shared_ptr<RendererHolder> make_renderer(const SceneHandle& scene, const Re
 void bind_render(py::module_& m) {
   // Docstrings built from the settings' table, kept for the module's life.
   static const std::string renderer_render_doc =
-      "Renders an image (height, width, 3) float32, linear. Keywords: width, height (0: the scene camera's, else 512); region "
-      "(x0, y0, x1, y1): those pixels only, each equal to the whole image's; camera: replaces the scene camera; progress; "
+      "Renders an image (height, width, 3) float32, linear ((height, width, 4) with alpha for background='transparent'). "
+      "Keywords: width, height (0: the scene camera's, else 512); region (x0, y0, x1, y1): those pixels only, each equal to "
+      "the whole image's; camera: a Camera, or FROM, TO[, UP[, FOV]] as a sequence of 6, 9 or 10 numbers or a string "
+      "(replaces the scene camera); up: the world's up axis ('z', '-y'); view: (azimuth, elevation) in degrees around the "
+      "framed scene; background: 'transparent', 'white', 'black', 'grey', '#RRGGBB' or (r, g, b) in [0, 1], sRGB "
+      "(default '#3A3F47'); progress; "
       "stats=True returns (image, stats): seconds, rays by kind, the structures; and the render settings, as `visfield "
       "render`'s options (default, range):\n" +
       settings_help() + "Deterministic per (seed, pixel, sample). The GIL is released while it runs.";
   static const std::string render_doc =
       "Renders the scene as `visfield render` does (same options, same image): an array (height, width, 3) float32, linear; "
       "with stats=True, (image, stats). Keywords: accel (default bvh), occluder, occluders (field or exact), width, height, "
-      "region, camera, progress, stats (as Renderer.render), and the render settings (default, range):\n" +
+      "region, camera, up, view, background, progress, stats (as Renderer.render), and the render settings (default, "
+      "range):\n" +
       settings_help();
   py::class_<RendererHandle>(m, "Renderer",
                              "A scene's structures built once by role (camera rays through `accel`, every later ray through the occluder), "
@@ -211,7 +260,9 @@ void bind_render(py::module_& m) {
         py::gil_scoped_release release;
         write_image(path, img);
       },
-      py::arg("path"), py::arg("image"), "Writes a linear (height, width, 3) image as .png (8-bit sRGB) or .exr (float), atomically.");
+      py::arg("path"), py::arg("image"),
+      "Writes a linear (height, width, 3) image, or (height, width, 4) with straight alpha, as .png (8-bit sRGB) or .exr "
+      "(float), atomically.");
   m.def(
       "read_image",
       [](const std::string& path) {
@@ -222,7 +273,7 @@ void bind_render(py::module_& m) {
         }
         return to_numpy(img);
       },
-      py::arg("path"), "Reads a .png or .exr image as linear (height, width, 3) float32.");
+      py::arg("path"), "Reads a .png or .exr image as linear (height, width, 3) float32, or (height, width, 4) when it has alpha.");
 }
 
 }  // namespace vf::python

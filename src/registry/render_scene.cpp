@@ -151,6 +151,16 @@ ShadingOptions shading_options(const RenderSettings& s) {
   return o;
 }
 
+Camera render_camera(const Scene& scene, const RenderSettings& s) { return view_camera(scene, s.up, s.view, s.camera, s.width, s.height); }
+
+void put_render_background(Image& image, const SceneQueries& queries, const Camera& camera, const RenderSettings& s) {
+  const Vec3f rendered{s.integrator == Integrator::ao ? kAoBackground : 0.0f};
+  const Background& b = s.background;
+  if (!b.transparent && b.color.x == rendered.x && b.color.y == rendered.y && b.color.z == rendered.z) return;
+  const ImageTile region = render_region(s.region, camera.width, camera.height);
+  put_background(image, camera_coverage(queries, camera, s.spp, s.seed, region), rendered, b);
+}
+
 namespace {
 
 void validate(const RenderSettings& s) {
@@ -174,7 +184,7 @@ SceneRenderer::SceneRenderer(const Scene& scene, const RenderSettings& s, std::u
   if (scene.instances().empty() || scene.instanced_triangle_count() == 0) throw Error(scene.name + ": the scene has no triangles");
   SceneGeometry geometry(scene);
   if (rays == 0) {
-    const Camera camera = scene.camera_or_default(s.width, s.height);
+    const Camera camera = render_camera(scene, s);
     const ImageTile region = render_region(s.region, camera.width, camera.height);
     const auto pixels = static_cast<std::uint64_t>(region.x1 - region.x0) * static_cast<std::uint64_t>(region.y1 - region.y0);
     rays = pixels * static_cast<std::uint64_t>(s.spp) * (1u + rays_per_hit(s, scene));
@@ -202,7 +212,7 @@ double SceneRenderer::build_ms() const {
 
 RenderResult SceneRenderer::render(const RenderSettings& s, const Camera* given) const {
   validate(s);
-  const Camera camera = given ? *given : scene_.camera_or_default(s.width, s.height);
+  const Camera camera = given ? *given : render_camera(scene_, s);
   const ImageTile region = render_region(s.region, camera.width, camera.height);
   const double pixels = static_cast<double>(region.x1 - region.x0) * static_cast<double>(region.y1 - region.y0);
   require_memory(pixels * sizeof(Vec3f), "a " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
@@ -212,6 +222,7 @@ RenderResult SceneRenderer::render(const RenderSettings& s, const Camera* given)
   result.build_ms = build_ms();
   result.image = s.integrator == Integrator::ao ? render_ao(*built_->queries, scene_, camera, ao_options(s), &result.stats)
                                                 : render_shaded(s.integrator, *built_->queries, scene_, camera, shading_options(s), &result.stats);
+  put_render_background(result.image, *built_->queries, camera, s);
   return result;
 }
 

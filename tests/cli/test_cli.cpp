@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -194,6 +195,76 @@ TEST_F(Cli, ASceneMarksWhichMeshesAreFields) {
   EXPECT_EQ(test::line_count(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("mesh tetra: field: directions=5: expected"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
+}
+
+// A "T" standing on +Z (a post with a bar on top), as a scan with +Z up is, in OBJ.
+std::string z_up_t_obj() {
+  std::string obj;
+  int first = 1;
+  for (const auto& [lo, hi] : {std::pair{Vec3f{-0.3f, -0.3f, 0.0f}, Vec3f{0.3f, 0.3f, 3.0f}}, std::pair{Vec3f{-1.5f, -0.3f, 3.0f}, Vec3f{1.5f, 0.3f, 3.4f}}}) {
+    for (int c = 0; c < 8; ++c)
+      obj += "v " + std::to_string((c & 1) ? hi.x : lo.x) + " " + std::to_string((c & 2) ? hi.y : lo.y) + " " + std::to_string((c & 4) ? hi.z : lo.z) + "\n";
+    for (const auto& f : {std::array{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1}, {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}})
+      obj += "f " + std::to_string(first + f[0]) + " " + std::to_string(first + f[1]) + " " + std::to_string(first + f[2]) + "\n";
+    first += 8;
+  }
+  return obj;
+}
+
+// The covered pixels' bounding rectangle: the larger of its width and height as a fraction of the image.
+double alpha_fill(const Image& image, bool& touches_border) {
+  int x0 = image.width, y0 = image.height, x1 = -1, y1 = -1;
+  touches_border = false;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      if (image.alpha[static_cast<std::size_t>(y) * image.width + x] > 0.0f) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        touches_border = touches_border || x == 0 || y == 0 || x == image.width - 1 || y == image.height - 1;
+      }
+  return x1 < 0 ? 0.0 : std::max(static_cast<double>(x1 - x0 + 1) / image.width, static_cast<double>(y1 - y0 + 1) / image.height);
+}
+
+TEST_F(Cli, RenderFramesAMeshFromTheGivenUpAndViewOnATransparentBackground) {
+  write("t.obj", z_up_t_obj());
+  const auto r = visfield("render t.obj --up z --view 45,30 --background transparent --out x.png --width 80 --height 60 --ao-rays 8 --no-progress");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image image = read_image(dir_ / "x.png");
+  ASSERT_EQ(image.alpha.size(), image.pixels.size()) << "the PNG has an alpha channel";
+  bool border = true;
+  const double fill = alpha_fill(image, border);
+  EXPECT_GE(fill, 0.5);
+  EXPECT_LE(fill, 0.95);
+  EXPECT_FALSE(border);
+  std::size_t clear = 0, solid = 0;
+  for (std::size_t i = 0; i < image.alpha.size(); ++i) {
+    clear += image.alpha[i] == 0.0f, solid += image.alpha[i] == 1.0f;
+    if (image.alpha[i] == 0.0f) {
+      EXPECT_EQ(image.pixels[i].x, 0.0f);
+    }
+  }
+  EXPECT_EQ(clear + solid, image.alpha.size()) << "one sample a pixel: covered or not";
+  EXPECT_GT(clear, image.alpha.size() / 5);
+  EXPECT_GT(solid, image.alpha.size() / 10);
+
+  // The default: the same framing from the three-quarter view, opaque on a background apart from the mesh.
+  ASSERT_EQ(visfield("render t.obj --background transparent --out clear.png --width 80 --height 60 --ao-rays 8 --no-progress").exit_code, 0);
+  ASSERT_EQ(visfield("render t.obj --out default.png --width 80 --height 60 --ao-rays 8 --no-progress").exit_code, 0);
+  const Image mask = read_image(dir_ / "clear.png"), shown = read_image(dir_ / "default.png");
+  EXPECT_TRUE(shown.alpha.empty());
+  const double default_fill = alpha_fill(mask, border);
+  EXPECT_GE(default_fill, 0.5);
+  EXPECT_LE(default_fill, 0.95);
+  double object = 0.0, background = 0.0;
+  std::size_t objects = 0;
+  for (std::size_t i = 0; i < mask.alpha.size(); ++i) {
+    if (mask.alpha[i] == 1.0f) object += shown.pixels[i].x, ++objects;
+    if (mask.alpha[i] == 0.0f) background = std::max(background, static_cast<double>(shown.pixels[i].x));
+  }
+  EXPECT_GT(object / static_cast<double>(objects), background + 0.3) << "the mesh stands apart from the background";
+
+  // A placed camera: FROM,TO[,UP[,FOV]].
+  ASSERT_EQ(visfield("render t.obj --camera 0,-9,2,0,0,1.7,0,0,1,40 --out placed.exr --width 40 --height 30 --ao-rays 2 --no-progress").exit_code, 0);
+  EXPECT_EQ(read_image(dir_ / "placed.exr").width, 40);
 }
 
 TEST_F(Cli, CompareReportsTheErrorAndWritesTheExaggeratedDifference) {

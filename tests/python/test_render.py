@@ -86,3 +86,91 @@ def test_write_and_read_images(tmp_path):
     assert np.array_equal(vf.read_image(str(tmp_path / "a.exr")), image)
     vf.write_image(str(tmp_path / "a.png"), image)
     assert vf.compare(vf.read_image(str(tmp_path / "a.png")), image)["max_255"] < 2.0  # 8-bit sRGB steps, in linear values
+
+
+def _z_up_t(path):
+    """A "T" standing on +Z, as a scan with +Z up is: a post 3 high with a wide bar on top (OBJ)."""
+    lines, first = [], 1
+    for lo, hi in (((-0.3, -0.3, 0.0), (0.3, 0.3, 3.0)), ((-1.5, -0.3, 3.0), (1.5, 0.3, 3.4))):
+        for c in range(8):
+            lines.append("v %g %g %g" % tuple(hi[k] if c >> k & 1 else lo[k] for k in range(3)))
+        for f in ((0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+                  (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)):
+            lines.append("f %d %d %d" % tuple(first + i for i in f))
+        first += 8
+    path.write_text("\n".join(lines) + "\n")
+    return str(path)
+
+
+def _fill(alpha):
+    """The larger of the covered pixels' bounding rectangle's width and height, as fractions of the image."""
+    rows, cols = np.nonzero(alpha > 0)
+    h, w = alpha.shape
+    return max((cols.max() - cols.min() + 1) / w, (rows.max() - rows.min() + 1) / h)
+
+
+def test_view_up_and_a_transparent_background_as_the_command_line(tmp_path):
+    mesh = _z_up_t(tmp_path / "t.obj")
+    scene = vf.load(mesh)
+    image = vf.render(scene, up="z", view=(45, 30), background="transparent", width=64, height=48, ao_rays=4)
+    assert image.shape == (48, 64, 4) and image.dtype == np.float32
+    alpha = image[..., 3]
+    assert set(np.unique(alpha)) == {0.0, 1.0}  # one sample a pixel: covered or not
+    assert 0.5 <= _fill(alpha) <= 0.95
+    assert np.all(image[alpha == 0][:, :3] == 0)
+    # The post stands up the image: the covered rectangle is taller than wide.
+    rows, cols = np.nonzero(alpha)
+    assert rows.max() - rows.min() > cols.max() - cols.min()
+    # The texts the command line takes are the same values.
+    assert np.array_equal(image, vf.render(scene, up="+Z", view="45,30", background="transparent", width=64, height=48, ao_rays=4))
+    cli = os.environ.get("VISFIELD_CLI", "")
+    if not cli:
+        pytest.fail("VISFIELD_CLI does not name the visfield program (run the tests through ctest)")
+    out = tmp_path / "t.png"
+    subprocess.run([cli, "render", mesh, "--up", "z", "--view", "45,30", "--background", "transparent", "--ao-rays", "4",
+                    "--width", "64", "--height", "48", "--out", str(out), "--no-progress"], check=True, capture_output=True)
+    png = vf.read_image(str(out))
+    assert png.shape == (48, 64, 4)
+    assert np.array_equal(png[..., 3], alpha)
+    # An RGBA image writes and reads back.
+    vf.write_image(str(tmp_path / "again.png"), image)
+    assert np.array_equal(vf.read_image(str(tmp_path / "again.png"))[..., 3], alpha)
+
+
+def test_the_default_view_frames_the_mesh_on_a_background_apart_from_it(tmp_path):
+    scene = vf.load(_z_up_t(tmp_path / "t.obj"))
+    clear = vf.render(scene, background="transparent", width=48, height=48, ao_rays=4)
+    assert 0.5 <= _fill(clear[..., 3]) <= 0.95
+    image = vf.render(scene, width=48, height=48, ao_rays=4)
+    slate = np.array([0x3A, 0x3F, 0x47]) / 255.0
+    slate = np.where(slate <= 0.04045, slate / 12.92, ((slate + 0.055) / 1.055) ** 2.4)
+    background = image[clear[..., 3] == 0]
+    assert np.allclose(background, slate, atol=1e-6)
+    # The mesh (AO of a convex-ish shape: mostly near white) stands apart from the dark background.
+    assert image[clear[..., 3] == 1].mean() > background.mean() + 0.3
+    white = vf.render(scene, background="white", width=48, height=48, ao_rays=4)
+    assert np.all(white[clear[..., 3] == 0] == 1.0)
+
+
+def test_a_camera_placement_as_numbers_or_text():
+    scene = vf.load("builtin:cornell")
+    placed = vf.render(scene, camera=(0, 1, 4, 0, 1, 0), width=16, height=12, ao_rays=2)
+    assert np.array_equal(placed, vf.render(scene, camera="0,1,4,0,1,0,0,1,0", width=16, height=12, ao_rays=2))
+    camera = scene.camera(16, 12)
+    camera.position, camera.look_at, camera.up = (0, 1, 4), (0, 1, 0), (0, 1, 0)
+    assert np.array_equal(placed, vf.render(scene, camera=camera, width=16, height=12, ao_rays=2))
+    assert not np.array_equal(placed, vf.render(scene, camera=(0, 1, 4, 0, 1, 0, 0, 1, 0, 20), width=16, height=12, ao_rays=2))
+
+
+@pytest.mark.parametrize("keywords, needle", [
+    ({"up": "w"}, "up: expected"),
+    ({"view": (45,)}, "view: expected"),
+    ({"view": (0, 95)}, "elevation"),
+    ({"camera": (1, 2, 3)}, "camera: expected"),
+    ({"camera": (0, 0, 5, 0, 0, 0, 0, 0, 1)}, "parallel"),
+    ({"background": "pink"}, "background: expected"),
+    ({"background": (2, 0, 0)}, "background: expected"),
+])
+def test_bad_view_and_background_values_are_value_errors(keywords, needle):
+    with pytest.raises(ValueError, match=needle):
+        vf.render(vf.load("builtin:cornell"), width=8, height=8, **keywords)

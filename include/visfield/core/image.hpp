@@ -1,5 +1,5 @@
 #pragma once
-/// \file Float RGB images, the output of every renderer.
+/// \file Float RGB(A) images, the output of every renderer.
 
 #include <cstddef>
 #include <vector>
@@ -8,11 +8,14 @@
 
 namespace vf {
 
-/// Linear float RGB image, row-major, row 0 at the top. Value type.
+/// Linear float RGB image, row-major, row 0 at the top, with an optional alpha channel. Value type.
 struct Image {
   int width = 0;
   int height = 0;
   std::vector<Vec3f> pixels;  ///< width * height entries.
+  /// Empty: opaque. Else width * height coverages in [0, 1]; `pixels` then hold the covered part's own
+  /// colour (straight, not premultiplied, alpha; PNG stores it so, EXR premultiplied).
+  std::vector<float> alpha;
 
   Image() = default;
   /// A black image of the given size.

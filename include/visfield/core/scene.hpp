@@ -97,8 +97,8 @@ class Scene {
   void check_coordinate_range(const std::string& what) const;
   /// Total triangles over all objects.
   std::size_t instanced_triangle_count() const;
-  /// The scene camera (resized when width/height > 0), or framing_camera() of the bounds from the
-  /// front (+z, slightly above and to the right) when the scene has none.
+  /// The scene camera (resized when width/height > 0), or, when the scene has none, the three-quarter
+  /// view framed_view(*this, +Y, kDefaultAzimuth, kDefaultElevation, 45°, width, height).
   Camera camera_or_default(int width, int height) const;
   /// Material of triangle `prim` of object `id` (instance override, else per-triangle id, else 0). A hit
   /// without a triangle (prim == kInvalidId, a field's answer) gets the override, else the mesh's first
@@ -113,6 +113,22 @@ class Scene {
 /// A camera looking at the centre of `target` from `view_direction` (need not be unit), far enough
 /// that the bounding sphere of `target` fills the vertical field of view `fov_degrees` with a 5% margin.
 Camera framing_camera(const Bounds3f& target, const Vec3f& view_direction, float fov_degrees);
+
+/// The default view's angles in degrees (Scene::camera_or_default(), `visfield render --up` alone): a
+/// three-quarter view from the front-right and above.
+inline constexpr float kDefaultAzimuth = 35.0f;
+inline constexpr float kDefaultElevation = 25.0f;
+
+/// A camera looking at every object of `scene` from `azimuth_degrees` around the world axis `up`
+/// (0 = the front: +Z for up +Y, -Y for up +Z, -Z for up +X; positive turns towards the right) and
+/// `elevation_degrees` above the horizon ([-90, 90]; at ±90 the image's up is the far side), with a
+/// vertical field of view `fov_degrees`, `width` x `height` pixels (0: 512). It is shifted and moved
+/// as close as keeps every vertex inside 90% of the image's half-width and half-height, centred: the
+/// scene's projection spans 90% of the image along its tighter side. Scenes over a million vertices
+/// are framed by their objects' bounding boxes instead. Throws vf::Error when `up` is zero or not
+/// finite, an angle is out of range or the fov is outside (0, 180).
+Camera framed_view(const Scene& scene, const Vec3f& up, float azimuth_degrees, float elevation_degrees, float fov_degrees,
+                   int width, int height);
 
 /// A scene holding one mesh with one identity object.
 Scene scene_from_mesh(TriangleMesh mesh);

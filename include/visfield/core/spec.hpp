@@ -4,6 +4,7 @@
 /// table (ParamSpec), which validates what a user writes and produces the help text.
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -27,6 +28,10 @@ Spec parse_spec(std::string_view text, std::string_view what);
 /// "grid", "embree"}: an item holding '=' but no ':' before it continues the previous spec. Empty
 /// items are kept (as empty strings) for the caller to refuse.
 std::vector<std::string> split_spec_list(std::string_view text);
+
+/// The finite numbers of a comma-separated list ("1,2.5,-3e2"), or std::nullopt when an item is not
+/// one (or the list is empty).
+std::optional<std::vector<double>> parse_number_list(std::string_view text);
 
 /// The kinds of parameter values.
 enum class ParamType {

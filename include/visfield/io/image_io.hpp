@@ -8,14 +8,16 @@
 
 namespace vf {
 
-/// Writes `image` as PNG (8-bit, sRGB-encoded, clamped) or EXR (32-bit float linear RGB), chosen by
+/// Writes `image` as PNG (8-bit, sRGB-encoded, clamped) or EXR (32-bit float linear RGB), with an
+/// alpha channel when Image::alpha is set (PNG RGBA; EXR A, the colour premultiplied), chosen by
 /// the extension (.png / .exr, case-insensitive). Writes a temporary file in the same folder and
 /// renames it, so a failure leaves no partial output. Throws vf::Error on an unknown extension or
 /// an I/O failure.
 void write_image(const std::filesystem::path& path, const Image& image);
 
 /// Reads a PNG or EXR written by write_image back into linear float RGB (for tests and compare).
-/// PNG values are decoded from sRGB; EXR channels R, G, B are read as float (missing ones are 0).
+/// PNG values are decoded from sRGB; EXR channels R, G, B are read as float (missing ones are 0). An
+/// alpha channel (PNG grey+alpha or RGBA, EXR A) is read into Image::alpha, the colour unpremultiplied.
 /// Throws vf::Error naming the file on a missing, unreadable or malformed file.
 Image read_image(const std::filesystem::path& path);
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -17,6 +18,7 @@
 #include "visfield/render/ao.hpp"
 #include "visfield/render/integrators.hpp"
 #include "visfield/render/render_stats.hpp"
+#include "visfield/render/view.hpp"
 
 namespace vf {
 
@@ -39,6 +41,10 @@ struct RenderSettings {
   float ambient = 0.1f;       ///< raycast, whitted, softshadow, glossy: ambient fraction of the diffuse colour.
   std::uint64_t seed = 1;     ///< The image depends on it, never on the thread count or the region.
   bool progress = false;      ///< Progress bars on stderr (precomputes, long renders).
+  std::optional<Vec3f> up;                ///< The world's up axis (parse_up()); given alone, the default view around it.
+  std::optional<ViewAngles> view;         ///< Azimuth and elevation around the framed scene (parse_view(), framed_view()).
+  std::optional<CameraPlacement> camera;  ///< FROM, TO[, UP[, FOV]] (parse_camera_placement()); wins over `view`.
+  Background background = default_background();  ///< What shows where camera rays miss (parse_background()).
 };
 
 /// One render setting as every front end takes it: `param` holds its key (the Python keyword; the
@@ -80,9 +86,17 @@ AoOptions ao_options(const RenderSettings& settings);
 /// The shading integrators' options from `settings`.
 ShadingOptions shading_options(const RenderSettings& settings);
 
+/// The camera `settings` choose for `scene`: view_camera() of their up, view, camera, width and height.
+Camera render_camera(const Scene& scene, const RenderSettings& settings);
+
+/// Puts settings.background behind `image`, rendered through `queries` from `camera` with `settings`
+/// (its integrator, spp, seed and region): put_background() with the image's camera_coverage(), which
+/// traces one camera ray per sample again (skipped when the background is what the integrator left).
+void put_render_background(Image& image, const SceneQueries& queries, const Camera& camera, const RenderSettings& settings);
+
 /// A render and what it ran on.
 struct RenderResult {
-  Image image;               ///< Linear radiance (AO: unoccluded fraction), the region's size.
+  Image image;               ///< Linear radiance (AO: unoccluded fraction), the region's size; alpha when transparent.
   RenderStats stats;         ///< Rays by kind, seconds.
   std::string accel;         ///< The camera-ray structure as resolved ("bvh:levels=1").
   std::string occluder;      ///< The occluder as resolved ("" = the accel structure).
@@ -102,8 +116,8 @@ class SceneRenderer {
   SceneRenderer(const SceneRenderer&) = delete;
   SceneRenderer& operator=(const SceneRenderer&) = delete;
 
-  /// Renders with `settings`' integrator, options and region (its structure specs are ignored)
-  /// from `camera`, or the scene camera at settings' width x height when null. Deterministic per
+  /// Renders with `settings`' integrator, options, region and background (its structure specs are
+  /// ignored) from `camera`, or render_camera() when null. Deterministic per
   /// (seed, pixel, sample). Thread-safe: renders may run at once. Throws vf::Error on bad settings.
   RenderResult render(const RenderSettings& settings, const Camera* camera = nullptr) const;
 

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "visfield/core/error.hpp"
 #include "visfield/core/scene.hpp"
 #include "visfield/core/triangle_set.hpp"
@@ -69,18 +72,40 @@ TEST(Scene, MaterialLookupFollowsTheObjectId) {
   EXPECT_EQ(scene.material_of(painted, 0).diffuse.x, 1.0f);
 }
 
-TEST(Scene, DefaultCameraFramesTheBounds) {
+TEST(Scene, DefaultCameraIsTheFramedThreeQuarterView) {
   Scene scene = two_meshes();
   scene.add_instance(0);
+  scene.add_instance(1, Transform{Mat3{}, Vec3f{3.0f, 0.5f, -1.0f}, 2.0f});
   const Camera c = scene.camera_or_default(64, 48);
   EXPECT_EQ(c.width, 64);
   EXPECT_EQ(c.height, 48);
-  const Bounds3f b = scene.bounds();
-  EXPECT_EQ(c.look_at, b.center());
-  // The bounding sphere fills the vertical field of view with a 5% margin.
-  const float radius = 0.5f * length(b.extent());
-  const float expected = radius / std::sin(0.5f * c.fov_degrees * 3.14159265f / 180.0f) * 1.05f;
-  EXPECT_NEAR(length(c.position - c.look_at), expected, 1e-5f * expected);
+  const Camera framed = framed_view(scene, Vec3f{0.0f, 1.0f, 0.0f}, kDefaultAzimuth, kDefaultElevation, 45.0f, 64, 48);
+  EXPECT_EQ(c.position, framed.position);
+  EXPECT_EQ(c.look_at, framed.look_at);
+  // Every vertex projects within 90% of the half-width and half-height, and one reaches it: framed.
+  const Vec3f forward = normalize(c.look_at - c.position);
+  const Vec3f right = normalize(cross(forward, c.up)), up = cross(right, forward);
+  const float tan_y = std::tan(0.5f * c.fov_degrees * 3.14159265f / 180.0f), tan_x = tan_y * 64.0f / 48.0f;
+  float widest = 0.0f;
+  for (const Instance& inst : scene.instances())
+    for (const Vec3f& p : scene.meshes[inst.mesh].positions) {
+      const Vec3f d = inst.transform.apply_point(p) - c.position;
+      const float depth = dot(d, forward);
+      ASSERT_GT(depth, 0.0f);
+      const float x = std::fabs(dot(d, right)) / (depth * tan_x), y = std::fabs(dot(d, up)) / (depth * tan_y);
+      EXPECT_LE(x, 0.9f + 1e-4f);
+      EXPECT_LE(y, 0.9f + 1e-4f);
+      widest = std::max({widest, x, y});
+    }
+  EXPECT_GT(widest, 0.85f);
+  // The view is from the front-right and above, as the angles say.
+  const Vec3f from = c.position - c.look_at;
+  EXPECT_GT(from.z, 0.0f);
+  EXPECT_GT(from.x, 0.0f);
+  EXPECT_GT(from.y, 0.0f);
+  // A scene's own camera wins.
+  scene.camera = Camera{};
+  EXPECT_EQ(scene.camera_or_default(0, 0).position, Camera{}.position);
 }
 
 }  // namespace
