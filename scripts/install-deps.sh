@@ -4,7 +4,7 @@
 #   scripts/install-deps.sh --print [--all]   the packages it would install, one line, nothing installed
 #   scripts/install-deps.sh --all   that and what the tests, the benchmark, the Python module, the fuzz
 #                                   targets and the sanitizer runs need (the README's second command, CI):
-#                                   GoogleTest, Google Benchmark, Embree, pybind11 and NumPy, pytest, Dask,
+#                                   GoogleTest, Google Benchmark, Embree, pybind11 and NumPy, pytest, hypothesis, Dask,
 #                                   matplotlib, pip, venv, setuptools and wheel (the Python package), mypy, clang-14 and its runtime (libFuzzer, docs/fuzzing.md),
 #                                   valgrind (scripts/count-instructions.py, docs/benchmark.md)
 # Safe to run twice: when everything is already installed it only checks and returns.
@@ -24,7 +24,7 @@ case "${1:-}" in
   --all)
     packages+=(
       libgtest-dev libgmock-dev libbenchmark-dev libembree-dev pybind11-dev
-      python3 python3-dev python3-numpy python3-pytest python3-distributed python3-matplotlib
+      python3 python3-dev python3-numpy python3-pytest python3-hypothesis python3-distributed python3-matplotlib
       python3-pip python3-venv python3-setuptools python3-wheel mypy
       clang-14 libclang-rt-14-dev valgrind
     )

@@ -7,12 +7,22 @@
  *   vf_last_error_message() then describe the failure on the calling thread, and the error
  *   callback (vf_set_error_callback) is called with the same code and message. No C++ exception
  *   crosses this boundary. Output parameters are written only on success.
- * - Handles are opaque pointers, created by vf_*_create / _load / _build and freed by vf_*_release
- *   (NULL is accepted and ignored). A structure or field keeps what it was built from alive: the
- *   scene handle may be released first.
- * - Thread safety: queries (vf_intersect*, vf_occluded*, vf_field_intersect, vf_field_occluded) on
- *   one handle may run on many threads at once; every other call on a handle must not overlap with
- *   any call on the same handle. Queries run in parallel themselves (vf_set_threads).
+ * - Handles are opaque values, created by vf_*_create / _load / _build and freed by vf_*_release
+ *   (NULL is accepted and ignored). They are numbers, never addresses: a released handle, a handle
+ *   never made (forged) or a handle of another kind (a scene passed as a structure) returns
+ *   VF_ERROR_INVALID_ARGUMENT from every call, releasing twice included, and the process goes on.
+ *   A structure or field keeps what it was built from alive: the scene handle may be released
+ *   first; a handle released on one thread while another thread's call uses it lives until that
+ *   call returns.
+ * - Counts: a count whose arrays would not fit in memory (count times the element size beyond
+ *   PTRDIFF_MAX) returns VF_ERROR_INVALID_ARGUMENT before any array is read.
+ * - Thread safety: every call may be made from any thread, on any handle, at any time. Queries
+ *   (vf_intersect*, vf_occluded*, vf_structure_get_stats) on one structure run at once; its edits
+ *   and commit (vf_structure_remove, _insert, _move, _commit) are exclusive: a query that overlaps
+ *   a commit waits for it (it is blocked) and answers for the structure before or after the commit,
+ *   never for a state between. Edits of a scene (vf_scene_add_*, _set_transform, _remove_instance)
+ *   likewise exclude the calls that read it (builds, counts, bounds, vf_structure_insert, fields).
+ *   Queries run in parallel themselves (vf_set_threads).
  * - Rays: origin, direction (any non-zero length; t is in its units) and the range (tmin, tmax];
  *   an invalid ray (NaN, zero direction, tmin >= tmax) hits nothing. Hits: t, barycentrics u, v of
  *   the triangle's vertices 1 and 2, the triangle index in its mesh (prim), the object id
@@ -136,8 +146,8 @@ VF_API vf_error vf_scene_remove_instance(vf_scene scene, uint32_t id);
 VF_API vf_error vf_scene_counts(vf_scene scene, size_t* meshes, size_t* objects, size_t* triangles);
 /** World bounds of the objects: lower[3] and upper[3]. */
 VF_API vf_error vf_scene_bounds(vf_scene scene, float lower[3], float upper[3]);
-/** Frees a scene (structures built from it stay valid). */
-VF_API void vf_scene_release(vf_scene scene);
+/** Frees a scene (structures built from it stay valid). VF_ERROR_INVALID_ARGUMENT for a handle that is not live. */
+VF_API vf_error vf_scene_release(vf_scene scene);
 
 /* ----- Structures ----- */
 
@@ -145,12 +155,12 @@ VF_API void vf_scene_release(vf_scene scene);
  * "field:positions=4226,directions=32", ... (NULL = "bvh"; `visfield structures` lists them all).
  * The build's memory estimate is checked first (VF_ERROR_OUT_OF_MEMORY with the estimate). */
 VF_API vf_error vf_structure_build(vf_scene scene, const char* spec, vf_structure* out);
-/** The spec as resolved ("bvh:levels=1"); valid while the structure lives. */
+/** The spec as resolved ("bvh:levels=1"); valid until the structure is released ("" for a handle that is not live). */
 VF_API const char* vf_structure_spec(vf_structure structure);
 /** Build statistics. */
 VF_API vf_error vf_structure_get_stats(vf_structure structure, vf_structure_stats* out);
-/** Frees a structure. */
-VF_API void vf_structure_release(vf_structure structure);
+/** Frees a structure. VF_ERROR_INVALID_ARGUMENT for a handle that is not live (released twice, forged). */
+VF_API vf_error vf_structure_release(vf_structure structure);
 
 /** Closest hits of `count` rays (arrays of structures). Thread-safe; parallel. */
 VF_API vf_error vf_intersect(vf_structure structure, const vf_ray* rays, size_t count, vf_hit* hits);
@@ -189,8 +199,8 @@ VF_API vf_error vf_field_get_info(vf_field field, vf_field_info* out);
 VF_API vf_error vf_field_intersect(vf_field field, const vf_ray* rays, size_t count, vf_hit* hits);
 /** Approximate occlusion of object-space rays. */
 VF_API vf_error vf_field_occluded(vf_field field, const vf_ray* rays, size_t count, uint8_t* occluded);
-/** Frees a field. */
-VF_API void vf_field_release(vf_field field);
+/** Frees a field. VF_ERROR_INVALID_ARGUMENT for a handle that is not live. */
+VF_API vf_error vf_field_release(vf_field field);
 
 #ifdef __cplusplus
 }

@@ -106,7 +106,8 @@ void bind_fields(py::module_& m) {
       .def(
           "save",
           [](const FieldHandle& h, const std::string& path) {
-            const FieldHolder& f = h.get();
+            const std::shared_ptr<FieldHolder> kept = h.shared();  // alive should another thread close it meanwhile
+            const FieldHolder& f = *kept;
             py::gil_scoped_release release;
             field::save_field(f.field, f.mesh_hash, path);
           },
@@ -126,7 +127,8 @@ void bind_fields(py::module_& m) {
       .def(
           "intersect",
           [](const FieldHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
-            const FieldHolder& f = h.get();
+            const std::shared_ptr<FieldHolder> kept = h.shared();  // alive should another thread close it meanwhile
+            const FieldHolder& f = *kept;
             const RayInput in = ray_input(origins, directions, tmin, tmax);
             const RayArrays& rays = in.rays;
             py::array_t<float> t(static_cast<py::ssize_t>(rays.count));
@@ -152,7 +154,8 @@ void bind_fields(py::module_& m) {
       .def(
           "occluded",
           [](const FieldHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
-            const FieldHolder& f = h.get();
+            const std::shared_ptr<FieldHolder> kept = h.shared();  // alive should another thread close it meanwhile
+            const FieldHolder& f = *kept;
             const RayInput in = ray_input(origins, directions, tmin, tmax);
             const RayArrays& rays = in.rays;
             py::array_t<bool> out(static_cast<py::ssize_t>(rays.count));

@@ -209,7 +209,8 @@ void bind_render(py::module_& m) {
           [](const RendererHandle& h, const py::kwargs& kwargs) {
             Frame frame;
             const RenderSettings s = settings_of(kwargs, false, frame);
-            return render_with(*h.get().renderer, s, frame.camera, frame.with_stats);
+            const std::shared_ptr<RendererHolder> kept = h.shared();  // alive should another thread close it meanwhile
+            return render_with(*kept->renderer, s, frame.camera, frame.with_stats);
           },
           renderer_render_doc.c_str())
       .def("close", &RendererHandle::close)

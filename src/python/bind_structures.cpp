@@ -5,6 +5,9 @@
 #include <pybind11/stl.h>
 
 #include <limits>
+#include <memory>
+#include <mutex>
+#include <shared_mutex>
 #include <string>
 
 #include "arrays.hpp"
@@ -25,15 +28,17 @@ py::array_t<T> new_array(std::size_t n) {
   return py::array_t<T>(static_cast<py::ssize_t>(n));
 }
 
-// Runs an edit of an updatable structure; ValueError for an unknown id, TypeError-free otherwise.
+// Runs an edit of an updatable structure without the GIL, under its exclusive lock (the structure
+// kept alive should another thread close it meanwhile); ValueError for an unknown id.
 template <class Edit>
 void edit(StructureHandle& h, Edit&& body) {
-  BuiltHandle& b = h.get();
-  if (!is_updatable(b.structure))
-    throw py::value_error("the structure " + b.spec + " cannot be edited after its build (BeamField and two-level structures can)");
+  const std::shared_ptr<BuiltHandle> b = h.shared();
+  if (!is_updatable(b->structure))
+    throw py::value_error("the structure " + b->spec + " cannot be edited after its build (BeamField and two-level structures can)");
   try {
     py::gil_scoped_release release;
-    body(b.structure);
+    const std::unique_lock<std::shared_mutex> exclusive(b->lock);
+    body(b->structure);
   } catch (const Error& e) {
     throw py::value_error(e.what());
   }
@@ -63,7 +68,7 @@ void bind_structures(py::module_& m) {
           py::gil_scoped_release release;
           SceneGeometry geometry(*s);
           BuiltStructure b = build_structure(spec, geometry, {}, "spec ");
-          built = std::make_shared<BuiltHandle>(BuiltHandle{std::move(b.structure), std::move(b.resolved)});
+          built = std::make_shared<BuiltHandle>(std::move(b.structure), std::move(b.resolved));
         }
         return StructureHandle(std::move(built), "structure");
       },
@@ -133,7 +138,9 @@ void bind_structures(py::module_& m) {
       .def_property_readonly(
           "stats",
           [](const StructureHandle& h) {
-            const AccelStats s = structure_stats(h.get().structure);
+            const std::shared_ptr<BuiltHandle> b = h.shared();
+            const std::shared_lock<std::shared_mutex> shared(b->lock);  // not mid-commit
+            const AccelStats s = structure_stats(b->structure);
             py::dict d;
             d["build_ms"] = s.build_ms, d["memory_bytes"] = s.memory_bytes, d["nodes"] = s.node_count, d["leaves"] = s.leaf_count;
             d["references"] = s.reference_count, d["depth"] = s.max_depth;
@@ -143,7 +150,7 @@ void bind_structures(py::module_& m) {
       .def(
           "intersect",
           [](const StructureHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
-            const BuiltHandle& b = h.get();
+            const std::shared_ptr<BuiltHandle> b = h.shared();  // alive should another thread close it meanwhile
             const RayInput in = ray_input(origins, directions, tmin, tmax);
             const RayArrays& rays = in.rays;
             auto t = new_array<float>(rays.count), u = new_array<float>(rays.count), v = new_array<float>(rays.count);
@@ -156,7 +163,8 @@ void bind_structures(py::module_& m) {
             out.nx = {n, 3 * sizeof(float)}, out.ny = {n + 1, 3 * sizeof(float)}, out.nz = {n + 2, 3 * sizeof(float)};
             {
               py::gil_scoped_release release;
-              intersect_arrays(b.structure, rays, out);
+              const std::shared_lock<std::shared_mutex> shared(b->lock);
+              intersect_arrays(b->structure, rays, out);
             }
             const bool one = in.single;
             return answer_type("Hits")(per_ray(t, one), per_ray(prim, one), per_ray(instance, one), per_ray(u, one), per_ray(v, one), per_ray(normal, one));
@@ -171,13 +179,14 @@ void bind_structures(py::module_& m) {
       .def(
           "occluded",
           [](const StructureHandle& h, const py::object& origins, const py::object& directions, const py::object& tmin, const py::object& tmax) {
-            const BuiltHandle& b = h.get();
+            const std::shared_ptr<BuiltHandle> b = h.shared();
             const RayInput in = ray_input(origins, directions, tmin, tmax);
             py::array_t<bool> out(static_cast<py::ssize_t>(in.rays.count));
             static_assert(sizeof(bool) == sizeof(std::uint8_t));
             {
               py::gil_scoped_release release;
-              occluded_arrays(b.structure, in.rays, StridedOut<std::uint8_t>{reinterpret_cast<std::uint8_t*>(out.mutable_data()), 1});
+              const std::shared_lock<std::shared_mutex> shared(b->lock);
+              occluded_arrays(b->structure, in.rays, StridedOut<std::uint8_t>{reinterpret_cast<std::uint8_t*>(out.mutable_data()), 1});
             }
             return per_ray(out, in.single);
           },

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <memory>
+#include <shared_mutex>
 #include <string>
 
 #include "visfield/core/scene.hpp"
@@ -46,10 +47,14 @@ class Handle {
 /// visfield.Scene.
 using SceneHandle = Handle<Scene>;
 
-/// A built structure and its resolved spec.
+/// A built structure, its resolved spec, and the lock that keeps queries (shared) apart from edits
+/// and commits (exclusive): a query that overlaps a commit on another thread waits for it and sees
+/// the structure before or after it, as the C API's (include/visfield/visfield.h).
 struct BuiltHandle {
+  BuiltHandle(AnyStructure built, std::string resolved) : structure(std::move(built)), spec(std::move(resolved)) {}
   AnyStructure structure;
   std::string spec;
+  mutable std::shared_mutex lock;
 };
 /// visfield.Structure.
 using StructureHandle = Handle<BuiltHandle>;

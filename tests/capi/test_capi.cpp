@@ -5,13 +5,18 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "differential/ray_sets.hpp"
+#include "support/test_scale.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/field/field_file.hpp"
 #include "visfield/io/scene_file.hpp"
@@ -22,6 +27,16 @@
 
 namespace vf {
 namespace {
+
+// The row-major 3x4 matrix [s*R | t] the C API takes for `t`.
+std::array<float, 12> matrix_of(const Transform& t) {
+  std::array<float, 12> m{};
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) m[static_cast<std::size_t>(4 * r + k)] = t.rotation.rows[static_cast<std::size_t>(r)][k] * t.scale;
+    m[static_cast<std::size_t>(4 * r + 3)] = t.translation[r];
+  }
+  return m;
+}
 
 // A C scene made from the arrays of a C++ scene's meshes and objects (the same ids, in order).
 vf_scene c_scene_of(const Scene& scene) {
@@ -36,14 +51,9 @@ vf_scene c_scene_of(const Scene& scene) {
     EXPECT_EQ(vf_scene_add_mesh(c, v.data(), m.positions.size(), i.data(), m.triangles.size(), &index), VF_OK) << vf_last_error_message();
   }
   for (const Instance& o : scene.instances()) {
-    const Transform& t = o.transform;
-    float m[12];
-    for (int r = 0; r < 3; ++r) {
-      for (int k = 0; k < 3; ++k) m[4 * r + k] = t.rotation.rows[static_cast<std::size_t>(r)][k] * t.scale;
-      m[4 * r + 3] = t.translation[r];
-    }
+    const std::array<float, 12> m = matrix_of(o.transform);
     std::uint32_t id = 0;
-    EXPECT_EQ(vf_scene_add_instance(c, o.mesh, t.is_identity() ? nullptr : m, &id), VF_OK) << vf_last_error_message();
+    EXPECT_EQ(vf_scene_add_instance(c, o.mesh, o.transform.is_identity() ? nullptr : m.data(), &id), VF_OK) << vf_last_error_message();
     EXPECT_EQ(id, o.id);
   }
   return c;
@@ -350,6 +360,131 @@ TEST(CApi, ErrorsComeBackAsCodesAndOneLine) {
   vf_structure_release(s);
   vf_scene_release(scene);
   vf_scene_release(nullptr);  // accepted
+}
+
+TEST(CApi, StaleForgedAndForeignHandlesAndOverflowingCountsAreErrors) {
+  vf_scene scene = nullptr;
+  ASSERT_EQ(vf_scene_load("builtin:sphere", &scene), VF_OK);
+  vf_structure bvh = nullptr;
+  ASSERT_EQ(vf_structure_build(scene, "bvh", &bvh), VF_OK);
+  vf_field field = nullptr;
+  ASSERT_EQ(vf_field_build(scene, 0, "positions=290,directions=8", &field), VF_OK);
+  const vf_ray ray{0, 0, 5, 0, 0, -1, 0, INFINITY};
+  vf_hit hit{};
+  ASSERT_EQ(vf_intersect(bvh, &ray, 1, &hit), VF_OK);
+  EXPECT_TRUE(std::isfinite(hit.t));
+
+  const auto refused = [](vf_error code, const std::string& needle) {
+    EXPECT_EQ(code, VF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(vf_last_error_message()).find(needle), std::string::npos) << vf_last_error_message();
+  };
+  // An overflowing count is refused before any array is read (the arrays here hold one ray).
+  std::uint8_t blocked = 0;
+  refused(vf_intersect(bvh, &ray, SIZE_MAX / 8, &hit), "would not fit in memory");
+  refused(vf_occluded(bvh, &ray, SIZE_MAX, &blocked), "would not fit in memory");
+  refused(vf_field_intersect(field, &ray, SIZE_MAX / 16 + 1, &hit), "would not fit in memory");
+  const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::uint32_t tri[3] = {0, 1, 2};
+  refused(vf_scene_add_mesh(scene, v, SIZE_MAX / 4, tri, 1, nullptr), "would not fit in memory");
+
+  // A handle of another kind, and handles never made.
+  refused(vf_intersect(reinterpret_cast<vf_structure>(scene), &ray, 1, &hit), "not a live structure handle");
+  refused(vf_scene_counts(reinterpret_cast<vf_scene>(bvh), nullptr, nullptr, nullptr), "not a live scene handle");
+  refused(vf_field_occluded(reinterpret_cast<vf_field>(bvh), &ray, 1, &blocked), "not a live field handle");
+  for (const std::uintptr_t forged : {std::uintptr_t{1}, std::uintptr_t{0xdeadbeef}, reinterpret_cast<std::uintptr_t>(&hit),
+                                      reinterpret_cast<std::uintptr_t>(bvh) + 1, reinterpret_cast<std::uintptr_t>(bvh) ^ (std::uintptr_t{1} << 40)}) {
+    refused(vf_intersect(reinterpret_cast<vf_structure>(forged), &ray, 1, &hit), "not a live structure handle");
+    refused(vf_structure_release(reinterpret_cast<vf_structure>(forged)), "not a live structure handle");
+  }
+  EXPECT_STREQ(vf_structure_spec(reinterpret_cast<vf_structure>(scene)), "");
+
+  // Released twice, and used after release: errors, and the process goes on.
+  const vf_structure stale = bvh;
+  EXPECT_EQ(vf_structure_release(bvh), VF_OK);
+  refused(vf_structure_release(stale), "not a live structure handle");
+  refused(vf_intersect(stale, &ray, 1, &hit), "not a live structure handle");
+  refused(vf_structure_commit(stale), "not a live structure handle");
+  EXPECT_EQ(vf_field_release(field), VF_OK);
+  refused(vf_field_release(field), "not a live field handle");
+  // A new handle in the freed slot is not the stale one.
+  vf_structure again = nullptr;
+  ASSERT_EQ(vf_structure_build(scene, "grid", &again), VF_OK);
+  EXPECT_NE(again, stale);
+  refused(vf_intersect(stale, &ray, 1, &hit), "not a live structure handle");
+  ASSERT_EQ(vf_intersect(again, &ray, 1, &hit), VF_OK);
+  EXPECT_EQ(vf_scene_release(scene), VF_OK);
+  refused(vf_scene_release(scene), "not a live scene handle");
+  ASSERT_EQ(vf_intersect(again, &ray, 1, &hit), VF_OK) << "a structure outlives its scene's handle";
+  EXPECT_EQ(vf_structure_release(again), VF_OK);
+  EXPECT_EQ(vf_structure_release(nullptr), VF_OK);
+}
+
+// Queries on two threads while a third moves every object back and forth and commits: each batch's
+// answers are those of the structure before or after a commit (fresh builds of the two placements),
+// never of a state between.
+TEST(CApiThreads, QueriesRacingCommitsSeeTheStructureBeforeOrAfterACommit) {
+  Scene scene = load_scene("builtin:boxes:size=8,seed=3");
+  Scene moved = scene;
+  for (const Instance& o : scene.instances()) {
+    Transform t = o.transform;
+    t.translation += Vec3f{0.25f, 0.1f, -0.15f};
+    moved.set_transform(o.id, t);
+  }
+  const std::vector<vf_ray> rays = c_rays(test::random_rays(flatten(scene), 7, test::scaled_count(4000)));
+  // A fresh build of `spec` over the C scene with every object placed as in `placed`.
+  const auto answers_of = [&](const char* spec, const Scene& placed) {
+    vf_scene c = c_scene_of(scene);
+    for (const Instance& o : placed.instances()) EXPECT_EQ(vf_scene_set_transform(c, o.id, matrix_of(o.transform).data()), VF_OK);
+    vf_structure fresh = nullptr;
+    EXPECT_EQ(vf_structure_build(c, spec, &fresh), VF_OK);
+    std::vector<vf_hit> hits(rays.size());
+    EXPECT_EQ(vf_intersect(fresh, rays.data(), rays.size(), hits.data()), VF_OK);
+    vf_structure_release(fresh);
+    vf_scene_release(c);
+    return hits;
+  };
+
+  for (const char* spec : {"beam:dirs=33,n=16", "bvh:levels=2"}) {
+    const std::vector<vf_hit> before = answers_of(spec, scene), after = answers_of(spec, moved);
+    ASSERT_NE(std::memcmp(before.data(), after.data(), before.size() * sizeof(vf_hit)), 0);
+    vf_scene c = c_scene_of(scene);
+    vf_structure s = nullptr;
+    ASSERT_EQ(vf_structure_build(c, spec, &s), VF_OK) << vf_last_error_message();
+    std::atomic<bool> done{false};
+    std::atomic<int> mixed{0}, failed{0}, batches{0};
+    const auto query = [&] {
+      std::vector<vf_hit> hits(rays.size());
+      while (!done.load()) {
+        if (vf_intersect(s, rays.data(), rays.size(), hits.data()) != VF_OK) ++failed;
+        const std::size_t bytes = hits.size() * sizeof(vf_hit);
+        if (std::memcmp(hits.data(), before.data(), bytes) != 0 && std::memcmp(hits.data(), after.data(), bytes) != 0) ++mixed;
+        ++batches;
+      }
+    };
+    std::thread a(query), b(query);
+    // Each round of edits starts while queries are under way (two more batches seen since the last).
+    const auto queries_running = [&] {
+      const int seen = batches.load();
+      while (batches.load() < seen + 2) std::this_thread::yield();
+    };
+    for (int round = 0; round < 2; ++round)
+      for (const Scene* placed : {&moved, &scene}) {
+        queries_running();
+        for (const Instance& o : placed->instances()) {
+          const std::array<float, 12> m = matrix_of(o.transform);
+          if (vf_structure_move(s, o.id, m.data()) != VF_OK) ++failed;
+        }
+        if (vf_structure_commit(s) != VF_OK) ++failed;
+      }
+    done = true;
+    a.join();
+    b.join();
+    EXPECT_EQ(failed.load(), 0) << spec;
+    EXPECT_EQ(mixed.load(), 0) << spec << ": a batch answered for a state between commits";
+    EXPECT_GT(batches.load(), 0) << spec;
+    vf_structure_release(s);
+    vf_scene_release(c);
+  }
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 whatever the memory layout of the NumPy arrays."""
 
 import os
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -117,6 +119,71 @@ def test_beamfield_updates_equal_a_fresh_build():
     beam.insert(scene, moved)
     beam.commit()
     assert np.array_equal(beam.intersect(rays[:, 0:3], rays[:, 3:6]).t, fresh.t)
+
+
+@pytest.mark.parametrize("spec", ["beam:dirs=33,n=16", "bvh:levels=2"])
+def test_queries_racing_commits_see_the_structure_before_or_after_a_commit(spec):
+    """Two threads query while the main thread moves every object back and forth and commits: each
+    batch answers for a committed state (a fresh build's answers), never for one between."""
+    scene = vf.load("builtin:boxes:size=8,seed=3")
+    placements = {}
+    for k, i in enumerate(scene.objects):
+        placements[i] = np.eye(4)[:3]
+        placements[i][:, 3] = (1.5 * k, 0.2 * k, 0.0)
+        scene.set_transform(i, placements[i])
+    placed = vf.build(scene, spec)
+    rays = random_rays(scene, 3000, 9)
+    shift = np.zeros((3, 4))
+    shift[:, 3] = (0.25, 0.1, -0.15)
+    states = []
+    for offset in (np.zeros((3, 4)), shift):
+        s = scene.copy()
+        for i in scene.objects:
+            s.set_transform(i, placements[i] + offset)
+        states.append(vf.build(s, spec).intersect(rays[:, 0:3], rays[:, 3:6]).t)
+    assert not np.array_equal(states[0], states[1])
+    done, mixed, batches = threading.Event(), [], [0]
+
+    def query():
+        while not done.is_set():
+            t = placed.intersect(rays[:, 0:3], rays[:, 3:6]).t
+            if not any(np.array_equal(t, state) for state in states):
+                mixed.append(t)
+            batches[0] += 1
+
+    threads = [threading.Thread(target=query) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    try:
+        for _ in range(2):
+            for offset in (shift, np.zeros((3, 4))):
+                seen = batches[0]
+                while batches[0] < seen + 2:
+                    time.sleep(0.001)
+                for i in scene.objects:
+                    placed.move(i, placements[i] + offset)
+                placed.commit()
+    finally:
+        done.set()
+        for thread in threads:
+            thread.join()
+    assert not mixed, f"{len(mixed)} of {batches[0]} batches answered for a state between commits"
+
+
+def test_a_structure_closed_on_another_thread_finishes_the_queries_under_way():
+    """close() while another thread's query runs without the GIL: that query finishes (the structure
+    lives until it returns), and later calls raise ValueError."""
+    scene = vf.load("builtin:soup:size=20000,seed=1")
+    bvh = vf.build(scene, "bvh")
+    rays = random_rays(scene, 400000, 3)
+    results = []
+    worker = threading.Thread(target=lambda: results.append(bvh.occluded(rays[:, 0:3], rays[:, 3:6])))
+    worker.start()
+    bvh.close()
+    worker.join()
+    assert len(results) == 1 and results[0].shape == (400000,)
+    with pytest.raises(ValueError, match="closed"):
+        bvh.occluded(rays[:, 0:3], rays[:, 3:6])
 
 
 def test_fields_build_save_load_and_answer_as_the_field_structure(tmp_path):
