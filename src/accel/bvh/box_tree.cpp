@@ -70,7 +70,7 @@ BoxTree BoxTree::build(std::span<const Bounds3f> boxes, int leaf_items) {
 
 void BoxTree::items_met(const Ray& ray, std::vector<std::uint32_t>& items) const {
   VF_USE_WIDER(box_tree_items_met, *this, ray, items);
-  if (!layout_ || layout_->nodes.empty()) return;
+  if (!layout_ || layout_->nodes.empty() || !ray.is_valid()) return;
   const float inv[3] = {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};  // +-inf for +-0
   bvh::BoxRay box;
   box.set(ray, inv);

@@ -210,7 +210,7 @@ class BvhAnyHit {
  public:
   /// A walk of `ray` through `bvh` (which must outlive it), from the root.
   void start(const BvhLayout& bvh, const Ray& ray) {
-    if (bvh.nodes.empty()) {
+    if (bvh.nodes.empty() || !ray.is_valid()) {
       nodes_ = nullptr;
       return;
     }
@@ -219,7 +219,7 @@ class BvhAnyHit {
   }
   /// As above, with the ray's constants computed beforehand (`traversal_ray` must outlive the walk).
   void start(const BvhLayout& bvh, const Ray& ray, const TraversalRay& traversal_ray) {
-    nodes_ = bvh.nodes.empty() ? nullptr : bvh.nodes.data();
+    nodes_ = bvh.nodes.empty() || !ray.is_valid() ? nullptr : bvh.nodes.data();  // an invalid ray misses at once
     if (!nodes_) return;
     ray_ = &traversal_ray;
     leaves_.emplace(bvh, traversal_ray, ray.tmin, ray.tmax, nullptr);

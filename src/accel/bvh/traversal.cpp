@@ -28,7 +28,9 @@ namespace {
 template <bool kCount>
 Hit closest_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
   if constexpr (kCount) ++counters->rays;
-  if (bvh.nodes.empty()) return Hit{};
+  // An invalid ray (NaN, infinite, zero direction, tmin >= tmax) hits nothing; its NaN slab values
+  // would pass every box test, the empty child slots' included.
+  if (bvh.nodes.empty() || !ray.is_valid()) return Hit{};
   if (bvh.direct()) return closest_hit_direct<kCount>(bvh, ray, counters);
   const TraversalRay traversal_ray(ray);
   TriangleLeaves<kCount> leaves(bvh, traversal_ray, ray.tmin, ray.tmax, counters);
@@ -43,7 +45,7 @@ Hit closest_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters
 template <bool kCount>
 bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
   if constexpr (kCount) ++counters->rays;
-  if (bvh.nodes.empty()) return false;
+  if (bvh.nodes.empty() || !ray.is_valid()) return false;  // as closest_hit()
   if (bvh.direct()) return any_hit_direct<kCount>(bvh, ray, counters);
   const TraversalRay traversal_ray(ray);
   const TriangleLeaves<kCount> leaves(bvh, traversal_ray, ray.tmin, ray.tmax, counters);
@@ -59,7 +61,7 @@ bool any_hit(const BvhLayout& bvh, const Ray& ray, BvhQueryCounters* counters) {
 void occluded_stream(const BvhLayout& bvh, std::span<const Ray> rays, std::uint8_t* occluded) {
   VF_USE_WIDER(bvh_occluded_stream, bvh, rays, occluded);
   if (bvh.direct()) {
-    for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = any_hit_direct<false>(bvh, rays[i], nullptr) ? 1 : 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) occluded[i] = rays[i].is_valid() && any_hit_direct<false>(bvh, rays[i], nullptr) ? 1 : 0;
     return;
   }
   struct Walk {
@@ -108,7 +110,7 @@ void intersect_stream(const BvhLayout& bvh, std::span<const Ray> rays, Hit* hits
                                                  V8::broadcast(widen_up(ray.tmax)), unused);
       std::construct_at(&hits[first + i], Hit{});
       live[walks] = static_cast<std::uint8_t>(i);
-      walks += lanes != 0 ? 1 : 0;
+      walks += lanes != 0 && ray.is_valid() ? 1 : 0;  // an invalid ray hits nothing (closest_hit())
     }
     interleave_walks<Walk, kClosestStreamWalks>(
         walks,

@@ -41,7 +41,7 @@ const instances::PlacedObject* leaf_objects(const instances::InstanceLayout& lay
 Hit InstanceLayer::intersect(const Ray& ray) const {
   VF_USE_WIDER(instances_intersect, *this, ray);
   const instances::InstanceLayout& layout = *layout_;
-  if (layout.nodes.empty()) return Hit{};
+  if (layout.nodes.empty() || !ray.is_valid()) return Hit{};  // NaN slab values would pass every box test
   Hit best;
   bvh::closest_hit_walk(layout.nodes.data(), box_ray(ray), ray.tmin, ray.tmax, [&](std::uint32_t ref, float& best_t) {
     bool improved = false;
@@ -66,7 +66,7 @@ Hit InstanceLayer::intersect(const Ray& ray) const {
 bool InstanceLayer::occluded(const Ray& ray) const {
   VF_USE_WIDER(instances_occluded, *this, ray);
   const instances::InstanceLayout& layout = *layout_;
-  if (layout.nodes.empty()) return false;
+  if (layout.nodes.empty() || !ray.is_valid()) return false;
   return bvh::any_hit_walk(layout.nodes.data(), box_ray(ray), ray.tmin, ray.tmax, [&](std::uint32_t ref) {
     const instances::PlacedObject* end = nullptr;
     for (const instances::PlacedObject* o = leaf_objects(layout, ref, end); o != end; ++o) {
@@ -143,6 +143,10 @@ void occluded_block(const InstanceLayer& layer, std::span<const Ray> rays, std::
   bvh::interleave_walks<Walk, bvh::kStreamWalks>(
       rays.size(),
       [&](Walk& w, std::size_t i) {
+        if (!rays[i].is_valid()) {  // hits nothing, and takes no walk
+          occluded[i] = 0;
+          return false;
+        }
         w.ray = &rays[i];
         w.box = box_ray(rays[i]);
         w.top.start(rays[i].tmin, rays[i].tmax);
