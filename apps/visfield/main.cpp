@@ -11,17 +11,6 @@
 #include "visfield/core/isa.hpp"
 #include "visfield/core/parse_only.hpp"
 
-namespace {
-
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   vf::install_interrupt_handlers();
   try {
@@ -59,7 +48,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
-    std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
+    std::cerr << "visfield: error: " << vf::one_line(e.what()) << "\n";
     return 2;
   }
   if (vf::parse_only()) return 0;
@@ -69,11 +58,11 @@ int main(int argc, char** argv) {
     std::cerr << "visfield: " << e.what() << "; nothing was written\n";
     return 128 + e.signal();
   } catch (const vf::Error& e) {
-    std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
+    std::cerr << "visfield: error: " << vf::one_line(e.what()) << "\n";
   } catch (const std::bad_alloc&) {
     std::cerr << "visfield: error: out of memory\n";
   } catch (const std::exception& e) {
-    std::cerr << "visfield: error: " << one_line(e.what()) << "\n";
+    std::cerr << "visfield: error: " << vf::one_line(e.what()) << "\n";
   }
   return 1;
 }

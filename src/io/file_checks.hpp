@@ -12,11 +12,6 @@ namespace vf::io_detail {
 /// process can open for reading.
 void require_readable_file(const std::filesystem::path& path);
 
-/// `text` with every run of whitespace (line breaks included) collapsed to one space, leading and
-/// trailing whitespace dropped and control characters shown as '?': third-party error strings made
-/// fit for a one-line message.
-std::string one_line(std::string_view text);
-
 /// `text` upper-cased (ASCII): a format's name in messages ("PLY").
 std::string upper_case(std::string text);
 

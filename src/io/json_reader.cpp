@@ -13,7 +13,6 @@
 
 namespace vf::json {
 
-using io_detail::one_line;
 using io_detail::require_readable_file;
 
 namespace {

@@ -31,7 +31,7 @@ LoadedMesh load_mesh(const std::filesystem::path& path) {
   // bit-identical vertices ourselves so that triangle counts and coordinates stay exactly the file's.
   const aiScene* scene = importer.ReadFile(path.string(), 0);
   const auto malformed = [&] {
-    std::string reason = io_detail::one_line(importer.GetErrorString());
+    std::string reason = one_line(importer.GetErrorString());
     // Assimp prefixes some messages with the format ("OBJ: vertex index out of range"); we already say it.
     if (reason.starts_with(upper_case(ext) + ": ")) reason.erase(0, ext.size() + 2);
     return Error(what + ": malformed " + upper_case(ext) + ": " + reason);
