@@ -50,10 +50,12 @@ struct OracleAnswers {
 /// t wins, an equal t going to the lower object id. The definition the instance layer must reproduce.
 class InstancedOracle {
  public:
-  explicit InstancedOracle(const Scene& scene) : objects_(scene.instances()) {
-    meshes_.resize(scene.meshes.size());
+  explicit InstancedOracle(const Scene& scene) : InstancedOracle(scene.instances(), scene.meshes) {}
+  /// The oracle of `objects` (in increasing id order) placing `meshes`.
+  InstancedOracle(std::vector<Instance> objects, const std::vector<TriangleMesh>& meshes) : objects_(std::move(objects)) {
+    meshes_.resize(meshes.size());
     for (const Instance& o : objects_)
-      if (!meshes_[o.mesh]) meshes_[o.mesh] = std::make_shared<BruteForce>(BruteForce::build(mesh_triangles(scene.meshes[o.mesh])));
+      if (!meshes_[o.mesh]) meshes_[o.mesh] = std::make_shared<BruteForce>(BruteForce::build(mesh_triangles(meshes[o.mesh])));
   }
   Hit intersect(const Ray& ray) const {
     Hit best;
