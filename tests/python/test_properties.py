@@ -1,16 +1,20 @@
 """Property tests (hypothesis) of every public call: random arrays, dtypes, shapes, layouts, specs and
 option values, drawn around and outside the ranges the library's own tables report. Each call answers
-with a clean exception (TypeError, ValueError, MemoryError; visfield.Error only for a refused build)
-or with answers equal to brute force bit for bit (exact structures), or of the promised shape and
-dtype (fields, images). Derandomized: every run draws the same 2,000 examples a property."""
+with a clean exception (TypeError, ValueError, MemoryError; visfield.Error only for a missing file or a
+refused build) or with answers equal to brute force bit for bit (exact structures), or of the promised
+shape and dtype (fields, images). Derandomized: every run draws the same 2,000 examples a property.
+Bugs found this way stay out of the properties, pinned by their smallest reproducers as strict xfails."""
 
 import math
+import os
 import re
+import subprocess
+import sys
 import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import visfield as vf
@@ -74,6 +78,7 @@ TWO_LEVEL_SPECS = ["bvh:levels=2", "grid:levels=2", "kdtree:levels=2", "median-b
 STRUCTURES = {spec: vf.build(QUERY_SCENE, spec) for spec in FLAT_SPECS + TWO_LEVEL_SPECS}
 BRUTE = {1: vf.build(QUERY_SCENE, "brute:levels=1"), 2: vf.build(QUERY_SCENE, "brute:levels=2")}
 FIELD = vf.Field.build(QUERY_SCENE, 0, positions=290, directions=8, normals="oct16")
+FIELD_TARGETS = np.vstack([CUBE_VERTICES, (CUBE_VERTICES[:-1] + CUBE_VERTICES[1:]) / 2, np.random.default_rng(0).random((16, 3))])
 
 
 def levels_of(spec):
@@ -97,35 +102,54 @@ def same_bits(a, b):
     return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
 
 
-def assert_same_hits(got, expected, label):
-    for field in ("t", "prim", "instance", "u", "v", "normal"):
-        assert same_bits(getattr(got, field), getattr(expected, field)), (label, field, getattr(got, field), getattr(expected, field))
+HIT_FIELDS = ("t", "prim", "instance", "u", "v", "normal")
+
+
+def assert_same_hits(got, expected, label, rays=slice(None)):
+    """Hits equal bit for bit in every field, for the rays `rays` selects (of answers given per ray)."""
+    for field in HIT_FIELDS:
+        a, b = np.asarray(getattr(got, field)), np.asarray(getattr(expected, field))
+        assert same_bits(a[rays], b[rays]), (label, field, a[rays], b[rays])
 
 
 # ---------------------------------------------------------------- ray arguments
 
+def rarely(draw, n):
+    """True about once in n draws (hypothesis draws small integers far more often than large ones)."""
+    return draw(st.integers(0, n)) == n
+
+
 SAFE_FLOATS = [0.0, -0.0, 0.5, 1.0, -1.0, 2.0, 3.0, 10.0, 1e-45, -1e-45, 1e-40, 5e-324, 1e-30, 1e30, -1e30, 3.4e38]
 POISON = [math.nan, math.inf, -math.inf, 1e39, -1e300]  # NaN or infinite once float32
-REAL_DTYPES = [np.float16, np.float32, np.float64, np.int8, np.int32, np.int64, np.uint8]
+REAL_DTYPES = [np.float32, np.float64, np.float16, np.int8, np.int32, np.int64, np.uint8]
+FLOAT_DTYPES = [np.float32, np.float64, np.float16]
 OTHER_DTYPES = [np.bool_, np.complex64, np.complex128, object, str]
 LAYOUTS = ["contiguous", "fortran", "strided", "reversed", "unaligned", "readonly", "list"]
-coordinates = st.one_of(st.sampled_from(SAFE_FLOATS), st.floats(-12, 12),
-                        st.sampled_from(sorted(set(QUERY_POINTS.ravel().tolist()))))
+POINT_COORDINATES = np.array(sorted(set(QUERY_POINTS.ravel().tolist())))
 
 
 @st.composite
-def real_values(draw, shape, poison_rate=0.15):
-    """A float64 array of `shape`: finite values near the scene, rarely one that is NaN or infinite in float32."""
-    values = np.array(draw(st.lists(coordinates, min_size=int(np.prod(shape)), max_size=int(np.prod(shape)))), dtype=np.float64).reshape(shape)
-    if values.size and draw(st.floats(0, 1)) < poison_rate:
-        values.flat[draw(st.integers(0, values.size - 1))] = draw(st.sampled_from(POISON))
+def real_values(draw, shape, poison=20):
+    """A float64 array of `shape`: values near the scene (its vertices' coordinates among them) and the
+    special ones of SAFE_FLOATS, about once in `poison` arrays one that is NaN or infinite in float32.
+    The values come from a NumPy generator seeded by hypothesis (drawing each through hypothesis costs
+    ten times as much)."""
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    size = int(np.prod(shape))
+    pools = [rng.uniform(-12, 12, size), rng.uniform(-3, 3, size), rng.choice(POINT_COORDINATES, size), rng.choice(SAFE_FLOATS, size)]
+    values = np.choose(rng.choice(4, size, p=[0.3, 0.25, 0.3, 0.15]), pools).reshape(shape)
+    if size and rarely(draw, poison):
+        values.flat[draw(st.integers(0, size - 1))] = draw(st.sampled_from(POISON))
     return values
 
 
 @st.composite
 def as_argument(draw, values, real_only=False):
-    """`values` in a random dtype (mostly real ones) and memory layout, or as nested lists."""
-    dtype = draw(st.sampled_from(REAL_DTYPES if real_only or draw(st.floats(0, 1)) < 0.85 else OTHER_DTYPES))
+    """`values` in a random dtype (mostly floating, often integer, rarely not real) and memory layout, or as nested lists."""
+    if not real_only and rarely(draw, 20):
+        dtype = draw(st.sampled_from(OTHER_DTYPES))
+    else:
+        dtype = draw(st.sampled_from(REAL_DTYPES if draw(st.booleans()) else FLOAT_DTYPES))
     with np.errstate(all="ignore"):
         if np.dtype(dtype).kind in "iu":
             info = np.iinfo(dtype)
@@ -152,23 +176,25 @@ def as_argument(draw, values, real_only=False):
 
 
 @st.composite
-def direction_values(draw, origins, shape):
-    """Directions of `shape`: random, or towards interesting points (edges, vertices) from `origins`, scaled."""
-    if draw(st.booleans()) or origins.shape != shape or len(shape) != 2:
-        return draw(real_values(shape, poison_rate=0.1))
-    targets = QUERY_POINTS[draw(st.lists(st.integers(0, len(QUERY_POINTS) - 1), min_size=shape[0], max_size=shape[0]))].reshape(shape)
+def direction_values(draw, origins, shape, targets):
+    """Directions of `shape`: random, or towards `targets` (vertices, points on edges) from `origins`, scaled."""
+    if draw(st.integers(0, 2)) == 0 or origins.shape != shape or len(shape) != 2:
+        return draw(real_values(shape))
+    targets = targets[np.random.default_rng(draw(st.integers(0, 2**32 - 1))).integers(0, len(targets), shape[0])].reshape(shape)
     directions = (targets - origins) * draw(st.sampled_from([1.0, 1.0, 1e-3, 1e3, 1e-38, 1e20]))
-    if shape[0] and draw(st.integers(0, 5)) == 0:
+    if shape[0] and rarely(draw, 6):
         directions[draw(st.integers(0, shape[0] - 1))] = 0.0  # a zero direction: a valid ray that hits nothing
     return directions
+
+
+RANGE_NUMBERS = [0.0, -0.0, -1.0, 0.5, 1.0, 5.0, 1e-45, 1e30, 1e300, math.inf, -math.inf, 3, -2]
 
 
 @st.composite
 def range_arguments(draw, n):
     """tmin or tmax: left out, a number, a NumPy scalar, an array (N,) (reversed intervals too) or something wrong."""
-    kind = draw(st.sampled_from(["default", "default", "number", "number", "numpy", "array", "array", "wrong length", "2-d", "bad type"]))
-    numbers = st.one_of(st.sampled_from([0.0, -1.0, 0.5, 1.0, 5.0, 1e-45, 1e30, 1e300, math.inf, -math.inf, 3, -2]),
-                        st.floats(-20, 20), st.just(math.nan))
+    kind = draw(st.sampled_from(["default"] * 12 + ["number"] * 6 + ["numpy"] * 3 + ["array"] * 6 + ["wrong length", "2-d", "bad type"]))
+    numbers = st.one_of(st.sampled_from(RANGE_NUMBERS + [math.nan]), st.floats(-20, 20))
     if kind == "default":
         return None
     if kind == "number":
@@ -176,26 +202,29 @@ def range_arguments(draw, n):
     if kind == "numpy":
         dtype = draw(st.sampled_from([np.float16, np.float32, np.float64, np.int64, np.uint8]))
         with np.errstate(all="ignore"):
-            value = np.array(draw(numbers)).astype(dtype) if np.dtype(dtype).kind == "f" else np.array(draw(st.integers(0, 200))).astype(dtype)
+            value = np.array(draw(numbers) if np.dtype(dtype).kind == "f" else draw(st.integers(0, 200))).astype(dtype)
         return value if draw(st.booleans()) else value[()]
     if kind == "bad type":
         return draw(st.sampled_from(["far", b"1", True, 1j, [1.0, "a"], object()]))
     length = {"array": n, "wrong length": n + draw(st.sampled_from([-1, 1, 2])), "2-d": n}[kind]
     if length < 0:
         length = 1
-    values = draw(st.lists(numbers, min_size=length, max_size=length))
-    values = np.array(values, dtype=np.float64)
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    values = np.where(rng.random(length) < 0.6, rng.uniform(-20, 20, length), rng.choice(RANGE_NUMBERS, length))
+    if length and rarely(draw, 20):
+        values[draw(st.integers(0, length - 1))] = math.nan
     if kind == "2-d":
         values = values.reshape(length, 1) if draw(st.booleans()) else values.reshape(1, length)
     return draw(as_argument(values))
 
 
 @st.composite
-def ray_arguments(draw):
-    """(args, kwargs) for intersect()/occluded(): shapes (N, 3), (3,), (N, 6), mismatched or wrong, any dtype and layout."""
-    form = draw(st.sampled_from(["pair", "pair", "pair", "shared origin", "shared direction", "one", "whole", "whole", "one whole",
-                                 "mismatch", "wrong"]))
-    n = draw(st.integers(0, 6))
+def ray_arguments(draw, targets=QUERY_POINTS):
+    """(args, kwargs) for intersect()/occluded(): shapes (N, 3), (3,), (N, 6), mismatched or wrong, any dtype and layout;
+    many rays aim at `targets`."""
+    form = draw(st.sampled_from(["pair"] * 4 + ["shared origin", "shared direction", "one", "one", "whole", "whole", "one whole",
+                                                 "mismatch", "wrong"]))
+    n = 0 if rarely(draw, 10) else draw(st.integers(1, 6))
     if form == "wrong":
         shapes = draw(st.lists(st.lists(st.integers(0, 7), max_size=3).map(tuple), min_size=1, max_size=2))
         arrays = [draw(as_argument(draw(real_values(shape)))) for shape in shapes]
@@ -203,13 +232,14 @@ def ray_arguments(draw):
     elif form in ("whole", "one whole"):
         shape = (n, 6) if form == "whole" else (6,)
         origins = draw(real_values((shape[0], 3) if form == "whole" else (3,)))
-        directions = draw(direction_values(origins, origins.shape))
+        directions = draw(direction_values(origins, origins.shape, targets))
         args = [draw(as_argument(np.concatenate([origins, directions], axis=-1))), None]
     else:
         origin_shape = {"pair": (n, 3), "shared origin": (3,), "shared direction": (n, 3), "one": (3,), "mismatch": (n, 3)}[form]
-        direction_shape = {"pair": (n, 3), "shared origin": (n, 3), "shared direction": (3,), "one": (3,), "mismatch": (n + draw(st.integers(1, 3)), 3)}[form]
+        direction_shape = {"pair": (n, 3), "shared origin": (n, 3), "shared direction": (3,), "one": (3,),
+                           "mismatch": (n + draw(st.integers(1, 3)), 3)}[form]
         origins = draw(real_values(origin_shape))
-        directions = draw(direction_values(origins, direction_shape))
+        directions = draw(direction_values(origins, direction_shape, targets))
         args = [draw(as_argument(origins)), draw(as_argument(directions))]
     count = n if form != "one" and form != "one whole" else 1
     kwargs = {}
@@ -245,6 +275,7 @@ def as_real(value, name):
 
 
 def as_rows(value, width, name):
+    """as_real(), then the shape the library takes: (N, width) or (width,), else Refused(ValueError)."""
     array = as_real(value, name)
     if not ((array.ndim == 2 and array.shape[1] == width) or (array.ndim == 1 and array.shape[0] == width)):
         raise Refused(ValueError, name + ": expected shape")
@@ -331,7 +362,9 @@ def parse_expected(expected):
     raise AssertionError(f"a kind of parameter these tests do not know yet: {expected!r}")
 
 
-# Valid values above these bounds cost seconds a build or a render (they are checked by the same code).
+# Valid values above these bounds cost seconds a build or a render (they are checked by the same code);
+# specs that leave these keys out get these values, not the defaults (a field of 4226 x 32^2 takes 0.7 s).
+CHEAP_DEFAULTS = {"field": {"positions": "290", "directions": "8"}, "beam": {"dirs": "33", "n": "16"}}
 CAPS = {("beam", "dirs"): 129, ("beam", "n"): 24, ("field", "positions"): 290, ("field", "directions"): 12,
         ("render", "spp"): 2, ("render", "ao_rays"): 4, ("render", "shadow_rays"): 4, ("render", "glossy_rays"): 4}
 
@@ -343,28 +376,29 @@ def param_value(draw, owner, param, keyword=False):
     values of other types (None, bytes, lists, complex), which keyword arguments refuse (valid=None)."""
     kind = parse_expected(param["expected"])
     cap = CAPS.get((owner, param["key"]))
-    if keyword and draw(st.integers(0, 12)) == 0:
+    if keyword and rarely(draw, 30):
         return draw(st.sampled_from([None, b"1", [1], 1j, (2, 3)])), None
+    inside = not rarely(draw, 5)
     if kind[0] == "int":
         lo, hi = kind[1], kind[2]
         top = min(hi, cap) if cap else hi
-        if draw(st.booleans()):
+        if inside:
             value = draw(st.one_of(st.sampled_from([lo, top, min(lo + 1, top), max(top - 1, lo)]), st.integers(lo, min(top, lo + 64))))
             return (str(value) if draw(st.booleans()) else value), True
         return draw(st.sampled_from([-1, lo - 1 if lo > 0 else -1, hi + 1, 10**20, lo + 0.5, float(lo + 1), "x", "", "1.5", "nan"])), False
     if kind[0] == "num":
         lo, hi = kind[1], kind[2]
-        if draw(st.booleans()):
+        if inside:
             value = draw(st.one_of(st.sampled_from([lo, hi, (lo + hi) / 2]), st.floats(lo, hi)))
             return (repr(value) if draw(st.booleans()) else value), True
         return draw(st.sampled_from([lo - max(abs(lo) / 2, 1e-9), hi + max(abs(hi), 1.0), math.nan, math.inf, -math.inf, "x", ""])), False
     if kind[0] == "positive":
-        if draw(st.booleans()):
+        if inside:
             return draw(st.one_of(st.sampled_from([0.5, 1.0, 100.0, math.inf, "inf", 1]), st.floats(1e-3, 1e6))), True
         return draw(st.sampled_from([0, 0.0, -1.0, -math.inf, math.nan, "x", "0"])), False
     if kind[0] == "choice":
         items = [i for i in kind[1] if not (cap and i.isdigit() and int(i) > cap)]
-        if draw(st.booleans()):
+        if inside:
             value = draw(st.sampled_from(items))
             if value.isdigit() and draw(st.booleans()):
                 return int(value), True
@@ -393,7 +427,7 @@ TRUTHY = {"1", "true", "on", "yes"}
 def structure_specs(draw):
     """(spec, verdict): 'ok' for a spec that must build, 'bad' for one that must be refused (ValueError),
     'file' for one naming a file that is not there (visfield.Error)."""
-    if draw(st.integers(0, 9)) == 0:
+    if rarely(draw, 8):
         garbage = draw(st.one_of(st.text(max_size=20), st.sampled_from(["", ":", "bvh:", "bvh:leaf", "bvh:=3", ",", "bvh:leaf=8,",
                                                                         "bvh:leaf=8,,bins=4", "BVH", "bvh ", "octree", "bvh\x00"])))
         verdict = "ok" if garbage in STRUCTURE_NAMES else "bad"
@@ -411,13 +445,16 @@ def structure_specs(draw):
             verdict = "bad"
         entries.append(f"{p['key']}={spec_text(value)}")
     values = dict(e.split("=", 1) for e in entries)
+    for key, value in CHEAP_DEFAULTS.get(name, {}).items():
+        if key not in values:
+            entries.append(f"{key}={value}")
     if name == "field" and values.get("lines") in TRUTHY and values.get("blend") in TRUTHY:
         entries = [e for e in entries if not e.startswith("blend=")]  # test_lines_and_blend_in_a_spec_are_a_value_error
     mangle = draw(st.integers(0, 19))
-    if mangle == 0 and entries:
+    if mangle == 19 and entries:
         entries.append(entries[0])  # a key given twice
         verdict = "bad"
-    elif mangle == 1:
+    elif mangle == 18:
         entries.append("nokey=1")
         verdict = "bad"
     spec = name + (":" + ",".join(entries) if entries else "")
@@ -448,9 +485,11 @@ BUILD_ANSWERS = {levels: brute.intersect(*BUILD_RAYS) for levels, brute in BUILD
 def test_build_gives_a_structure_or_a_clean_error(spec_and_verdict):
     """vf.build over random specs: a structure answering as brute force (exact ones), or ValueError / MemoryError."""
     spec, verdict = spec_and_verdict
+    event(f"verdict: {verdict}")
     try:
         structure = vf.build(BUILD_SCENE, spec)
     except MemoryError:
+        assert verdict == "ok", spec
         return
     except vf.Error as e:
         assert verdict == "file", (spec, e)
@@ -480,8 +519,43 @@ def test_lines_and_blend_in_a_spec_are_a_value_error():
 # ---------------------------------------------------------------- Structure.intersect and occluded
 
 def check_refused(call, refused):
+    """call() raises the exception `refused` names, with its pattern in the message."""
+    event(f"refused: {refused.kind.__name__}")
     with pytest.raises(refused.kind, match=re.escape(refused.pattern)):
         call()
+
+
+def moderate_rays(o, d):
+    """Rays whose hits lie well inside float32: origins up to 1e18, distances to the scene up to 1e30
+    directions. Beyond, t nears or passes the largest float32 and structures differ on whether a hit
+    at t ~ 1e39 is one; intersect() even drops hits occluded() reports at t ~ 1e37
+    (test_occluded_is_whether_intersect_hits)."""
+    reach = np.abs(o).max(axis=1) + 20.0
+    scale = np.abs(d).max(axis=1).astype(np.float64)
+    return (np.abs(o).max(axis=1) <= 1e18) & ((scale == 0) | (reach <= 1e30 * scale))
+
+
+def denormal_rays(o, d):
+    """Rays with a denormal float32 among their coordinates."""
+    denormal = lambda a: ((a != 0) & (np.abs(a) < np.finfo(np.float32).tiny)).any(axis=1)
+    return denormal(o) | denormal(d)
+
+
+def compared(spec, o, d, tmin):
+    """The rays whose answers from `spec` are compared with brute force's: the moderate ones, but not
+    the BVH's with tmin < 0 (test_bvh_finds_hits_behind_the_origin_as_brute_force_does), nor the
+    kd-tree's and median BSP's with denormal coordinates (test_bsp_trees_find_edge_hits_of_denormal_rays)."""
+    rays = moderate_rays(o, d)
+    if spec.startswith("bvh"):
+        rays &= ~(tmin < 0)
+    if spec.startswith(("kdtree", "median-bsp")):
+        rays &= ~denormal_rays(o, d)
+    return rays
+
+
+def per_ray(hits, single):
+    """Hits with one entry a ray: a single ray's scalars and rows as arrays of one."""
+    return vf.Hits(*(one_ray(getattr(hits, field), single) for field in HIT_FIELDS))
 
 
 @PROPERTY
@@ -495,20 +569,24 @@ def test_intersect_equals_brute_force_or_refuses_cleanly(arguments):
             check_refused(lambda: structure.intersect(*args, **kwargs), expected)
         return
     o, d, tmin, tmax, single = expected
+    moderate = moderate_rays(o, d)
     reference = {levels: brute.intersect(*args, **kwargs) for levels, brute in BRUTE.items()}
-    for spec, structure in STRUCTURES.items():
-        assert_same_hits(structure.intersect(*args, **kwargs), reference[levels_of(spec)], spec)
-    # The same rays as contiguous float32 arrays: the same answers (dtype, layout and shape only change the reading).
-    flat = BRUTE[1].intersect(o, d, tmin=tmin, tmax=tmax)
     hits = reference[1]
     assert np.ndim(hits.t) == (0 if single else 1) and np.shape(hits.normal) == ((3,) if single else (len(o), 3))
-    for field in ("t", "prim", "instance", "u", "v", "normal"):
-        assert same_bits(one_ray(getattr(hits, field), single), getattr(flat, field)), field
+    assert hits.t.dtype == np.float32 and hits.prim.dtype == np.uint32 and hits.instance.dtype == np.uint32
+    for spec, structure in STRUCTURES.items():
+        got = per_ray(structure.intersect(*args, **kwargs), single)
+        assert_same_hits(got, per_ray(reference[levels_of(spec)], single), spec, compared(spec, o, d, tmin))
+    # The same rays as contiguous float32 arrays: the same answers (dtype, layout and shape only change the reading).
+    flat = BRUTE[1].intersect(o, d, tmin=tmin, tmax=tmax)
+    assert_same_hits(per_ray(hits, single), flat, "float32")
     # What a hit and a miss are.
-    hit = np.isfinite(flat.t)
+    hit, miss = np.isfinite(flat.t) & moderate, ~np.isfinite(flat.t) & moderate
+    event("answered: some hits" if hit.any() else "answered: no hit")
+    assert not np.isnan(flat.t).any()
     assert (flat.t[hit] > tmin[hit]).all() and (flat.t[hit] <= tmax[hit]).all()
-    assert (flat.prim[~hit] == INVALID_ID).all() and (flat.instance[~hit] == INVALID_ID).all()
-    assert (flat.u[~hit] == 0).all() and (flat.v[~hit] == 0).all() and (flat.normal[~hit] == 0).all()
+    assert (flat.prim[miss] == INVALID_ID).all() and (flat.instance[miss] == INVALID_ID).all()
+    assert (flat.u[miss] == 0).all() and (flat.v[miss] == 0).all() and (flat.normal[miss] == 0).all()
     assert (flat.prim[hit] != INVALID_ID).all() and np.isin(flat.instance[hit], QUERY_SCENE.objects).all()
 
 
@@ -523,12 +601,66 @@ def test_occluded_equals_brute_force_or_refuses_cleanly(arguments):
             check_refused(lambda: structure.occluded(*args, **kwargs), expected)
         return
     o, d, tmin, tmax, single = expected
-    reference = {levels: brute.occluded(*args, **kwargs) for levels, brute in BRUTE.items()}
-    for levels in (1, 2):
-        assert np.asarray(reference[levels]).dtype == bool and np.ndim(reference[levels]) == (0 if single else 1)
-        assert same_bits(one_ray(reference[levels], single), np.isfinite(BRUTE[levels].intersect(o, d, tmin=tmin, tmax=tmax).t))
+    consistent = moderate_rays(o, d) & ~denormal_rays(o, d)  # test_occluded_is_whether_intersect_hits
+    reference = {}
+    for levels, brute in BRUTE.items():
+        blocked = brute.occluded(*args, **kwargs)
+        assert np.asarray(blocked).dtype == bool and np.ndim(blocked) == (0 if single else 1)
+        reference[levels] = one_ray(blocked, single)
+        hit = np.isfinite(brute.intersect(o, d, tmin=tmin, tmax=tmax).t)
+        assert same_bits(reference[levels][consistent], hit[consistent])
+    event("answered: some occluded" if reference[1].any() else "answered: none occluded")
     for spec, structure in STRUCTURES.items():
-        assert same_bits(structure.occluded(*args, **kwargs), reference[levels_of(spec)]), spec
+        got, rays = one_ray(structure.occluded(*args, **kwargs), single), compared(spec, o, d, tmin)
+        assert same_bits(got[rays], reference[levels_of(spec)][rays]), spec
+
+
+@pytest.mark.xfail(strict=True, reason="the BVH (levels=1 and 2) misses hits at t < 0 along some axes: a unit cube, a ray from "
+                                       "(5, 0.5, 0.5) along +x with tmin=-100: brute force (and grid, kdtree, median-bsp, beam) "
+                                       "t=-5, the BVH a miss")
+@pytest.mark.parametrize("spec", ["bvh:levels=1", "bvh:levels=2"])
+def test_bvh_finds_hits_behind_the_origin_as_brute_force_does(spec):
+    """A range reaching behind the origin (tmin < 0): the BVH's closest hit is brute force's."""
+    scene = vf.Scene()
+    scene.add_instance(scene.add_mesh(CUBE_VERTICES, CUBE_TRIANGLES))
+    origin, direction = np.float32([5, 0.5, 0.5]), np.float32([1, 0, 0])
+    expected = vf.build(scene, "brute:levels=1").intersect(origin, direction, tmin=-100.0)
+    assert expected.t == -5.0
+    assert_same_hits(vf.build(scene, spec).intersect(origin, direction, tmin=-100.0), expected, spec)
+    assert vf.build(scene, spec).occluded(origin, direction, tmin=-100.0)
+
+
+@pytest.mark.xfail(strict=True, reason="occluded() and intersect() disagree in every structure, brute force included: "
+                                       "(tiny) for a direction of length ~1e-37 intersect() drops the hit at t ~ 2.6e37 (a finite "
+                                       "float32) that occluded() reports; (denormal) for an origin with a denormal coordinate "
+                                       "occluded() reports a hit at t = 0.99999988, below tmin = 1, that intersect() rightly leaves out")
+@pytest.mark.parametrize("case", ["tiny", "denormal"])
+def test_occluded_is_whether_intersect_hits(case):
+    """occluded() is True exactly where intersect() returns a hit, whatever the scale of the ray's numbers."""
+    scene = vf.Scene()
+    if case == "tiny":
+        ground = np.array([[-10, -1, -10], [10, -1, -10], [0, -1, 10]], dtype=np.float64)
+        scene.add_instance(scene.add_mesh(ground, np.array([[0, 1, 2]])))
+        origin, direction, tmin = np.float32([0, 1.625, -10]), np.float32([0, -1e-37, 6e-37]), 0.0
+    else:
+        scene.add_instance(scene.add_mesh(CUBE_VERTICES, CUBE_TRIANGLES))
+        origin = np.float32([1e-40, 0.0298302, 0.35355338])
+        direction, tmin = -origin, 1.0
+    brute = vf.build(scene, "brute:levels=1")
+    assert bool(brute.occluded(origin, direction, tmin=tmin)) == bool(np.isfinite(brute.intersect(origin, direction, tmin=tmin).t))
+
+
+@pytest.mark.xfail(strict=True, reason="kdtree and median-bsp miss an edge hit of a ray with denormal coordinates that brute "
+                                       "force, bvh and grid find: a unit cube, origin (2, -1e-45, 0.5), direction (-1, 1e-45, 0): t=1")
+@pytest.mark.parametrize("spec", ["kdtree:levels=1", "median-bsp:levels=1", "kdtree:levels=2", "median-bsp:levels=2"])
+def test_bsp_trees_find_edge_hits_of_denormal_rays(spec):
+    """A ray whose coordinates are denormal floats: the kd-tree's and the median BSP's hit is brute force's."""
+    scene = vf.Scene()
+    scene.add_instance(scene.add_mesh(CUBE_VERTICES, CUBE_TRIANGLES))
+    origin, direction = np.float32([2, -1e-45, 0.5]), np.float32([-1, 1e-45, 0])
+    expected = vf.build(scene, f"brute:levels={levels_of(spec)}").intersect(origin, direction)
+    assert expected.t == 1.0
+    assert_same_hits(vf.build(scene, spec).intersect(origin, direction), expected, spec)
 
 
 # ---------------------------------------------------------------- Field.build, Field.intersect and occluded
@@ -542,14 +674,14 @@ FIELD_SCENE.add_mesh(SLIVER_VERTICES[:3], SLIVER_TRIANGLES[:1])  # no triangle o
 @st.composite
 def field_keywords(draw):
     """(mesh, keywords, verdict) for Field.build: verdict 'ok', 'bad' (ValueError), 'type' (TypeError) or 'empty' (visfield.Error)."""
-    mesh = draw(st.sampled_from([0, 0, 1, 2, 3, 7, -1, 2**32]))
+    mesh = draw(st.sampled_from([3, 7, -1, 2**32])) if rarely(draw, 10) else draw(st.sampled_from([0, 1, 2]))
     chosen = draw(st.lists(st.sampled_from(FIELD_BUILD_PARAMS), unique_by=lambda p: p["key"], max_size=len(FIELD_BUILD_PARAMS)))
     keywords, verdicts = {}, []
     for p in chosen:
         value, valid = draw(param_value("field", p, keyword=True))
         keywords[p["key"]] = value
         verdicts.append("type" if valid is None else "ok" if valid else "bad")
-    if draw(st.integers(0, 15)) == 0:
+    if rarely(draw, 15):
         keywords["resolution"] = 3
         verdicts.append("type")
     if mesh < 0 or mesh >= 2**32:
@@ -561,8 +693,8 @@ def field_keywords(draw):
     texts = {k: spec_text(v) for k, v in keywords.items()}
     if "bad" in verdicts or (texts.get("lines") in TRUTHY and texts.get("blend") in TRUTHY):
         return mesh, keywords, "bad"
-    if "positions" not in keywords:
-        keywords["positions"] = 290  # the default (4226) takes a quarter of a second
+    for key, value in CHEAP_DEFAULTS["field"].items():
+        keywords.setdefault(key, int(value))
     return mesh, keywords, "empty" if mesh == 2 else "ok"
 
 
@@ -571,6 +703,7 @@ def field_keywords(draw):
 def test_field_build_gives_a_field_or_a_clean_error(case):
     """Field.build with random keywords: a field of those parameters, or TypeError / ValueError (visfield.Error for a mesh of zero area)."""
     mesh, keywords, verdict = case
+    event(f"verdict: {verdict}")
     expected = {"type": TypeError, "bad": ValueError, "empty": vf.Error}.get(verdict)
     if expected is not None:
         with pytest.raises(expected):
@@ -578,7 +711,7 @@ def test_field_build_gives_a_field_or_a_clean_error(case):
         return
     field = vf.Field.build(FIELD_SCENE, mesh, **keywords)
     assert field.positions == int(keywords["positions"])
-    assert field.directions == int(keywords.get("directions", 32))
+    assert field.directions == int(keywords["directions"])
     assert field.has_normals == (str(keywords.get("normals", "none")) != "none")
     (centre, radius) = field.sphere
     assert radius > 0 and all(math.isfinite(c) for c in centre)
@@ -588,17 +721,20 @@ def test_field_build_gives_a_field_or_a_clean_error(case):
 
 
 def check_field_hits(hits, o, tmin, tmax, single):
+    """FieldHits of the promised dtypes and shapes; hits in (tmin, tmax], unit normals, zero ones for misses."""
     t, normal = one_ray(hits.t, single), one_ray(hits.normal, single)
     assert t.dtype == np.float32 and normal.dtype == np.float32 and t.shape == (len(o),) and normal.shape == (len(o), 3)
     hit = np.isfinite(t)
+    event("answered: some hits" if hit.any() else "answered: no hit")
     assert not np.isnan(t).any()
+    assert (t[hit] > tmin[hit]).all() and (t[hit] <= tmax[hit]).all()
     assert (normal[~hit] == 0).all()
     lengths = np.linalg.norm(normal[hit], axis=1)
     assert (np.abs(lengths - 1) < 1e-2).all() or (lengths == 0).all()
 
 
 @PROPERTY
-@given(ray_arguments())
+@given(ray_arguments(FIELD_TARGETS))
 def test_field_intersect_answers_or_refuses_cleanly(arguments):
     """Field.intersect: (t, normal) of one entry a ray, the same whatever the dtype and layout, or a clean TypeError/ValueError."""
     args, kwargs = arguments
@@ -615,7 +751,7 @@ def test_field_intersect_answers_or_refuses_cleanly(arguments):
 
 
 @PROPERTY
-@given(ray_arguments())
+@given(ray_arguments(FIELD_TARGETS))
 def test_field_occluded_answers_or_refuses_cleanly(arguments):
     """Field.occluded: a bool a ray, equal to whether intersect() hits, or a clean TypeError/ValueError."""
     args, kwargs = arguments
@@ -626,6 +762,7 @@ def test_field_occluded_answers_or_refuses_cleanly(arguments):
     o, d, tmin, tmax, single = expected
     blocked = FIELD.occluded(*args, **kwargs)
     assert np.asarray(blocked).dtype == bool and np.ndim(blocked) == (0 if single else 1)
+    event("answered: some occluded" if np.any(blocked) else "answered: none occluded")
     assert same_bits(one_ray(blocked, single), np.isfinite(FIELD.intersect(o, d, tmin=tmin, tmax=tmax).t))
 
 
@@ -634,21 +771,23 @@ def test_field_occluded_answers_or_refuses_cleanly(arguments):
 @st.composite
 def mesh_arrays(draw):
     """(vertices, indices, occluder, verdict): verdict 'ok', 'bad' (ValueError) or 'type' (TypeError)."""
-    n_vertices = draw(st.integers(0, 7))
-    shape = draw(st.sampled_from([(n_vertices, 3), (n_vertices, 3), (n_vertices, 3), (n_vertices, 2), (n_vertices, 3, 1), (3,), ()]))
-    scale = draw(st.sampled_from([1.0, 1.0, 1e-30, 1e-40, 1e6, 1e11, 1e12, 2e12, 1e38, 1e39]))
-    vertices_f64 = draw(real_values(shape, poison_rate=0.1)) * scale
+    n_vertices = draw(st.integers(0, 2)) if rarely(draw, 10) else draw(st.integers(3, 8))
+    shape = draw(st.sampled_from([(n_vertices, 2), (n_vertices, 3, 1), (3,), ()])) if rarely(draw, 10) else (n_vertices, 3)
+    scale = draw(st.sampled_from([2e12, 1e38, 1e39])) if rarely(draw, 10) else draw(st.sampled_from([1.0, 1e-30, 1e-40, 1e6, 1e11]))
+    vertices_f64 = draw(real_values(shape, poison=20)) * scale
     vertices = draw(as_argument(vertices_f64, real_only=True))
-    n_triangles = draw(st.integers(0, 6))
-    index_shape = draw(st.sampled_from([(n_triangles, 3), (n_triangles, 3), (n_triangles, 3), (n_triangles, 2), (3,)]))
-    top = max(n_vertices, 1)
-    index_values = draw(st.lists(st.one_of(st.integers(0, top - 1), st.sampled_from([-1, top, 2**31, 2**32 + 1])),
-                                 min_size=int(np.prod(index_shape)), max_size=int(np.prod(index_shape))))
-    index_dtype = draw(st.sampled_from([np.int64, np.int32, np.uint32, np.uint8, np.uint64, np.int16, np.float64, np.bool_, object]))
+    n_triangles = draw(st.integers(0, 6)) if rarely(draw, 10) else draw(st.integers(1, 6))
+    index_shape = draw(st.sampled_from([(n_triangles, 2), (3,)])) if rarely(draw, 10) else (n_triangles, 3)
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    index_values = rng.integers(0, max(n_vertices, 1), index_shape)
+    if index_values.size and rarely(draw, 10):
+        index_values.flat[draw(st.integers(0, index_values.size - 1))] = draw(st.sampled_from([-1, n_vertices, 2**31, 2**32 + 1]))
+    integers = [np.int64, np.int32, np.uint32, np.uint8, np.uint64, np.int16]
+    index_dtype = draw(st.sampled_from([np.float64, np.bool_, object] if rarely(draw, 10) else integers))
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        indices = np.array(index_values, dtype=np.int64).reshape(index_shape).astype(index_dtype)
-    occluder = draw(st.sampled_from(["auto", "auto", "exact", "field", "Auto", "", 3]))
+        indices = index_values.astype(index_dtype)
+    occluder = draw(st.sampled_from(["Auto", "", 3])) if rarely(draw, 10) else draw(st.sampled_from(["auto", "exact", "field"]))
     # The checks in the library's order.
     if not isinstance(vertices, np.ndarray) or not isinstance(indices, np.ndarray) or not isinstance(occluder, str):
         return vertices, indices, occluder, "type"
@@ -663,7 +802,7 @@ def mesh_arrays(draw):
     if ((wide < 0) | (wide >= len(vertices))).any() or len(indices) == 0:
         return vertices, indices, occluder, "bad"
     if not np.isfinite(v32).all() or (np.abs(v32) > 1e12).any():
-        return vertices, indices, occluder, "maybe"  # unused vertices may be left unchecked
+        return vertices, indices, occluder, "bad"  # every vertex is checked, used or not
     return vertices, indices, occluder, "ok"
 
 
@@ -673,26 +812,52 @@ def test_add_mesh_gives_a_mesh_or_a_clean_error(case):
     """Scene.add_mesh with random arrays: a mesh whose structures answer as brute force, or a clean TypeError/ValueError."""
     vertices, indices, occluder, verdict = case
     scene = vf.Scene()
-    if verdict in ("type", "bad"):
+    event(f"verdict: {verdict}")
+    if verdict != "ok":
         with pytest.raises(TypeError if verdict == "type" else ValueError):
             scene.add_mesh(vertices, indices, occluder)
         assert scene.mesh_count == 0
         return
-    try:
-        mesh = scene.add_mesh(vertices, indices, occluder)
-    except ValueError:
-        assert verdict == "maybe"
-        assert scene.mesh_count == 0
-        return
+    mesh = scene.add_mesh(vertices, indices, occluder)
     assert mesh == 0 and scene.mesh_count == 1 and scene.object_count == 0
-    v32 = np.asarray(vertices, dtype=np.float32)[np.unique(indices.astype(np.int64))]
-    assert np.isfinite(v32).all() and (np.abs(v32) <= 1e12).all()
     scene.add_instance(mesh)
     assert scene.triangle_count == len(indices)
     origins, directions = fixed_rays(scene, 32, 3)
-    reference = vf.build(scene, "brute:levels=1").intersect(origins, directions)
-    for spec in ("bvh:levels=1", "grid:levels=1", "kdtree:levels=1", "median-bsp:levels=1", "beam:dirs=33,n=16"):
-        assert_same_hits(vf.build(scene, spec).intersect(origins, directions), reference, spec)
+    reference = {levels: vf.build(scene, f"brute:levels={levels}").intersect(origins, directions) for levels in (1, 2)}
+    v32 = np.asarray(vertices, dtype=np.float32)
+    used = v32[np.unique(indices.astype(np.int64))]
+    stray = ((v32 < used.min(axis=0)) | (v32 > used.max(axis=0))).any()  # test_beam_field_ignores_unused_vertices
+    event("tiny coordinates" if ((v32 != 0) & (np.abs(v32) < 1e-30)).any() else "moderate coordinates")
+    for spec in ("bvh:levels=1", "bvh:levels=2", "grid:levels=1", "kdtree:levels=1", "median-bsp:levels=1", "beam:dirs=33,n=16"):
+        if not (stray and spec.startswith("beam")):
+            assert_same_hits(vf.build(scene, spec).intersect(origins, directions), reference[levels_of(spec)], spec)
+
+
+@pytest.mark.xfail(strict=True, reason="BeamField misses hits brute force finds when a mesh has an unused vertex far from its "
+                                       "triangles (here 2e9 away): one triangle, vertex (-4, -4, -2147483648) unused")
+def test_beam_field_ignores_unused_vertices():
+    """Vertices no triangle uses change no answer of a BeamField."""
+    scene = vf.Scene()
+    vertices = np.array([[-2, 2, 3], [0, -1, 0], [10, 0, -1], [-4, -4, -2147483648.0]])
+    scene.add_instance(scene.add_mesh(vertices, np.array([[0, 1, 2]])))
+    origin = np.float32([9.281092643737793, -2.129011392593384, -2138392832.0])
+    direction = np.float32([-2.214426040649414, 2.2623448371887207, 2138392832.0])
+    expected = vf.build(scene, "brute:levels=1").intersect(origin, direction)
+    assert expected.t == 1.0
+    assert_same_hits(vf.build(scene, "beam:dirs=33,n=16").intersect(origin, direction), expected, "beam")
+
+
+@pytest.mark.parametrize("spec", ["bvh:levels=1", "bvh:levels=2"])
+def test_bvh_builds_over_a_mesh_of_denormal_extent(spec):
+    """A BVH over a mesh only 1e-40 thick builds (in a child process: it segfaulted before its binning
+    ignored axes whose bins / extent overflows)."""
+    code = ("import numpy as np, visfield as vf; scene = vf.Scene(); "
+            "vertices = np.array([[0, 0, 1e-40], [0, 0, 0], [0, 1, 0], [1e-40, 0, 0]]); "
+            "scene.add_instance(scene.add_mesh(vertices, np.array([[2, 1, 0], [2, 3, 1]]))); "
+            f"vf.build(scene, {spec!r})")
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(vf.__file__)))
+    result = subprocess.run([sys.executable, "-c", code], env=dict(os.environ, PYTHONPATH=package_root), capture_output=True, timeout=120)
+    assert result.returncode == 0, (result.returncode, result.stderr[-500:])
 
 
 @pytest.mark.xfail(strict=True, reason="add_mesh converts complex, bool and text vertices (complex ones losing their imaginary part) "
@@ -707,16 +872,15 @@ def test_add_mesh_refuses_vertices_that_are_not_real_numbers(dtype):
 # ---------------------------------------------------------------- transforms; Scene.add_instance, set_transform, remove_instance
 
 @st.composite
-def transforms(draw):
+def transforms(draw, kinds=("rigid", "rigid", "rigid", "none", "bad", "arbitrary")):
     """(matrix, verdict): a rigid motion with uniform scale ('ok'), a refused matrix ('bad'), or arbitrary numbers ('maybe')."""
-    kind = draw(st.sampled_from(["rigid", "rigid", "rigid", "none", "bad", "arbitrary"]))
+    kind = draw(st.sampled_from(kinds))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
     if kind == "none":
         return None, "ok"
     if kind == "rigid":
-        q = np.array(draw(st.lists(st.floats(-1, 1), min_size=4, max_size=4)))
-        angle = 2 * math.acos(min(1.0, abs(q[0]) / max(np.linalg.norm(q), 1e-9)))
-        axis = q[1:] if np.linalg.norm(q[1:]) > 1e-6 else np.array([0.0, 0.0, 1.0])
-        matrix = rigid(angle, axis, draw(st.sampled_from([1.0, 0.5, 2.0, 0.25, 3.5])), draw(st.lists(st.floats(-4, 4), min_size=3, max_size=3)))
+        axis, angle, scale = rng.normal(size=3), rng.uniform(-math.pi, math.pi), rng.choice([1.0, 0.5, 2.0, 0.25, 3.5])
+        matrix = rigid(angle, axis if np.linalg.norm(axis) > 1e-6 else (0, 0, 1), scale, rng.uniform(-4, 4, 3))
         form = draw(st.sampled_from(["3x4", "4x4", "float32", "list"]))
         if form == "4x4":
             matrix = np.vstack([matrix, [0, 0, 0, 1]])
@@ -733,10 +897,13 @@ def transforms(draw):
         nan[1, 3] = math.nan
         return draw(st.sampled_from([shear, mirror, nan, last, np.zeros((3, 4)), np.eye(3), np.eye(4)[:, :3], np.zeros(12), np.eye(4) * 2,
                                      "abc", [[1, 2, 3]], identity * 1e200, identity * 1e-60, [["a"] * 4] * 3])), "bad"
-    return np.array(draw(st.lists(st.floats(-3, 3), min_size=12, max_size=12))).reshape(3, 4), "maybe"
+    return rng.uniform(-3, 3, (3, 4)), "maybe"
 
 
-object_ids = st.one_of(st.integers(0, 9), st.sampled_from([-1, 2**32, 2**40]))
+@st.composite
+def object_ids(draw):
+    """An object id: mostly a small one (of an object or of none), rarely one no uint32 holds (TypeError)."""
+    return draw(st.sampled_from([-1, 2**32, 2**40])) if rarely(draw, 12) else draw(st.integers(0, 6))
 
 
 @st.composite
@@ -744,24 +911,38 @@ def scene_edits(draw):
     """A list of add_instance / set_transform / remove_instance calls with random ids, meshes and matrices."""
     ops = []
     for _ in range(draw(st.integers(1, 8))):
-        op = draw(st.sampled_from(["add", "add", "move", "remove"]))
+        op = draw(st.sampled_from(["add", "add", "add", "move", "remove"]))
         if op == "add":
-            ops.append(("add", draw(st.sampled_from([0, 1, 2, 5, -1, 2**32])), draw(transforms())))
+            mesh = draw(st.sampled_from([2, 5, -1, 2**32])) if rarely(draw, 10) else draw(st.sampled_from([0, 1]))
+            ops.append(("add", mesh, draw(transforms())))
         elif op == "move":
-            ops.append(("move", draw(object_ids), draw(transforms())))
+            ops.append(("move", draw(object_ids()), draw(transforms())))
         else:
-            ops.append(("remove", draw(object_ids)))
+            ops.append(("remove", draw(object_ids())))
     return ops
 
 
 def two_meshes():
+    """A scene of the cube (mesh 0) and the tetrahedron (mesh 1), no objects."""
     scene = vf.Scene()
     scene.add_mesh(CUBE_VERTICES, CUBE_TRIANGLES)
     scene.add_mesh(TETRA_VERTICES, TETRA_TRIANGLES)
     return scene
 
 
-TRIANGLES_OF_MESH = {0: len(CUBE_TRIANGLES), 1: len(TETRA_TRIANGLES)}
+MESHES = {0: (CUBE_VERTICES, CUBE_TRIANGLES), 1: (TETRA_VERTICES, TETRA_TRIANGLES)}
+
+
+def expected_bounds(model):
+    """Scene.bounds of objects {id: (mesh, matrix)} of MESHES (a None matrix: identity): the bounds of
+    each mesh's bounding box, placed."""
+    corners = []
+    for mesh, matrix in model.values():
+        m = np.asarray(rigid() if matrix is None else matrix, dtype=np.float64)[:3]
+        lo, hi = MESHES[mesh][0].min(axis=0), MESHES[mesh][0].max(axis=0)
+        corners.append((lo + (hi - lo) * CUBE_VERTICES) @ m[:, :3].T + m[:, 3])
+    points = np.vstack(corners)
+    return np.array([points.min(axis=0), points.max(axis=0)])
 
 
 @PROPERTY
@@ -769,7 +950,7 @@ TRIANGLES_OF_MESH = {0: len(CUBE_TRIANGLES), 1: len(TETRA_TRIANGLES)}
 def test_scene_edits_keep_ids_and_answers(ops):
     """Scene.add_instance/set_transform/remove_instance with random ids and matrices: clean errors, stable ids, answers as brute force."""
     scene = two_meshes()
-    model = {}  # id -> mesh
+    model = {}  # id -> (mesh, matrix)
     next_id = 0
     for op in ops:
         if op[0] == "add":
@@ -788,7 +969,7 @@ def test_scene_edits_keep_ids_and_answers(ops):
                 assert verdict == "maybe" or mesh > 1
                 continue
             assert mesh <= 1 and new == next_id
-            model[new] = mesh
+            model[new] = (mesh, matrix)
             next_id += 1
         elif op[0] == "move":
             _, id, (matrix, verdict) = op
@@ -804,7 +985,7 @@ def test_scene_edits_keep_ids_and_answers(ops):
                 except ValueError:
                     assert verdict == "maybe" or id not in model
                 else:
-                    assert id in model
+                    model[id] = (model[id][0], matrix)
         else:
             _, id = op
             if id < 0 or id >= 2**32:
@@ -816,18 +997,19 @@ def test_scene_edits_keep_ids_and_answers(ops):
             else:
                 scene.remove_instance(id)
                 del model[id]
+    event(f"objects left: {min(len(model), 3)}{'+' if len(model) >= 3 else ''}")
     assert scene.objects == sorted(model) and scene.object_count == len(model)
-    assert scene.triangle_count == sum(TRIANGLES_OF_MESH[m] for m in model.values())
+    assert scene.triangle_count == sum(len(MESHES[mesh][1]) for mesh, _ in model.values())
     if not model:
         with pytest.raises(ValueError):
             vf.build(scene, "bvh")
         return
+    np.testing.assert_allclose(scene.bounds, expected_bounds(model), rtol=1e-4, atol=1e-4)
     origins, directions = fixed_rays(scene, 32, 5)
-    for levels, specs in ((1, ["bvh:levels=1", "kdtree:levels=1"]), (2, ["bvh:levels=2", "grid:levels=2"])):
+    for levels in (1, 2):
         reference = vf.build(scene, f"brute:levels={levels}").intersect(origins, directions)
         assert np.isin(reference.instance[np.isfinite(reference.t)], list(model)).all()
-        for spec in specs:
-            assert_same_hits(vf.build(scene, spec).intersect(origins, directions), reference, spec)
+        assert_same_hits(vf.build(scene, f"bvh:levels={levels}").intersect(origins, directions), reference, f"bvh:levels={levels}")
 
 
 @pytest.mark.xfail(strict=True, reason="a complex transform is converted (its imaginary part dropped, with a ComplexWarning) "
@@ -859,11 +1041,11 @@ def structure_edits(draw):
         if op == "commit":
             ops.append(("commit",))
         elif op == "insert":
-            ops.append(("insert", draw(object_ids), draw(st.one_of(st.none(), transforms().filter(lambda t: t[1] == "ok").map(lambda t: t[0])))))
+            ops.append(("insert", draw(object_ids()), draw(st.one_of(st.none(), transforms(kinds=("rigid",)).map(lambda t: t[0])))))
         elif op == "move":
-            ops.append(("move", draw(object_ids), draw(transforms())))
+            ops.append(("move", draw(object_ids()), draw(transforms())))
         else:
-            ops.append(("remove", draw(object_ids)))
+            ops.append(("remove", draw(object_ids())))
     return spec, ops
 
 
@@ -879,6 +1061,7 @@ def scene_of(placed):
 
 
 def check_answers_as_a_fresh_build(structure, spec, placed):
+    """The structure answers EDIT_RAYS as brute force built over scene_of(placed) (misses when it is empty)."""
     scene = scene_of(placed)
     hits = structure.intersect(*EDIT_RAYS)
     if not placed:
@@ -895,6 +1078,7 @@ def check_answers_as_a_fresh_build(structure, spec, placed):
 def test_structure_edits_answer_as_a_fresh_build(case):
     """remove/insert/move/commit with random ids and matrices: clean errors, and after each commit the answers of a fresh build."""
     spec, ops = case
+    event(f"structure: {spec}")
     structure = vf.build(EDIT_SCENE, spec)
     assert structure.updatable
     committed = dict(EDIT_MATRICES)
@@ -950,20 +1134,20 @@ def test_structure_edits_answer_as_a_fresh_build(case):
 RENDER_SCENE = vf.load("builtin:cornell:size=8")
 RENDERER = vf.Renderer(RENDER_SCENE)
 SMALL_FIELD = "field:positions=290,directions=8"
+# The view and structure keywords: (values taken, values refused).
 VIEW_OPTIONS = {
-    "up": ([("z", 1), ("-y", 1), ("+x", 1), (["z"], 1)], [("w", 0), ("", 0), ("zz", 0), (3, 0)]),
-    "view": ([((45, 30), 1), ("45,30", 1), ((0, 90), 1), ((-720, -90), 1), ([10.5, -3], 1), (np.array([1.0, 2.0]), 1)],
-             [((0, 91), 0), ((1e300, 0), 0), ((math.nan, 0), 0), ((1, 2, 3), 0), ("abc", 0), ([], 0), (5, 0)]),
-    "background": ([("transparent", 1), ("white", 1), ("black", 1), ("grey", 1), ("#00FF00", 1), ("#3a3f47", 1), ((0.1, 0.2, 0.3), 1), ((1, 1, 1), 1)],
-                   [("#00FF0", 0), ((2, 0, 0), 0), ((0.1, 0.2), 0), ((math.nan, 0, 0), 0), ("purple", 0), ([(0.1, 0.2, 0.3)], 0)]),
-    "camera": ([("0,1,5,0,0,0", 1), ((0, 1, 5, 0, 0, 0), 1), ((0, 0, 5, 0, 0, 0, 0, 1, 0), 1), ((0, 0, 5, 0, 0, 0, 0, 1, 0, 60), 1), (None, 1)],
-               [((0, 0, 5, 0, 0, 0, 0, 1, 0, 180), 0), ((0, 0, 5, 0, 0, 5), 0), ((0, 0, 5, 0, 0, 0, 0, 0, 1), 0), ((1, 2), 0), ("x", 0)]),
+    "up": (["z", "-y", "+x", ["z"]], ["w", "", "zz", 3]),
+    "view": ([(45, 30), "45,30", (0, 90), (-720, -90), [10.5, -3], np.array([1.0, 2.0])],
+             [(0, 91), (1e300, 0), (math.nan, 0), (1, 2, 3), "abc", [], 5]),
+    "background": (["transparent", "white", "black", "grey", "#00FF00", "#3a3f47", (0.1, 0.2, 0.3), (1, 1, 1)],
+                   ["#00FF0", (2, 0, 0), (0.1, 0.2), (math.nan, 0, 0), "purple", [(0.1, 0.2, 0.3)]]),
+    "camera": (["0,1,5,0,0,0", (0, 1, 5, 0, 0, 0), (0, 0, 5, 0, 0, 0, 0, 1, 0), (0, 0, 5, 0, 0, 0, 0, 1, 0, 60), None],
+               [(0, 0, 5, 0, 0, 0, 0, 1, 0, 180), (0, 0, 5, 0, 0, 5), (0, 0, 5, 0, 0, 0, 0, 0, 1), (1, 2), "x"]),
 }
 STRUCTURE_OPTIONS = {
-    "accel": ([("bvh", 1), ("grid", 1), ("kdtree:levels=2", 1), ("brute", 1), ("beam:dirs=33,n=16", 1), (SMALL_FIELD, 1), ("auto", 1)],
-              [("nonsense", 0), ("bvh:leaf=0", 0), ("", 0), (None, 0)]),
-    "occluder": ([("", 1), (None, 1), ("bvh", 1), ("median-bsp", 1), ("beam:dirs=33,n=16", 1), (SMALL_FIELD, 1)], [("x", 0), ("grid:density=0", 0)]),
-    "occluders": ([("exact", 1), ("field", 1)], [("x", 0), ("FIELD", 0)]),
+    "accel": (["bvh", "grid", "kdtree:levels=2", "brute", "beam:dirs=33,n=16", SMALL_FIELD, "auto"], ["nonsense", "bvh:leaf=0", "", None]),
+    "occluder": (["", None, "bvh", "median-bsp", "beam:dirs=33,n=16", SMALL_FIELD], ["x", "grid:density=0"]),
+    "occluders": (["exact", "field"], ["x", "FIELD"]),
 }
 
 
@@ -976,7 +1160,7 @@ def render_keywords(draw, structures):
         value, ok = draw(param_value("render", setting, keyword=True))
         keywords[setting["key"]], valid = value, valid and bool(ok)
     width, height = draw(st.integers(1, 6)), draw(st.integers(1, 6))
-    if draw(st.integers(0, 9)) == 0:
+    if rarely(draw, 10):
         width, valid = draw(st.sampled_from([-1, -6])), False
     keywords["width"], keywords["height"] = width, height
     options = dict(VIEW_OPTIONS, **(STRUCTURE_OPTIONS if structures else {}))
@@ -988,24 +1172,30 @@ def render_keywords(draw, structures):
         del options["camera"]
     for key in draw(st.lists(st.sampled_from(sorted(options)), unique=True)):
         good, bad = options[key]
-        value, ok = draw(st.sampled_from(good + bad if draw(st.integers(0, 3)) == 0 else good))
-        keywords[key], valid = value, valid and bool(ok)
+        refused = rarely(draw, 4)
+        keywords[key], valid = draw(st.sampled_from(bad if refused else good)), valid and not refused
+    if isinstance(keywords.get("view"), tuple) and keywords["view"] == (1e300, 0) and keywords.get("camera") is not None:
+        keywords["view"] = (0, 91)  # test_a_view_beside_a_camera_is_checked
     if keywords.get("occluders") == "field":
         if keywords.get("occluder") in (None, ""):
             keywords["occluder"] = SMALL_FIELD  # the default field takes a second and a half
         valid = valid and keywords["occluder"] == SMALL_FIELD
     if keywords.get("occluders") == "exact" and keywords.get("occluder") == SMALL_FIELD:
         valid = False
-    if not structures and draw(st.integers(0, 9)) == 0:
+    if not structures and rarely(draw, 10):
         keywords["accel"], valid = "bvh", False  # a Renderer's structures are chosen when it is made
     if draw(st.integers(0, 3)) == 0:
         x0, y0 = draw(st.integers(-1, max(shape[1], 0))), draw(st.integers(-1, shape[0]))
         x1, y1 = draw(st.integers(-1, max(shape[1], 0) + 1)), draw(st.integers(-1, shape[0] + 1))
+        if (x0, y0) == (0, 0) and x1 <= 0 and y1 <= 0:
+            x1 = shape[1] + 1  # test_an_empty_region_at_the_origin_is_a_value_error
         keywords["region"] = (x0, y0, x1, y1)
         if 0 <= x0 < x1 <= shape[1] and 0 <= y0 < y1 <= shape[0]:
             shape = (y1 - y0, x1 - x0)
         else:
             valid = False
+        if isinstance(keywords.get("camera"), vf.Camera) and keywords["width"] > 0:
+            keywords["width"], keywords["height"] = keywords["camera"].width, keywords["camera"].height  # test_a_region_of_a_camera_s_image
     if draw(st.booleans()):
         keywords["stats"] = draw(st.booleans())
     channels = 4 if keywords.get("background") == "transparent" else 3
@@ -1013,6 +1203,8 @@ def render_keywords(draw, structures):
 
 
 def check_render(render, keywords, valid, shape):
+    """render(**keywords) raises ValueError/TypeError, or returns a finite float32 image of `shape`; returns the image."""
+    event("an image" if valid else "refused")
     if not valid:
         with pytest.raises((ValueError, TypeError)):
             render(**keywords)
@@ -1057,6 +1249,35 @@ def test_render_keywords_of_another_type_are_a_type_error(keyword):
         vf.render(RENDER_SCENE, **keywords)
 
 
+@pytest.mark.xfail(strict=True, reason="region (0, 0, x1, y1) with x1 <= 0 and y1 <= 0 renders the whole image "
+                                       "(the library's 'no region' value) where every other empty region raises ValueError")
+@pytest.mark.parametrize("region", [(0, 0, 0, 0), (0, 0, -1, -1)])
+def test_an_empty_region_at_the_origin_is_a_value_error(region):
+    """An empty region is refused wherever it lies."""
+    with pytest.raises(ValueError, match="region"):
+        vf.render(RENDER_SCENE, width=2, height=2, region=region)
+
+
+@pytest.mark.xfail(strict=True, reason="view=(1e300, 0) raises ValueError alone, but not beside a camera given as numbers, "
+                                       "nor beside a Camera in Renderer.render: the azimuth is checked only where the view is used")
+@pytest.mark.parametrize("call", ["render", "Renderer.render"])
+def test_a_view_beside_a_camera_is_checked(call):
+    """An infinite azimuth is refused whatever else the call gives."""
+    with pytest.raises(ValueError, match="azimuth"):
+        if call == "render":
+            vf.render(RENDER_SCENE, width=2, height=2, camera=(0, 1, 5, 0, 0, 0), view=(1e300, 0))
+        else:
+            RENDERER.render(camera=RENDER_SCENE.camera(2, 2), view=(1e300, 0))
+
+
+@pytest.mark.xfail(strict=True, reason="vf.render checks a region against width x height, not against the size of the Camera "
+                                       "it renders (Renderer.render checks it against the Camera)")
+def test_a_region_of_a_camera_s_image():
+    """A region inside the image of a Camera (1 x 2 pixels) is rendered, whatever width and height say."""
+    image = vf.render(RENDER_SCENE, width=1, height=1, camera=RENDER_SCENE.camera(1, 2), region=(0, 0, 1, 2))
+    assert image.shape == (2, 1, 3)
+
+
 @pytest.mark.xfail(strict=True, reason="a string keyword value is pasted into a spec: 'ao,spp=2' sets spp too, "
                                        "'concentric,storage=f32' sets the storage")
 @pytest.mark.parametrize("call", ["render", "field"])
@@ -1088,33 +1309,42 @@ def closed_handle(kind, how):
     return handle
 
 
+def query(method):
+    """A use of a handle: `method` with random ray arguments (drawn by rays())."""
+    def use(handle, rays, id):
+        args, kwargs = rays()
+        return getattr(handle, method)(*args, **kwargs)
+    return use
+
+
+# What each kind of handle offers: properties by name, calls as use(handle, rays, id).
 USES = {
     "scene": ["name", "mesh_count", "object_count", "triangle_count", "objects", "bounds", "moves", "objects_move",
-              lambda s: s.camera(4, 4), lambda s: s.copy(), lambda s: s.frame(0, 2),
-              lambda s: s.add_mesh(TETRA_VERTICES, TETRA_TRIANGLES), lambda s: s.add_instance(0), lambda s: s.set_transform(0, rigid()),
-              lambda s: s.remove_instance(0), lambda s: vf.build(s, "bvh"), lambda s: vf.render(s, width=2, height=2),
-              lambda s: vf.Field.build(s, 0), lambda s: vf.Renderer(s), lambda s: vf.plan(s, rays=10),
-              lambda s: vf.build(BUILD_SCENE, "bvh:levels=2").insert(s, 0)],
-    "structure": ["spec", "exact", "updatable", "stats", lambda s: s.intersect(*BUILD_RAYS), lambda s: s.occluded(*BUILD_RAYS),
-                  lambda s: s.intersect([0, 0, 0], [0, 0, 1]), lambda s: s.commit()],
-    "updatable": [lambda s: s.remove(0), lambda s: s.insert(BUILD_SCENE, 0), lambda s: s.move(0, rigid()), lambda s: s.commit(),
-                  lambda s: s.intersect(*BUILD_RAYS)],
-    "field": ["positions", "directions", "has_normals", "memory_bytes", "build_ms", "sphere", lambda f: f.intersect(*BUILD_RAYS),
-              lambda f: f.occluded(*BUILD_RAYS), lambda f: f.save("/nonexistent/never-written.vfield")],
-    "renderer": ["accel", "occluder", "build_ms", lambda r: r.render(width=2, height=2)],
+              lambda s, rays, id: s.camera(id % 9, id % 7), lambda s, rays, id: s.copy(), lambda s, rays, id: s.frame(id % 3, 3),
+              lambda s, rays, id: s.add_mesh(TETRA_VERTICES, TETRA_TRIANGLES), lambda s, rays, id: s.add_instance(id),
+              lambda s, rays, id: s.set_transform(id, rigid()), lambda s, rays, id: s.remove_instance(id),
+              lambda s, rays, id: vf.build(s, "bvh"), lambda s, rays, id: vf.render(s, width=2, height=2),
+              lambda s, rays, id: vf.Field.build(s, id), lambda s, rays, id: vf.Renderer(s), lambda s, rays, id: vf.plan(s, rays=id + 1),
+              lambda s, rays, id: vf.build(BUILD_SCENE, "bvh:levels=2").insert(s, id)],
+    "structure": ["spec", "exact", "updatable", "stats", query("intersect"), query("occluded"), lambda s, rays, id: s.commit()],
+    "updatable": [lambda s, rays, id: s.remove(id), lambda s, rays, id: s.insert(BUILD_SCENE, id), lambda s, rays, id: s.move(id, rigid()),
+                  lambda s, rays, id: s.commit(), query("intersect")],
+    "field": ["positions", "directions", "has_normals", "memory_bytes", "build_ms", "sphere", query("intersect"), query("occluded"),
+              lambda f, rays, id: f.save(f"/nonexistent/{id}.vfield")],
+    "renderer": ["accel", "occluder", "build_ms", lambda r, rays, id: r.render(width=id % 5 + 1, height=2)],
 }
 
 
 @PROPERTY
 @given(st.sampled_from(sorted(USES)).flatmap(lambda kind: st.tuples(st.just(kind), st.sampled_from(USES[kind]))),
-       st.sampled_from(["close", "twice", "with"]))
-def test_closed_handles_raise_value_error(kind_and_use, how):
-    """Every use of a closed Scene, Structure, Field or Renderer raises ValueError naming it closed."""
+       st.sampled_from(["close", "twice", "with"]), st.integers(0, 2**32 - 1), st.data())
+def test_closed_handles_raise_value_error(kind_and_use, how, id, data):
+    """Every use of a closed Scene, Structure, Field or Renderer, whatever its arguments, raises ValueError naming it closed."""
     kind, use = kind_and_use
     handle = closed_handle(kind, how)
     with pytest.raises(ValueError, match="is closed"):
         if isinstance(use, str):
             getattr(handle, use)
         else:
-            use(handle)
+            use(handle, lambda: data.draw(ray_arguments()), id)
     assert handle.closed

@@ -1,6 +1,7 @@
 #include "bvh/binary_builder.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <bit>
 #include <limits>
@@ -213,9 +214,13 @@ class Builder {
     alignas(16) float scale[4] = {0, 0, 0, 0};
     bool any_axis = false;
     for (int a = 0; a < 3; ++a) {
+      // An extent so small (a denormal) that bins / extent overflows is no extent to bin along:
+      // 0 * inf would give the centroid at `lo` a NaN bin.
       const float extent = hi[a] - lo[a];
-      scale[a] = extent > 0.0f ? static_cast<float>(bins) / extent : 0.0f;
-      any_axis = any_axis || extent > 0.0f;
+      const float per_unit = static_cast<float>(bins) / extent;
+      const bool binned = extent > 0.0f && std::isfinite(per_unit);
+      scale[a] = binned ? per_unit : 0.0f;
+      any_axis = any_axis || binned;
     }
     map = BinMapping{r.centroids.lo, V4::load(scale), bins};
     Split best;
