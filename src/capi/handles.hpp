@@ -116,9 +116,6 @@ class HandleTable {
 
 static_assert(sizeof(std::uintptr_t) == 8, "handles pack a kind, a generation and a slot into 64 bits");
 
-/// The library version the C API reports.
-inline constexpr const char* kVersion = VISFIELD_VERSION;
-
 /// Rays converted per step where a query needs its own buffer (2 MiB of rays).
 inline constexpr std::size_t kChunk = std::size_t{1} << 16;
 

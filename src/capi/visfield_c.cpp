@@ -32,6 +32,9 @@ static_assert(sizeof(vf_ray) == sizeof(vf::Ray) && offsetof(vf_ray, org_x) == of
 namespace vf::capi {
 namespace {
 
+// The library version the C API reports.
+constexpr const char* kVersion = VISFIELD_VERSION;
+
 struct LastError {
   vf_error code = VF_OK;
   std::string message;

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/cuda/device.hpp"
 
 namespace vf::cuda {
@@ -13,6 +14,11 @@ namespace vf::cuda {
 DeviceBuffer::DeviceBuffer(std::size_t bytes) {
   if (bytes == 0) return;
   require_device();
+  // Refused before allocating, as host builds are: beyond what the device has free.
+  std::size_t free_bytes = 0, total_bytes = 0;
+  if (cudaMemGetInfo(&free_bytes, &total_bytes) == cudaSuccess && bytes > free_bytes)
+    throw MemoryRefused("CUDA: the upload would need about " + format_bytes(static_cast<double>(bytes)) + ", more than the " +
+                        format_bytes(static_cast<double>(free_bytes)) + " free on the device");
   const cudaError_t status = cudaMalloc(&data_, bytes);
   if (status != cudaSuccess) {
     data_ = nullptr;

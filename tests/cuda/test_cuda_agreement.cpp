@@ -20,6 +20,7 @@
 #include "visfield/accel/batch.hpp"
 #include "visfield/accel/bvh.hpp"
 #include "visfield/core/error.hpp"
+#include "visfield/core/memory.hpp"
 #include "visfield/core/parallel.hpp"
 #include "visfield/cuda/batch.hpp"
 #include "visfield/cuda/device.hpp"
@@ -112,6 +113,13 @@ TEST(Cuda, DeviceQuery) {
   std::vector<unsigned char> host(64, 7);
   EXPECT_THROW(b.upload(host.data(), 65), Error);
   EXPECT_THROW(b.download(host.data(), 8, 60), Error);
+  // More than the device holds: refused before allocating, with the sizes.
+  try {
+    cuda::DeviceBuffer huge(std::size_t{1} << 50);
+    ADD_FAILURE() << "a 1 PiB device buffer was allocated";
+  } catch (const MemoryRefused& e) {
+    EXPECT_NE(std::string(e.what()).find("free on the device"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Cuda, EmptyInputsAreNoOpsEvenWithNullArrays) {

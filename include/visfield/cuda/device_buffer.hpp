@@ -12,7 +12,8 @@ namespace vf::cuda {
 class DeviceBuffer {
  public:
   DeviceBuffer() = default;
-  /// Allocates `bytes` bytes (none for 0). Throws vf::Error when the device refuses.
+  /// Allocates `bytes` bytes (none for 0). Throws vf::MemoryRefused, before allocating, for more than
+  /// the device has free, and vf::Error when the device refuses.
   explicit DeviceBuffer(std::size_t bytes);
   DeviceBuffer(DeviceBuffer&& other) noexcept;
   DeviceBuffer& operator=(DeviceBuffer&& other) noexcept;

@@ -18,8 +18,11 @@
 namespace vf {
 
 /// A built structure of any kind (exact or field), owning everything it answers from: the scene it
-/// was built over may change or go away afterwards. Queries are const and safe from many threads;
-/// edits (remove, insert, move, commit) are not, and only updatable structures take them.
+/// was built over may change or go away afterwards. Threads: queries are const and may overlap each
+/// other; an edit (remove, insert, move, commit) must not overlap any other call on the same
+/// Structure, as with the standard containers (only updatable structures take edits). The C API and
+/// the Python module serialize them for their callers: there a query overlapping a commit waits for
+/// it and answers for the structure before or after it (include/visfield/visfield.h).
 class Structure {
  public:
   /// Builds `spec` ("bvh", "kdtree:kt=10", "beam:dirs=513", "field:positions=4226", "auto:kind=ao", ...)
