@@ -21,6 +21,7 @@
 
 #include "capi/handles.hpp"
 #include "differential/harness.hpp"
+#include "input_reader.hpp"
 #include "visfield/accel/brute_force.hpp"
 #include "visfield/core/triangle_set.hpp"
 #include "visfield/io/scene_file.hpp"
@@ -35,31 +36,17 @@ using namespace vf;
   std::abort();
 }
 
-// Reads the input front to back; past its end every read gives zeros.
-class Reader {
+// The input's reader, with the target's own kind of number: mostly small coordinates (eighths within
+// ±16), sometimes any 32 bits (NaN, ±inf, denormals).
+class Reader : public fuzz::InputReader {
  public:
-  Reader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
-  bool done() const { return pos_ >= size_; }
-  std::uint8_t byte() { return pos_ < size_ ? data_[pos_++] : 0; }
-  std::uint32_t u32() {
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(byte()) << (8 * i);
-    return v;
-  }
-  // A float: mostly small coordinates (eighths within ±16), sometimes any 32 bits (NaN, ±inf, denormals).
+  using InputReader::InputReader;
   float real() {
     const std::uint8_t kind = byte();
     if (kind < 200) return static_cast<float>(static_cast<std::int8_t>(byte())) / 8.0f;
     if (kind < 230) return 0.0f;
-    const std::uint32_t bits = u32();
-    float f;
-    std::memcpy(&f, &bits, sizeof f);
-    return f;
+    return bits();
   }
-
- private:
-  const std::uint8_t* data_;
-  std::size_t size_, pos_ = 0;
 };
 
 // What the fuzzer holds of the objects of a scene or structure: meshes and placed objects in id order.

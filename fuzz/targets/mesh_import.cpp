@@ -12,39 +12,23 @@
 #include <string>
 
 #include "assimp_scene.hpp"
+#include "input_reader.hpp"
 #include "visfield/core/error.hpp"
 #include "visfield/core/mesh.hpp"
 
 namespace {
 
-// Reads the input front to back; past its end every read gives zeros.
-class Reader {
- public:
-  Reader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
-  std::uint8_t byte() { return pos_ < size_ ? data_[pos_++] : 0; }
-  std::uint16_t u16() { return static_cast<std::uint16_t>(byte() | (byte() << 8)); }
-  float real() {
-    std::uint32_t bits = 0;
-    for (int i = 0; i < 4; ++i) bits |= static_cast<std::uint32_t>(byte()) << (8 * i);
-    float f;
-    std::memcpy(&f, &bits, sizeof f);
-    return f;
-  }
-
- private:
-  const std::uint8_t* data_;
-  std::size_t size_, pos_ = 0;
-};
+using Reader = vf::fuzz::InputReader;
 
 aiMaterial* make_material(Reader& in) {
   auto* m = new aiMaterial();
   const std::uint8_t keys = in.byte();
   const aiString name(std::string(1, static_cast<char>('a' + keys % 26)));
   if (keys & 1) m->AddProperty(&name, AI_MATKEY_NAME);
-  aiColor3D c(in.real(), in.real(), in.real());
+  aiColor3D c(in.bits(), in.bits(), in.bits());
   if (keys & 2) m->AddProperty(&c, 1, AI_MATKEY_COLOR_DIFFUSE);
   if (keys & 4) m->AddProperty(&c, 1, AI_MATKEY_COLOR_EMISSIVE);
-  float value = in.real();
+  float value = in.bits();
   if (keys & 8) m->AddProperty(&value, 1, AI_MATKEY_SHININESS);
   if (keys & 16) m->AddProperty(&value, 1, AI_MATKEY_ROUGHNESS_FACTOR);
   return m;
@@ -54,7 +38,7 @@ aiMesh* make_mesh(Reader& in) {
   auto* mesh = new aiMesh();
   mesh->mNumVertices = in.byte() % 64;
   mesh->mVertices = mesh->mNumVertices ? new aiVector3D[mesh->mNumVertices] : nullptr;
-  for (unsigned v = 0; v < mesh->mNumVertices; ++v) mesh->mVertices[v] = aiVector3D(in.real(), in.real(), in.real());
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) mesh->mVertices[v] = aiVector3D(in.bits(), in.bits(), in.bits());
   mesh->mNumFaces = in.byte() % 64;
   mesh->mFaces = mesh->mNumFaces ? new aiFace[mesh->mNumFaces] : nullptr;
   for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -71,7 +55,7 @@ aiNode* make_node(Reader& in, unsigned meshes, int depth) {
   auto* node = new aiNode("n" + std::to_string(depth));
   if (in.byte() & 1)
     for (unsigned r = 0; r < 4; ++r)
-      for (unsigned c = 0; c < 4; ++c) node->mTransformation[r][c] = in.real();
+      for (unsigned c = 0; c < 4; ++c) node->mTransformation[r][c] = in.bits();
   node->mNumMeshes = in.byte() % 4;
   node->mMeshes = node->mNumMeshes ? new unsigned[node->mNumMeshes] : nullptr;
   for (unsigned i = 0; i < node->mNumMeshes; ++i) node->mMeshes[i] = in.byte() % (meshes + 2);
