@@ -23,8 +23,10 @@
  *   never for a state between. Edits of a scene (vf_scene_add_*, _set_transform, _remove_instance)
  *   likewise exclude the calls that read it (builds, counts, bounds, vf_structure_insert, fields).
  *   Queries run in parallel themselves (vf_set_threads).
- * - Rays: origin, direction (any non-zero length; t is in its units) and the range (tmin, tmax];
- *   an invalid ray (NaN, zero direction, tmin >= tmax) hits nothing. Hits: t, barycentrics u, v of
+ * - Rays: origin, direction (any non-zero length; t is in its units) and the range (tmin, tmax],
+ *   which may start behind the origin (tmin < 0); an invalid ray (NaN, zero direction,
+ *   tmin >= tmax) hits nothing. A hit's t is finite: where the computed t overflows (directions
+ *   near 1e-38 long), there is no hit, for vf_occluded as for vf_intersect. Hits: t, barycentrics u, v of
  *   the triangle's vertices 1 and 2, the triangle index in its mesh (prim), the object id
  *   (instance), and the unnormalised geometric normal. A miss has t = +inf and prim = instance =
  *   VF_INVALID_ID; a hit of an approximate structure (ObjectField) has prim = VF_INVALID_ID.

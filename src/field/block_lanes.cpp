@@ -164,7 +164,7 @@ M occluded_packet(std::span<const std::array<Vec3f, 3>> triangles, const Bounds3
   for (const std::array<Vec3f, 3>& t : triangles) {
     const ShearedPacket::Terms e = packet.terms(t);
     const F distance = e.t_scaled * (L::splat(1.0f) / e.det);
-    hit = hit | (e.crosses & (distance > packet.tmin) & (distance <= packet.tmax));
+    hit = hit | (e.crosses & (distance > packet.tmin) & (distance <= packet.tmax) & (distance <= L::splat(kLargestHitT)));
     redo = redo | e.edge;
     if (L::bits(hit | redo | away) == L::bits(all)) break;
   }
@@ -188,7 +188,7 @@ void closest_packet(std::span<const std::array<Vec3f, 3>> triangles, const Ray* 
     const F distance = e.t_scaled * inv_det;
     // Triangles in ascending order: a later one replaces only a nearer hit, or equals tmax when none.
     const M first = nearest == L::splat(-1);
-    const M hit = e.crosses & (distance > packet.tmin) & ((distance < t) | ((distance == t) & first));
+    const M hit = e.crosses & (distance > packet.tmin) & (distance <= L::splat(kLargestHitT)) & ((distance < t) | ((distance == t) & first));
     nearest = select(hit, L::splat(static_cast<int>(k)), nearest);
     t = select(hit, distance, t);
     u = select(hit, e.e1 * inv_det, u);

@@ -1,6 +1,7 @@
 #pragma once
 /// \file Ray sets for the differential tests: random, axis-parallel, zero direction components,
-/// origins on surfaces, grazing rays, t ranges ending exactly at hits, model-style rays.
+/// origins on surfaces, grazing rays, intervals reaching behind the origin, rays a denormal or an ulp
+/// off a corner's planes, tiny directions, t ranges ending exactly at hits, model-style rays.
 
 #include <array>
 #include <cmath>
@@ -117,6 +118,56 @@ inline std::vector<Ray> grazing_rays(const TriangleSet& set, std::uint64_t seed,
       const Vec3f in_plane = (t[1] - t[0]) * (rng.uniform() - 0.5f) + (t[2] - t[0]) * (rng.uniform() - 0.5f);
       return Ray{inner - in_plane * (1.0f + rng.uniform()), in_plane};
     }
+  });
+}
+
+/// Intervals that start behind the origin (tmin from a quarter to twice the set's diagonal below
+/// zero), half of the rays along an axis: the hits behind count, nearest to tmin first, and boxes
+/// wholly behind the origin (a flat face's) must not be culled.
+inline std::vector<Ray> behind_origin_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
+  const float diagonal = length(set.bounds.hi - set.bounds.lo) * 1.5f + 1e-3f;
+  return generate_rays(seed, 0x7u, n, [&](Rng& rng) {
+    Ray r{point_around(rng, set.bounds, 0.2f), random_direction(rng)};
+    if (rng.uniform() < 0.5f) {
+      r.dir = Vec3f{0.0f, 0.0f, 0.0f};
+      r.dir[static_cast<int>(rng.next_u32() % 3)] = rng.uniform() < 0.5f ? -1.0f : 1.0f;
+    }
+    r.tmin = -diagonal * (0.25f + 1.75f * rng.uniform());
+    return r;
+  });
+}
+
+/// Rays towards a triangle corner along an axis from outside the set, their other coordinates the
+/// corner's moved by a denormal (where the corner's is zero, as in a box at the origin) or by one
+/// ulp, and their other direction components zero or denormal: the planes through corners lie a
+/// denormal or an ulp away, and reciprocals of denormal components overflow.
+inline std::vector<Ray> denormal_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
+  static constexpr float kTiny[] = {0.0f, -0.0f, 1e-45f, -1e-45f, 1e-40f, -1e-40f, 1e-38f};
+  const float reach = max_component(set.bounds.hi - set.bounds.lo) + 1e-3f;
+  return generate_rays(seed, 0x8u, n, [&](Rng& rng) {
+    const auto& t = random_triangle(rng, set);
+    const Vec3f corner = t[rng.next_u32() % 3];
+    const int axis = static_cast<int>(rng.next_u32() % 3);
+    const float sign = rng.uniform() < 0.5f ? -1.0f : 1.0f;
+    Ray r{corner, Vec3f{0.0f, 0.0f, 0.0f}};
+    r.dir[axis] = sign;
+    r.org[axis] = corner[axis] - sign * reach * (0.1f + rng.uniform());
+    for (int a = 0; a < 3; ++a) {
+      if (a == axis) continue;
+      const float off = kTiny[rng.next_u32() % std::size(kTiny)];
+      r.org[a] = corner[a] != 0.0f && rng.uniform() < 0.5f ? std::nextafter(corner[a], off < 0.0f ? -INFINITY : INFINITY) : corner[a] + off;
+      r.dir[a] = kTiny[rng.next_u32() % std::size(kTiny)];
+    }
+    return r;
+  });
+}
+
+/// Random rays whose directions are scaled down to lengths of 1e-38 to 1e-30: hit distances near and
+/// past the largest float, where a computed t that overflows is no hit (in occluded as in intersect).
+inline std::vector<Ray> tiny_direction_rays(const TriangleSet& set, std::uint64_t seed, std::size_t n) {
+  static constexpr float kScale[] = {1e-30f, 1e-36f, 1e-37f, 1e-38f};
+  return generate_rays(seed, 0x9u, n, [&](Rng& rng) {
+    return Ray{point_around(rng, set.bounds, 0.2f), random_direction(rng) * kScale[rng.next_u32() % std::size(kScale)]};
   });
 }
 

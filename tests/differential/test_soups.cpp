@@ -30,13 +30,16 @@ struct RaySet {
 /// hit at all.
 std::size_t rays_for(const TriangleSet& set, std::size_t n) { return set.size() >= 10000 ? scaled_count(n) : n; }
 
-/// The ray sets every scene is checked with (12k rays, plus the boundary-t copies of their hits).
+/// The ray sets every scene is checked with (15k rays, plus the boundary-t copies of their hits).
 std::vector<RaySet> adversarial_rays(const TriangleSet& set, std::uint64_t seed) {
   return {{"random", random_rays(set, seed, rays_for(set, 4000))},
           {"axis-parallel", axis_parallel_rays(set, seed, rays_for(set, 2000))},
           {"zero-component", zero_component_rays(set, seed, rays_for(set, 2000))},
           {"surface-origin", surface_origin_rays(set, seed, rays_for(set, 2000))},
-          {"grazing", grazing_rays(set, seed, rays_for(set, 2000))}};
+          {"grazing", grazing_rays(set, seed, rays_for(set, 2000))},
+          {"behind-origin", behind_origin_rays(set, seed, rays_for(set, 1000))},
+          {"denormal", denormal_rays(set, seed, rays_for(set, 1000))},
+          {"tiny-direction", tiny_direction_rays(set, seed, rays_for(set, 1000))}};
 }
 
 class ExactVsOracle : public ::testing::TestWithParam<std::string> {
@@ -68,8 +71,9 @@ class ExactVsOracle : public ::testing::TestWithParam<std::string> {
       const DiffReport main = compare_built(built, ray_set.rays, answers, {.label = label});
       EXPECT_EQ(main.closest_mismatches, 0u) << label;
       EXPECT_EQ(main.occluded_mismatches, 0u) << label;
-      // Every ray set reaches the geometry (rays in a triangle's plane may all miss it).
-      if (ray_set.name != "grazing") {
+      // Every ray set reaches the geometry (rays in a triangle's plane, or at a corner a denormal
+      // off its planes, may all miss it).
+      if (ray_set.name != "grazing" && ray_set.name != "denormal") {
         EXPECT_GT(main.oracle_hits, 0u) << label << ": no ray hits anything";
       }
 
@@ -97,7 +101,7 @@ class ExactVsOracle : public ::testing::TestWithParam<std::string> {
   void TearDown() override {
     for (const auto& [name, hits] : hits_by_set_) {
       std::printf("  %s rays: %zu of %zu hit\n", name.c_str(), hits, rays_by_set_[name]);
-      if (name != "grazing") {
+      if (name != "grazing" && name != "denormal") {
         EXPECT_GT(hits, rays_by_set_[name] / 50) << name << " rays rarely hit";
       }
     }

@@ -38,9 +38,15 @@ struct TriangleHit {
   float t, u, v;
 };
 
+/// The largest finite float: a hit's computed t must not exceed it.
+inline constexpr float kLargestHitT = 3.40282347e+38f;
+
 /// Watertight test of triangle (p0, p1, p2) against the ray for t in (tmin, tmax]; true and `out`
 /// filled on a hit. Edges shared by two triangles are never missed by both. Both sides hit. tmin is
 /// exclusive (as in Embree and pbrt): a ray that starts on a triangle does not hit it at t = tmin.
+/// A t that overflows (a direction or determinant so small that t_scaled / det passes the largest
+/// float) is no hit, even with tmax = inf: a hit's t is always finite, so a test of whether t is
+/// finite is a test of whether it hit, and occluded() is whether intersect() hits.
 VF_HOST_DEVICE inline bool intersect_triangle(const WatertightRay& r, const Vec3f& p0, const Vec3f& p1, const Vec3f& p2,
                                float tmin, float tmax, TriangleHit& out) {
   const Vec3f a = p0 - r.org, b = p1 - r.org, c = p2 - r.org;
@@ -63,7 +69,7 @@ VF_HOST_DEVICE inline bool intersect_triangle(const WatertightRay& r, const Vec3
   const float t_scaled = e0 * az + e1 * bz + e2 * cz;
   const float inv_det = 1.0f / det;
   const float t = t_scaled * inv_det;
-  if (!(t > tmin && t <= tmax)) return false;
+  if (!(t > tmin && t <= tmax && t <= kLargestHitT)) return false;
   out = {t, e1 * inv_det, e2 * inv_det};
   return true;
 }

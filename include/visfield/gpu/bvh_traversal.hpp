@@ -34,6 +34,10 @@ inline int stack_capacity_for(unsigned int bound) {
 /// Relative widening of the ray's interval and of far slab distances (box_test.hpp's constants).
 inline constexpr float kIntervalSlack = 0x1p-16f;
 inline constexpr float kFarScale = 1.0f + 0x1p-16f;
+inline constexpr float kFarScaleBehind = 1.0f - 0x1p-16f;
+
+/// A far slab distance moved up by the relative slack, below zero as above (box_test.hpp).
+VF_HOST_DEVICE inline float scale_far(float t) { return t < 0.0f ? t * kFarScaleBehind : t * kFarScale; }
 
 /// t moved down by the relative slack (infinities unchanged); box_test.hpp's widen_down.
 VF_HOST_DEVICE inline float widen_down(float t) { return t - t == 0.0f ? t - hd::abs(t) * kIntervalSlack : t; }
@@ -52,6 +56,8 @@ struct BoxRay {
     for (int a = 0; a < 3; ++a) {
       org[a] = o[a];
       inv[a] = 1.0f / d[a];
+      // NaN where a non-zero component's reciprocal overflows (box_test.hpp's box_reciprocal).
+      if (d[a] != 0.0f && hd::abs(inv[a]) == INFINITY) inv[a] = hd::copysign(NAN, d[a]);
       negative[a] = hd::copysign(1.0f, d[a]) < 0.0f;
     }
   }
@@ -77,7 +83,7 @@ VF_HOST_DEVICE inline bool child_hit(const WideNode& node, int slot, const BoxRa
     far_t = min_nan_second(f, far_t);
   }
   t_near = near_t;
-  return near_t <= far_t * kFarScale;
+  return near_t <= scale_far(far_t);
 }
 
 /// Any triangle hit in (ray.tmin, ray.tmax]. O(log n) typical. `Capacity` (entries of the traversal

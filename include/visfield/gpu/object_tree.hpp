@@ -53,7 +53,7 @@ VF_HOST_DEVICE inline bool node_met(const ObjectNode& n, const BoxRay& r, float 
     near_t = max_nan_second((near_plane - r.org[a]) * r.inv[a], near_t);
     far_t = min_nan_second((far_plane - r.org[a]) * r.inv[a], far_t);
   }
-  return near_t <= far_t * kFarScale;
+  return near_t <= scale_far(far_t);
 }
 
 /// Calls visit(item) for the items of every leaf whose box `ray` meets within its [tmin, tmax], the

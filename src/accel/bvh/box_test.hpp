@@ -8,13 +8,16 @@
 /// collapse.cpp). A zero direction component gives an infinite reciprocal; the resulting
 /// 0 * inf = NaN (origin exactly on a slab plane) is discarded by ordering the min/max operands so
 /// that the running interval wins, i.e. that axis does not restrict the interval, which is exact:
-/// such a ray stays in the plane. The t interval a box must meet is the ray's, widened by a relative
+/// such a ray stays in the plane. Scaling moves a far distance below zero down, not up: boxes wholly
+/// behind the origin are met only by an interval that starts there (tmin < 0), whose far distances
+/// are also scaled by 1 - 2^-16 and the larger product kept. The t interval a box must meet is the ray's, widened by a relative
 /// 2^-16 (widen_down, widen_up), so that a triangle whose computed t lies a few ulps outside its
 /// box's exact interval is still tested.
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "bvh/wide_nodes.hpp"
 #include "visfield/core/ray.hpp"
@@ -25,12 +28,23 @@ namespace vf::bvh {
 using V8 = simd::Lanes<8>;
 
 inline constexpr float kFarScale = 1.0f + 0x1p-16f;
+/// The scale that moves a far distance below zero up by as much.
+inline constexpr float kFarScaleBehind = 1.0f - 0x1p-16f;
 inline constexpr float kIntervalSlack = 0x1p-16f;
 
 /// t moved down by the relative slack (infinities unchanged).
 inline float widen_down(float t) { return std::isfinite(t) ? t - std::fabs(t) * kIntervalSlack : t; }
 /// t moved up by the relative slack (infinities unchanged).
 inline float widen_up(float t) { return std::isfinite(t) ? t + std::fabs(t) * kIntervalSlack : t; }
+
+/// 1 / d for the box test: +-inf for +-0, and NaN where a non-zero d is so small that 1 / d
+/// overflows. Such a component's slab distances would be infinite where the true ones are finite
+/// (a ray reaching a plane 1e-45 away at 1e-45 a unit meets it at t = 1); NaN ones leave the
+/// interval unrestricted, which is conservative.
+inline float box_reciprocal(float d) {
+  const float inv = 1.0f / d;
+  return d != 0.0f && std::isinf(inv) ? std::copysign(std::numeric_limits<float>::quiet_NaN(), d) : inv;
+}
 
 /// Per-ray constants of the box test.
 struct BoxRay {
@@ -39,18 +53,19 @@ struct BoxRay {
   float org[3], inv[3];
   int near_row[3], far_row[3];
 
-  /// Fills the constants for `ray` given inv_dir[a] = 1 / ray.dir[a] (+-inf for +-0).
+  /// Fills the constants for `ray` given inv_dir[a] = 1 / ray.dir[a] (+-inf for +-0); an overflowed
+  /// reciprocal becomes box_reciprocal()'s NaN.
   void set(const Ray& ray, const float* inv_dir) {
     for (int a = 0; a < 3; ++a) {
       org[a] = ray.org[a];
-      inv[a] = inv_dir[a];
+      inv[a] = ray.dir[a] != 0.0f && std::isinf(inv_dir[a]) ? std::copysign(std::numeric_limits<float>::quiet_NaN(), inv_dir[a]) : inv_dir[a];
       const int negative = std::signbit(ray.dir[a]) ? 3 : 0;
       near_row[a] = kLoX + a + negative;
       far_row[a] = kHiX + a - negative;
     }
   }
   /// Fills the constants for a ray from `org` whose direction has the reciprocals `inv_dir`
-  /// (+-inf for +-0): the same as set(ray, inv_dir), the direction's signs being the reciprocals'.
+  /// (box_reciprocal()'s): the same as set(ray, inv_dir), the direction's signs being the reciprocals'.
   void set(const float* org_xyz, const float* inv_dir) {
     for (int a = 0; a < 3; ++a) {
       org[a] = org_xyz[a];
@@ -71,7 +86,9 @@ inline simd::LaneBits test_children(const Node8& node, const BoxRay& r, const V8
   // The running value is the second operand, so a NaN slab value leaves it unchanged. Scaling after
   // the minimum scales every far slab value (and tmax, which only loosens the test further).
   t_near = max_nan_second(nx, max_nan_second(ny, max_nan_second(nz, tmin)));
-  const V8 t_far = min_nan_second(fx, min_nan_second(fy, min_nan_second(fz, tmax))) * V8::broadcast(kFarScale);
+  const V8 far = min_nan_second(fx, min_nan_second(fy, min_nan_second(fz, tmax)));
+  V8 t_far = far * V8::broadcast(kFarScale);
+  if (cmp_lt(tmin, V8::broadcast(0.0f)) != 0) t_far = max_nan_second(far * V8::broadcast(kFarScaleBehind), t_far);
   return cmp_le(t_near, t_far);
 }
 
@@ -81,12 +98,14 @@ inline simd::LaneBits test_children(const Node8& node, const BoxRay& r, const V8
 struct BoxRays16 {
   __m512 org[3], inv[3], tmin, tmax;
   __mmask16 negative[3];  // lanes whose reciprocal on the axis is negative (its sign bit)
+  bool behind = false;    // some lane's interval starts behind its origin
 
   /// Loads 16 rays from columns: org x, y, z, dir x, y, z, tmin, tmax (as given: widened here), each at `at`.
   void load(const float* const columns[8], std::size_t at) {
     load_lines(columns, at);
     tmin = widen16(_mm512_loadu_ps(columns[6] + at), -1.0f);
     tmax = widen16(_mm512_loadu_ps(columns[7] + at), 1.0f);
+    behind = _mm512_cmp_ps_mask(tmin, _mm512_setzero_ps(), _CMP_LT_OQ) != 0;
   }
   /// Loads 16 rays' origins and directions from columns 0 .. 5 at `at`; every ray's interval is
   /// (shared_tmin, shared_tmax), already widened.
@@ -94,6 +113,7 @@ struct BoxRays16 {
     load_lines(columns, at);
     tmin = _mm512_set1_ps(shared_tmin);
     tmax = _mm512_set1_ps(shared_tmax);
+    behind = shared_tmin < 0.0f;
   }
 
  private:
@@ -109,8 +129,12 @@ struct BoxRays16 {
   void load_lines(const float* const columns[6], std::size_t at) {
     for (int a = 0; a < 3; ++a) {
       org[a] = _mm512_loadu_ps(columns[a] + at);
-      inv[a] = _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_loadu_ps(columns[3 + a] + at));  // +-inf for +-0
+      const __m512 dir = _mm512_loadu_ps(columns[3 + a] + at);
+      inv[a] = _mm512_div_ps(_mm512_set1_ps(1.0f), dir);  // +-inf for +-0
       negative[a] = _mm512_movepi32_mask(_mm512_castps_si512(inv[a]));
+      // box_reciprocal(): NaN where a non-zero direction's reciprocal overflowed.
+      const __mmask16 overflowed = _mm512_fpclass_ps_mask(inv[a], 0x18) & _mm512_cmp_ps_mask(dir, _mm512_setzero_ps(), _CMP_NEQ_OQ);
+      inv[a] = _mm512_mask_mov_ps(inv[a], overflowed, _mm512_set1_ps(std::numeric_limits<float>::quiet_NaN()));
     }
   }
 };
@@ -128,7 +152,9 @@ inline __mmask16 rays_meet_child(const Node8& node, int slot, const BoxRays16& r
     t_near = _mm512_maskz_max_ps(0xffff, _mm512_mul_ps(_mm512_sub_ps(near_plane, r.org[a]), r.inv[a]), t_near);
     t_far = _mm512_maskz_min_ps(0xffff, _mm512_mul_ps(_mm512_sub_ps(far_plane, r.org[a]), r.inv[a]), t_far);
   }
-  return _mm512_cmp_ps_mask(t_near, _mm512_mul_ps(t_far, _mm512_set1_ps(kFarScale)), _CMP_LE_OQ);
+  __m512 scaled = _mm512_mul_ps(t_far, _mm512_set1_ps(kFarScale));
+  if (r.behind) scaled = _mm512_maskz_max_ps(0xffff, _mm512_mul_ps(t_far, _mm512_set1_ps(kFarScaleBehind)), scaled);
+  return _mm512_cmp_ps_mask(t_near, scaled, _CMP_LE_OQ);
 }
 #endif
 
@@ -136,12 +162,14 @@ inline __mmask16 rays_meet_child(const Node8& node, int slot, const BoxRays16& r
 /// BoxRays16 on 8 AVX2 lanes: the same columns, the same operations.
 struct BoxRays8 {
   __m256 org[3], inv[3], tmin, tmax;  // a reciprocal's sign bit says the axis is negative
+  bool behind = false;                 // some lane's interval starts behind its origin
 
   /// Loads 8 rays from columns: org x, y, z, dir x, y, z, tmin, tmax (as given: widened here), each at `at`.
   void load(const float* const columns[8], std::size_t at) {
     load_lines(columns, at);
     tmin = widen8(_mm256_loadu_ps(columns[6] + at), -1.0f);
     tmax = widen8(_mm256_loadu_ps(columns[7] + at), 1.0f);
+    behind = _mm256_movemask_ps(_mm256_cmp_ps(tmin, _mm256_setzero_ps(), _CMP_LT_OQ)) != 0;
   }
   /// Loads 8 rays' origins and directions from columns 0 .. 5 at `at`; every ray's interval is
   /// (shared_tmin, shared_tmax), already widened.
@@ -149,6 +177,7 @@ struct BoxRays8 {
     load_lines(columns, at);
     tmin = _mm256_set1_ps(shared_tmin);
     tmax = _mm256_set1_ps(shared_tmax);
+    behind = shared_tmin < 0.0f;
   }
 
  private:
@@ -162,7 +191,13 @@ struct BoxRays8 {
   void load_lines(const float* const columns[6], std::size_t at) {
     for (int a = 0; a < 3; ++a) {
       org[a] = _mm256_loadu_ps(columns[a] + at);
-      inv[a] = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_loadu_ps(columns[3 + a] + at));  // +-inf for +-0
+      const __m256 dir = _mm256_loadu_ps(columns[3 + a] + at);
+      inv[a] = _mm256_div_ps(_mm256_set1_ps(1.0f), dir);  // +-inf for +-0
+      // box_reciprocal(): NaN where a non-zero direction's reciprocal overflowed (the sign bit kept).
+      const __m256 magnitude = _mm256_andnot_ps(_mm256_set1_ps(-0.0f), inv[a]);
+      const __m256 overflowed = _mm256_and_ps(_mm256_cmp_ps(magnitude, _mm256_set1_ps(INFINITY), _CMP_EQ_OQ),
+                                              _mm256_cmp_ps(dir, _mm256_setzero_ps(), _CMP_NEQ_OQ));
+      inv[a] = _mm256_blendv_ps(inv[a], _mm256_or_ps(inv[a], _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN())), overflowed);
     }
   }
 };
@@ -177,7 +212,9 @@ inline std::uint32_t rays_meet_child(const Node8& node, int slot, const BoxRays8
     t_near = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(near_plane, r.org[a]), r.inv[a]), t_near);
     t_far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, r.org[a]), r.inv[a]), t_far);
   }
-  const __m256 meets = _mm256_cmp_ps(t_near, _mm256_mul_ps(t_far, _mm256_set1_ps(kFarScale)), _CMP_LE_OQ);
+  __m256 scaled = _mm256_mul_ps(t_far, _mm256_set1_ps(kFarScale));
+  if (r.behind) scaled = _mm256_max_ps(_mm256_mul_ps(t_far, _mm256_set1_ps(kFarScaleBehind)), scaled);
+  const __m256 meets = _mm256_cmp_ps(t_near, scaled, _CMP_LE_OQ);
   return static_cast<std::uint32_t>(_mm256_movemask_ps(meets));
 }
 #endif

@@ -71,7 +71,7 @@ BoxTree BoxTree::build(std::span<const Bounds3f> boxes, int leaf_items) {
 void BoxTree::items_met(const Ray& ray, std::vector<std::uint32_t>& items) const {
   VF_USE_WIDER(box_tree_items_met, *this, ray, items);
   if (!layout_ || layout_->nodes.empty() || !ray.is_valid()) return;
-  const float inv[3] = {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};  // +-inf for +-0
+  const float inv[3] = {bvh::box_reciprocal(ray.dir.x), bvh::box_reciprocal(ray.dir.y), bvh::box_reciprocal(ray.dir.z)};
   bvh::BoxRay box;
   box.set(ray, inv);
   const std::uint32_t* order = layout_->items.data();
@@ -159,7 +159,7 @@ void partition_by_rows(const bvh::Node8* nodes, const std::uint32_t* order, std:
     RayConstants& c = constants[i];
     for (int a = 0; a < 3; ++a) {
       c.org[a] = ray.org[a];
-      c.inv[a] = 1.0f / ray.dir[a];  // +-inf for +-0
+      c.inv[a] = bvh::box_reciprocal(ray.dir[a]);
     }
     c.tmin = bvh::widen_down(ray.tmin);
     c.tmax = bvh::widen_up(ray.tmax);

@@ -23,7 +23,7 @@ namespace vf {
 namespace {
 
 bvh::BoxRay box_ray(const Ray& ray) {
-  const float inv[3] = {1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};  // +-inf for +-0
+  const float inv[3] = {bvh::box_reciprocal(ray.dir.x), bvh::box_reciprocal(ray.dir.y), bvh::box_reciprocal(ray.dir.z)};
   bvh::BoxRay box;
   box.set(ray, inv);
   return box;

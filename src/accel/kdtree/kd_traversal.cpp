@@ -3,10 +3,10 @@
 // Robustness. A computed plane distance ts = (split - org) * (1/dir) is within a few ulps of the
 // exact one (relative), so every interval bound derived from a plane is widened by a relative
 // 2^-20, and a child is skipped only when the raw ts lies outside the widened interval: a cell the
-// ray truly enters is never skipped because of rounding. 1/dir of a zero component is +-inf with
-// the sign of the zero, which puts the parallel ray on the side holding its origin; when the origin
-// lies exactly in the plane the product is NaN and both children are visited with the full
-// interval (the ray runs inside the plane, where planar triangles live).
+// ray truly enters is never skipped because of rounding. Where 1/dir overflows (a zero component,
+// or a denormal one) the reciprocal is NaN, so that ts is NaN and both children are visited with
+// the full interval: a parallel ray a denormal distance off a plane can hit triangles beyond it,
+// whose edge products underflow to zero in the watertight test.
 //
 // Block boxes. A leaf tests a block only when the ray meets the block's box (its triangles'
 // bounds clipped to the leaf cell) within [tmin, best t] grown by the hit slack below, with the
@@ -68,7 +68,12 @@ struct PlaneRay {
 
   explicit PlaneRay(const Ray& ray) : org(ray.org) {
     for (int a = 0; a < 3; ++a) {
-      inv[a] = 1.0f / ray.dir[a];  // +-inf for a zero component: see the file comment
+      // NaN where 1 / dir overflows (a zero component, or a denormal one): the planes of that axis
+      // are then met anywhere, and both sides are visited. A ray parallel to a plane at a tiny
+      // distance from it can hit the triangles beyond it (the watertight test's products underflow
+      // to an edge), and one whose reciprocal overflowed meets planes at finite t, not at infinity.
+      inv[a] = 1.0f / ray.dir[a];
+      if (std::isinf(inv[a])) inv[a] = std::copysign(std::numeric_limits<float>::quiet_NaN(), ray.dir[a]);
       negative[a] = std::signbit(ray.dir[a]);
       negative_mask |= (negative[a] ? 1u : 0u) << a;
     }

@@ -154,8 +154,10 @@ struct Lanes<16> {
   friend Lanes operator-(const Lanes& a, const Lanes& b) { return {_mm512_sub_ps(a.v, b.v)}; }
   friend Lanes operator*(const Lanes& a, const Lanes& b) { return {_mm512_mul_ps(a.v, b.v)}; }
   friend Lanes operator/(const Lanes& a, const Lanes& b) { return {_mm512_div_ps(a.v, b.v)}; }
-  friend Lanes min_nan_second(const Lanes& a, const Lanes& b) { return {_mm512_min_ps(a.v, b.v)}; }
-  friend Lanes max_nan_second(const Lanes& a, const Lanes& b) { return {_mm512_max_ps(a.v, b.v)}; }
+  // The zero-masking forms with every lane kept: vminps and vmaxps as such (GCC 12's plain forms
+  // trip its own uninitialised-value warning).
+  friend Lanes min_nan_second(const Lanes& a, const Lanes& b) { return {_mm512_maskz_min_ps(0xffff, a.v, b.v)}; }
+  friend Lanes max_nan_second(const Lanes& a, const Lanes& b) { return {_mm512_maskz_max_ps(0xffff, a.v, b.v)}; }
   friend LaneBits cmp_lt(const Lanes& a, const Lanes& b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_LT_OQ); }
   friend LaneBits cmp_le(const Lanes& a, const Lanes& b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_LE_OQ); }
   friend LaneBits cmp_gt(const Lanes& a, const Lanes& b) { return _mm512_cmp_ps_mask(a.v, b.v, _CMP_GT_OQ); }

@@ -133,7 +133,8 @@ inline LaneBits hit_lanes(const Lanes<W>& a_x, const Lanes<W>& a_y, const Lanes<
   const V t_scaled = e0 * az + e1 * bz + e2 * cz;
   const V inv_det = V::broadcast(1.0f) / det;
   const V t = t_scaled * inv_det;
-  const LaneBits hit = candidates & cmp_gt(t, tmin) & cmp_le(t, tmax);
+  // A t past the largest float is no hit (intersect_triangle()).
+  const LaneBits hit = candidates & cmp_gt(t, tmin) & cmp_le(t, min_nan_second(tmax, V::broadcast(kLargestHitT)));
   if constexpr (kWantHits) {
     if (hit != 0) {
       t.store(hits->t);

@@ -117,6 +117,60 @@ TEST(BoxTest, NeverCullsABoxTheRayMeetsExactly) {
 }
 
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
+TEST(BoxTest, NeverCullsABoxBehindTheOriginThatAnIntervalReachingBackMeets) {
+  // Far distances below zero: scaled up by 1 + 2^-16 they would move down, culling flat boxes wholly
+  // behind the origin (a unit cube's face, met at t = -5 from x = 5 along +x).
+  Node8 face = Node8::empty();
+  face.set_bounds(0, Bounds3f{{0, 0, 0}, {0, 1, 1}});
+  Ray along{{5, 0.5f, 0.5f}, {1, 0, 0}};
+  along.tmin = -100.0f;
+  EXPECT_EQ(hits(face, along), 1u);
+  // Random boxes, flat ones among them, and rays that passed a point of one before their origin.
+  Rng rng(7);
+  int exact_hits = 0;
+  for (int iter = 0; iter < 20000; ++iter) {
+    Node8 node = Node8::empty();
+    Bounds3f boxes[8];
+    for (int slot = 0; slot < 8; ++slot) {
+      const float size = std::pow(10.0f, -4.0f + 4.0f * rng.uniform());
+      const Vec3f c{rng.uniform(), rng.uniform(), rng.uniform()};
+      Vec3f e{size * rng.uniform(), size * rng.uniform(), size * rng.uniform()};
+      if (slot % 2 == 0) e[slot % 3] = 0.0f;
+      boxes[slot] = Bounds3f{c - e, c + e};
+      node.set_bounds(slot, boxes[slot]);
+    }
+    const Bounds3f& target = boxes[rng.next_u32() % 8];
+    Vec3f p;
+    for (int a = 0; a < 3; ++a) p[a] = rng.uniform() < 0.5f ? target.lo[a] : target.hi[a];
+    Vec3f dir = uniform_sphere(rng.uniform(), rng.uniform());
+    if (iter % 2 == 0) dir = Vec3f{0, 0, 0}, dir[static_cast<int>(rng.next_u32() % 3)] = rng.uniform() < 0.5f ? -1.0f : 1.0f;
+    const float ahead = 2.0f + rng.uniform();
+    Ray ray{p + dir * ahead, dir};
+    ray.tmin = -ahead * (iter % 3 == 0 ? 1.0f : 1.5f);  // from the point exactly, or from farther back
+    ray.tmax = iter % 5 == 0 ? -0.5f : kInf;
+    const simd::LaneBits got = hits(node, ray);
+    for (int slot = 0; slot < 8; ++slot) {
+      if (!meets_exactly(boxes[slot], ray)) continue;
+      ++exact_hits;
+      ASSERT_TRUE((got >> slot) & 1u) << "iteration " << iter << " slot " << slot;
+    }
+  }
+  EXPECT_GT(exact_hits, 20000);
+}
+
+TEST(BoxTest, ADirectionComponentWhoseReciprocalOverflowsRestrictsNothing) {
+  // From y = -1e-45 at 1e-45 a unit the ray reaches y = 0 at t = 1; 1 / 1e-45 overflows to inf, which
+  // would put that plane at t = inf. box_reciprocal() makes it NaN: the axis does not restrict.
+  EXPECT_TRUE(std::isnan(box_reciprocal(1e-45f)));
+  EXPECT_TRUE(std::signbit(box_reciprocal(-1e-45f)));
+  EXPECT_EQ(box_reciprocal(0.0f), kInf);
+  EXPECT_EQ(box_reciprocal(-0.0f), -kInf);
+  EXPECT_EQ(box_reciprocal(4.0f), 0.25f);
+  Node8 node = Node8::empty();
+  node.set_bounds(0, Bounds3f{{0, 0, 0}, {1, 1, 1}});
+  EXPECT_EQ(hits(node, Ray{{2, -1e-45f, 0.5f}, {-1, 1e-45f, 0}}), 1u);
+}
+
 TEST(BoxTest, SixteenRaysAgainstOneBoxDecideAsOneRayAgainstEight) {
   // rays_meet_child() must give each ray test_children()'s bit, edge cases included: rays that meet
   // a box at their origin alone (t_near == t_far == 0), rays ending exactly on it, rays in a
