@@ -104,14 +104,18 @@ struct LineFrameRay {
     const double ox = static_cast<double>(ray.org.x) - g.center[0], oy = static_cast<double>(ray.org.y) - g.center[1],
                  oz = static_cast<double>(ray.org.z) - g.center[2];
     const double dd = dx * dx + dy * dy + dz * dz;
-    const double b = ox * dx + oy * dy + oz * dz;
     const double oo = ox * ox + oy * oy + oz * oz;
-    const double r2 = g.radius * g.radius;
-    const double disc = b * b - dd * (oo - r2);
-    if (!(disc >= 0.0)) return false;
-    const double root = std::sqrt(disc);
-    const double pad = 1e-9 * (std::fabs(b) + root) / dd + g.slack / std::sqrt(dd);
-    const double t_in = (-b - root) / dd - pad, t_out = (-b + root) / dd + pad;
+    const double length = std::sqrt(dd);
+    // The chord from the line's point nearest the centre (Haines et al., Ray Tracing Gems ch. 7):
+    // b^2 - dd (oo - r^2) would cancel to nothing for an origin a million radii away.
+    const double ux = dx / length, uy = dy / length, uz = dz / length;
+    const double along = ox * ux + oy * uy + oz * uz;
+    const double qx = ox - along * ux, qy = oy - along * uy, qz = oz - along * uz;
+    const double half_chord2 = g.radius * g.radius - (qx * qx + qy * qy + qz * qz);
+    if (!(half_chord2 >= 0.0)) return false;
+    const double half_chord = std::sqrt(half_chord2);
+    const double pad = (1e-9 * (std::fabs(along) + half_chord) + g.slack) / length;
+    const double t_in = (-along - half_chord) / length - pad, t_out = (-along + half_chord) / length + pad;
     ta = std::max<double>(ray.tmin, t_in), tb = std::min<double>(ray.tmax, t_out);
     if (!(ta <= tb)) return false;
     s0 = f.u[0] * ox + f.u[1] * oy + f.u[2] * oz + g.radius;
@@ -121,7 +125,7 @@ struct LineFrameRay {
     dt = f.v[0] * dx + f.v[1] * dy + f.v[2] * dz;
     dw = f.w[0] * dx + f.w[1] * dy + f.w[2] * dz;
     forward = dw >= 0.0;
-    inv_dir_length = 1.0 / std::sqrt(dd);
+    inv_dir_length = 1.0 / length;
     lateral = kLateralError * (std::sqrt(oo) + g.radius);
     return true;
   }
