@@ -25,21 +25,28 @@ struct RayInput {
   std::vector<py::array> held;
 };
 
-/// `value` as a NumPy array of real numbers in float32: read in place when it already is float32
-/// (any strides), else converted to a new float32 array (any real floating or integer dtype, lists
-/// too: one pass over the data, 4 bytes a number). Throws TypeError naming `name` for anything else.
-inline py::array float32_array(const py::object& value, const std::string& name, const char* expected = "an array of real numbers") {
+/// `value` as a NumPy array (np.asarray's); TypeError naming `name` unless its numbers are real (a
+/// floating or integer dtype: not bool, complex, text or objects).
+inline py::array real_numbers(const py::object& value, const std::string& name, const char* expected = "an array of real numbers") {
+  const auto refuse = [&](const std::string& got) { return py::type_error(name + ": expected " + expected + ", got " + got); };
   if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || value.is_none())
-    throw py::type_error(name + ": expected " + expected + ", got " + std::string(py::str(value.get_type().attr("__name__"))));
+    throw refuse(std::string(py::str(value.get_type().attr("__name__"))));
   py::array array;
   try {
     array = py::reinterpret_borrow<py::array>(py::module_::import("numpy").attr("asarray")(value));
   } catch (const py::error_already_set&) {
-    throw py::type_error(name + ": expected " + expected + ", got " + std::string(py::str(value.get_type().attr("__name__"))));
+    throw refuse(std::string(py::str(value.get_type().attr("__name__"))));
   }
   const char kind = array.dtype().kind();
-  if (kind != 'f' && kind != 'i' && kind != 'u')
-    throw py::type_error(name + ": expected " + expected + ", got an array of " + std::string(py::str(array.dtype())));
+  if (kind != 'f' && kind != 'i' && kind != 'u') throw refuse("an array of " + std::string(py::str(array.dtype())));
+  return array;
+}
+
+/// `value` as a NumPy array of real numbers in float32: read in place when it already is float32
+/// (any strides), else converted to a new float32 array (any real floating or integer dtype, lists
+/// too: one pass over the data, 4 bytes a number). Throws TypeError naming `name` for anything else.
+inline py::array float32_array(const py::object& value, const std::string& name, const char* expected = "an array of real numbers") {
+  const py::array array = real_numbers(value, name, expected);
   if (array.dtype().is(py::dtype::of<float>())) return array;
   return py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(array);
 }
@@ -149,6 +156,7 @@ inline py::object answer_type(const char* name) {
 inline Transform transform_of(const py::object& value) {
   Transform t;
   if (value.is_none()) return t;
+  real_numbers(value, "transform", "a (3, 4) or (4, 4) matrix of real numbers");
   const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
   if (!m || m.ndim() != 2 || m.shape(1) != 4 || (m.shape(0) != 3 && m.shape(0) != 4))
     throw py::value_error("transform: expected a (3, 4) or (4, 4) matrix of numbers");

@@ -56,6 +56,51 @@ std::string option_text(const py::handle& value) {
   return text;
 }
 
+// The type of `value` as Python names it.
+std::string type_name(const py::handle& value) { return py::str(value.get_type().attr("__name__")).cast<std::string>(); }
+
+// A keyword that takes a whole number (a Python or NumPy integer, not a bool): TypeError for another
+// type, ValueError past the range of int.
+int int_keyword(const std::string& key, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value) || !py::isinstance(value, py::module_::import("numbers").attr("Integral")))
+    throw py::type_error(key + ": expected an integer, got " + type_name(value));
+  const py::int_ whole(py::reinterpret_borrow<py::object>(value));
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(whole.ptr(), &overflow);
+  if (overflow != 0 || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+    throw py::value_error(key + ": " + py::str(value).cast<std::string>() + " is out of range");
+  return static_cast<int>(v);
+}
+
+// A keyword that takes True or False: TypeError for another type.
+bool bool_keyword(const std::string& key, const py::handle& value) {
+  if (!py::isinstance<py::bool_>(value) && !py::isinstance(value, py::module_::import("numpy").attr("bool_")))
+    throw py::type_error(key + ": expected True or False, got " + type_name(value));
+  return py::bool_(py::reinterpret_borrow<py::object>(value)).cast<bool>();
+}
+
+// A keyword that takes a spec text or None (empty): TypeError for another type.
+std::string text_keyword(const std::string& key, const py::handle& value) {
+  if (value.is_none()) return {};
+  if (!py::isinstance<py::str>(value)) throw py::type_error(key + ": expected a text or None, got " + type_name(value));
+  return value.cast<std::string>();
+}
+
+// region=(x0, y0, x1, y1): four integers, x0 < x1 and y0 < y1 (an empty region is a ValueError
+// wherever it lies: the library reads (0, 0, 0, 0) as no region).
+ImageTile region_keyword(const py::handle& value) {
+  if (py::isinstance<py::str>(value) || !py::isinstance<py::sequence>(value))
+    throw py::type_error("region: expected (x0, y0, x1, y1), got " + type_name(value));
+  const py::sequence items = py::reinterpret_borrow<py::sequence>(value);
+  if (items.size() != 4) throw py::value_error("region: expected four integers (x0, y0, x1, y1), got " + std::to_string(items.size()));
+  std::array<int, 4> r{};
+  for (std::size_t k = 0; k < 4; ++k) r[k] = int_keyword("region", items[k]);
+  if (r[2] <= r[0] || r[3] <= r[1])
+    throw py::value_error("region: (" + std::to_string(r[0]) + ", " + std::to_string(r[1]) + ", " + std::to_string(r[2]) + ", " +
+                          std::to_string(r[3]) + ") is empty: it needs x0 < x1 and y0 < y1");
+  return ImageTile{r[0], r[1], r[2], r[3]};
+}
+
 // What render() and Renderer.render() take besides the render settings.
 struct Frame {
   std::optional<Camera> camera;
@@ -81,14 +126,14 @@ RenderSettings settings_of(const py::kwargs& kwargs, bool structures, Frame& fra
   for (const auto& [key_handle, value] : kwargs) {
     const std::string key = key_handle.cast<std::string>();
     if (structures && (key == "accel" || key == "occluder" || key == "occluders")) {
-      const std::string text = value.is_none() ? std::string() : value.cast<std::string>();
-      (key == "accel" ? s.accel : key == "occluder" ? s.occluder : s.occluders) = text;
+      (key == "accel" ? s.accel : key == "occluder" ? s.occluder : s.occluders) = text_keyword(key, value);
     } else if (key == "width" || key == "height") {
-      (key == "width" ? s.width : s.height) = value.cast<int>();
+      const int size = int_keyword(key, value);
+      if (size < 0) throw py::value_error(key + ": must be positive (or 0 for the scene camera's), got " + std::to_string(size));
+      (key == "width" ? s.width : s.height) = size;
     } else if (key == "region") {
       if (value.is_none()) continue;
-      const auto r = value.cast<std::array<int, 4>>();
-      s.region = ImageTile{r[0], r[1], r[2], r[3]};
+      s.region = region_keyword(value);
     } else if (key == "camera") {
       if (value.is_none()) continue;
       if (py::isinstance<Camera>(value))
@@ -104,9 +149,9 @@ RenderSettings settings_of(const py::kwargs& kwargs, bool structures, Frame& fra
         else s.background = parse_background(text);
       });
     } else if (key == "progress") {
-      s.progress = value.cast<bool>();
+      s.progress = bool_keyword(key, value);
     } else if (key == "stats") {
-      frame.with_stats = value.cast<bool>();
+      frame.with_stats = bool_keyword(key, value);
     } else {
       bool setting = false;
       for (const RenderSettingSpec& spec : render_setting_specs()) setting = setting || spec.param.key == key;
@@ -119,11 +164,15 @@ RenderSettings settings_of(const py::kwargs& kwargs, bool structures, Frame& fra
       written += (written.empty() ? "" : ",") + key + "=" + spec_text(key, value);
     }
   }
+  RenderSettings checked;
   try {
-    return with_render_settings(s, written, "render");
+    checked = with_render_settings(s, written, "render");
   } catch (const Error& e) {
     throw py::value_error(e.what());
   }
+  // A Camera brings its own image size (width and height were checked as given), which the region is checked against.
+  if (frame.camera) checked.width = frame.camera->width, checked.height = frame.camera->height;
+  return checked;
 }
 
 // The help of the render settings, one line each ("spp=1  camera samples per pixel (...)").

@@ -63,9 +63,10 @@ void bind_scene(py::module_& m) {
           py::arg("path"), "A scene from a mesh file (OBJ, PLY, glTF/GLB, STL...), a scene .json, or 'builtin:NAME[:key=value,...]'.")
       .def(
           "add_mesh",
-          [](SceneHandle& h, const py::array& vertices, const py::array& indices, const std::string& occluder) {
-            const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
+          [](SceneHandle& h, const py::object& vertices, const py::object& index_values, const std::string& occluder) {
+            const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(float32_array(vertices, "vertices", "a (V, 3) array of real numbers"));
             if (!v || v.ndim() != 2 || v.shape(1) != 3) throw py::value_error("vertices: expected a (V, 3) array of numbers");
+            const py::array indices = real_numbers(index_values, "indices", "a (T, 3) array of integers");
             if (indices.dtype().kind() != 'i' && indices.dtype().kind() != 'u')
               throw py::type_error("indices: expected an integer array, got " + std::string(py::str(indices.dtype())));
             const auto i = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(indices);

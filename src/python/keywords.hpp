@@ -15,7 +15,7 @@ namespace vf::python {
 namespace py = pybind11;
 
 /// A keyword argument's value as a spec writes it: True/False as 1/0, numbers as Python prints them
-/// (positive infinity as inf), text as it is; TypeError for anything else.
+/// (positive infinity as inf), text as it is (ValueError if it holds ','); TypeError for anything else.
 inline std::string spec_text(const std::string& name, const py::handle& value) {
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "1" : "0";
   if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
@@ -23,7 +23,12 @@ inline std::string spec_text(const std::string& name, const py::handle& value) {
     const double v = value.cast<double>();
     return std::isinf(v) && v > 0.0 ? std::string("inf") : py::repr(value).cast<std::string>();
   }
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::str>(value)) {
+    // A ',' would end this key's value and start another key's in the spec the value is written into.
+    std::string text = value.cast<std::string>();
+    if (text.find(',') != std::string::npos) throw py::value_error(name + ": a value cannot hold ',', got '" + text + "'");
+    return text;
+  }
   throw py::type_error(name + ": expected a number or a string, got " + py::str(value.get_type()).cast<std::string>());
 }
 

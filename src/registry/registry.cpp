@@ -375,7 +375,11 @@ std::pair<const StructureInfo*, ParamValues> read_spec(std::string_view text, st
 
 }  // namespace
 
-void check_structure_spec(std::string_view spec, std::string_view what) { read_spec(spec, what); }
+void check_structure_spec(std::string_view spec, std::string_view what) {
+  const auto [info, params] = read_spec(spec, what);
+  // The field's parameters that exclude each other: refused here as a bad spec, not at the build.
+  if (info->name == "field") field_config(params);
+}
 
 BuiltStructure build_structure(std::string_view spec, SceneGeometry& geometry, const BuildContext& context,
                                std::string_view what) {

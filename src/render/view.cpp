@@ -58,6 +58,7 @@ ViewAngles parse_view(std::string_view text) {
   const std::optional<std::vector<double>> n = parse_number_list(text);
   if (!n || n->size() != 2)
     throw Error("view: expected AZIMUTH,ELEVATION in degrees (two numbers, \"45,30\"), got " + quoted(text));
+  if (!std::isfinite(static_cast<float>((*n)[0]))) throw Error("view: the azimuth must be a finite number of degrees, got " + quoted(text));
   if (!((*n)[1] >= -90.0 && (*n)[1] <= 90.0))
     throw Error("view: the elevation must be within [-90, 90] degrees, got " + quoted(text));
   return ViewAngles{static_cast<float>((*n)[0]), static_cast<float>((*n)[1])};

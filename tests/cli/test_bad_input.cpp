@@ -288,8 +288,8 @@ std::vector<Row> catalogue() {
        "--view: --camera places the camera itself: give one of them"},
       {"BackgroundUnknown", {}, render + "builtin:cornell --background pink", 2,
        "--background: expected transparent, white, black, grey, #RRGGBB or R,G,B in [0, 1], got \"pink\""},
-      {"FieldTwoPositionLookups", {}, render + "builtin:cornell --occluder field:lines=1,blend=1", 1,
-       "field: lines=1 and blend=1 are two position lookups; give one"},
+      {"FieldTwoPositionLookups", {}, render + "builtin:cornell --occluder field:lines=1,blend=1", 2,
+       "--occluder: field: lines=1 and blend=1 are two position lookups; give one"},
       {"FieldOverMaxMemory", {}, render + "builtin:cornell --occluder field:positions=16642,directions=256,storage=f32 --max-memory 100M", 1,
        "--occluder field:positions=16642,directions=256,storage=f32: the build would need about 12.19 GiB, more than --max-memory 100.00 MiB"},
       // Resources and output.
