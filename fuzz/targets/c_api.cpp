@@ -82,6 +82,11 @@ constexpr int kMaxCalls = 48;
 
 struct State {
   int field_builds = 0;  // at most one an input: a field's precompute costs more than all the rest
+
+  /// Whether a field may be built now: the first asked for in an input, and then one time in eight
+  /// (by the input's byte), so that the smallest field's precompute (18,560 cells) does not take
+  /// most of the target's time.
+  bool may_build_field(Reader& in) { return field_builds++ == 0 && in.byte() < 32; }
   std::array<SceneSlot, kSlots> scenes;
   std::array<StructureSlot, kSlots> structures;
   std::array<vf_field, kSlots> fields{};
@@ -280,7 +285,7 @@ void build(State& st, Reader& in) {
   static const char* const kSpecs[] = {"bvh", "bvh:levels=2", "bvh:leaf=1", "grid", "kdtree", "median-bsp", "brute",
                                        "beam:dirs=33,n=4", "field:positions=290,directions=8", "grid:density=0", "octree", "bvh:leaf=0"};
   std::string spec = kSpecs[in.byte() % std::size(kSpecs)];
-  if (spec.starts_with("field") && st.field_builds++ > 0) return;
+  if (spec.starts_with("field") && !st.may_build_field(in)) return;
   if (in.byte() > 240) {  // any text
     spec.clear();
     for (std::size_t k = in.byte() % 24; k > 0; --k) spec.push_back(static_cast<char>(in.byte()));
@@ -345,7 +350,7 @@ void fields(State& st, Reader& in) {
   vf_field& f = st.fields[in.byte() % kSlots];
   if (!f) {
     SceneSlot& from = st.scenes[in.byte() % kSlots];
-    if (!from.handle || st.field_builds++ > 0) return;
+    if (!from.handle || !st.may_build_field(in)) return;
     // The smallest fields (the defaults take 4226 x 32^2 rays to build: too slow for a fuzzer), and a refused one.
     static const char* const kParams[] = {"positions=290,directions=8", "positions=290,directions=8,normals=oct16", "directions=7",
                                           "positions=290,directions=8,storage=f32"};
