@@ -103,7 +103,9 @@ def write_machine(out_dir, visfield):
 
 
 def run(out_dir, name, command):
-    """Runs `command`, keeps what it printed and how long it took in out_dir/name.json."""
+    """Runs `command`, keeps what it printed and how long it took in out_dir/name.json. The commit is
+    the one checked out when the run starts (a long run's tree may move on while it runs)."""
+    measured = commit()
     start = time.monotonic()
     done = subprocess.run(command, capture_output=True, text=True)
     seconds = time.monotonic() - start
@@ -111,7 +113,7 @@ def run(out_dir, name, command):
         "name": name,
         "command": " ".join(shlex.quote(os.path.relpath(a, ROOT) if os.path.isabs(a) and a.startswith(ROOT) else a) for a in command),
         "environment": {k: v for k, v in os.environ.items() if k.startswith("VISFIELD_") and k != "VISFIELD_MODELS_DIR"},
-        "commit": commit(),
+        "commit": measured,
         "date": now(),
         "seconds": round(seconds, 3),
         "exit": done.returncode,

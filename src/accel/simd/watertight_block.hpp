@@ -133,8 +133,9 @@ inline LaneBits hit_lanes(const Lanes<W>& a_x, const Lanes<W>& a_y, const Lanes<
   const V t_scaled = e0 * az + e1 * bz + e2 * cz;
   const V inv_det = V::broadcast(1.0f) / det;
   const V t = t_scaled * inv_det;
-  // A t past the largest float is no hit (intersect_triangle()).
-  const LaneBits hit = candidates & cmp_gt(t, tmin) & cmp_le(t, min_nan_second(tmax, V::broadcast(kLargestHitT)));
+  // A t past the largest float is no hit (intersect_triangle()); the minimum keeps a NaN tmax (the
+  // second operand survives a NaN), which nothing is at or below.
+  const LaneBits hit = candidates & cmp_gt(t, tmin) & cmp_le(t, min_nan_second(V::broadcast(kLargestHitT), tmax));
   if constexpr (kWantHits) {
     if (hit != 0) {
       t.store(hits->t);
