@@ -6,7 +6,10 @@
 // ray truly enters is never skipped because of rounding. Where 1/dir overflows (a zero component,
 // or a denormal one) the reciprocal is NaN, so that ts is NaN and both children are visited with
 // the full interval: a parallel ray a denormal distance off a plane can hit triangles beyond it,
-// whose edge products underflow to zero in the watertight test.
+// whose edge products underflow to zero in the watertight test. Likewise the watertight test may
+// report a hit up to a lateral error (2^-18 of the farthest coordinate) across its triangle's edge,
+// so a plane crossing is widened by that error over the direction's component across the plane: a
+// ray nearly parallel to a plane (a component of 1e-37 beside 1e16) visits both of its sides.
 //
 // Block boxes. A leaf tests a block only when the ray meets the block's box (its triangles'
 // bounds clipped to the leaf cell) within [tmin, best t] grown by the hit slack below, with the
@@ -97,10 +100,12 @@ struct PlaneRay {
 /// Bounds on how far a triangle test's t may lie from the exact hit distance, for one ray.
 struct HitSlack {
   float absolute;
+  float lateral;  ///< How far across the ray a reported hit may lie from its triangle (world units).
 
   HitSlack(const Ray& ray, const Bounds3f& scene) {
     const Vec3f reach = abs(ray.org - scene.center()) + scene.extent() * 0.5f;
-    absolute = kCullAbsolute * max_component(reach) / max_component(abs(ray.dir));
+    lateral = kCullAbsolute * max_component(reach);
+    absolute = lateral / max_component(abs(ray.dir));
   }
   float below(float t) const { return t - std::fabs(t) * kCullRelative - absolute; }
   float above(float t) const { return t + std::fabs(t) * kCullRelative + absolute; }
@@ -111,13 +116,15 @@ class BlockBoxRay {
  public:
   using BoxLanes = simd::Lanes<kBoxWidth>;
 
-  BlockBoxRay(const KdLayout& kd, const PlaneRay& r) {
+  /// `pad`: each axis's plane pad (traverse()'s), subtracted from near and added to far distances.
+  BlockBoxRay(const KdLayout& kd, const PlaneRay& r, const float* pad) {
     for (int a = 0; a < 3; ++a) {
       // Along a negative direction the upper face is entered first.
       near_[a] = (r.negative[a] ? kd.box_hi[a] : kd.box_lo[a]).data();
       far_[a] = (r.negative[a] ? kd.box_lo[a] : kd.box_hi[a]).data();
       org_[a] = BoxLanes::broadcast(r.org[a]);
       inv_[a] = BoxLanes::broadcast(r.inv[a]);
+      pad_[a] = BoxLanes::broadcast(pad[a]);
     }
   }
 
@@ -131,8 +138,8 @@ class BlockBoxRay {
       const BoxLanes near = (load(near_[a] + first) - org_[a]) * inv_[a];
       const BoxLanes far = (load(far_[a] + first) - org_[a]) * inv_[a];
       // The smaller (larger) of the two scalings moves towards -inf (+inf) whatever the sign.
-      lo = max_nan_second(min_nan_second(near * down, near * up), lo);
-      hi = min_nan_second(max_nan_second(far * down, far * up), hi);
+      lo = max_nan_second(min_nan_second(near * down, near * up) - pad_[a], lo);
+      hi = min_nan_second(max_nan_second(far * down, far * up) + pad_[a], hi);
     }
     return cmp_le(lo, hi);
   }
@@ -145,15 +152,15 @@ class BlockBoxRay {
   }
   const float* near_[3];
   const float* far_[3];
-  BoxLanes org_[3], inv_[3];
+  BoxLanes org_[3], inv_[3], pad_[3];
 };
 
 /// Clips [t0, t1] to the root box; false when the ray misses it. A NaN slab distance (origin
 /// exactly on a slab plane of a zero direction component) leaves the interval unchanged.
-bool clip_to_root(const Bounds3f& box, const PlaneRay& r, float& t0, float& t1) {
+bool clip_to_root(const Bounds3f& box, const PlaneRay& r, const float* pad, float& t0, float& t1) {
   for (int a = 0; a < 3; ++a) {
-    const float near = widen_down(((r.negative[a] ? box.hi[a] : box.lo[a]) - r.org[a]) * r.inv[a]);
-    const float far = widen_up(((r.negative[a] ? box.lo[a] : box.hi[a]) - r.org[a]) * r.inv[a]);
+    const float near = widen_down(((r.negative[a] ? box.hi[a] : box.lo[a]) - r.org[a]) * r.inv[a]) - pad[a];
+    const float far = widen_up(((r.negative[a] ? box.lo[a] : box.hi[a]) - r.org[a]) * r.inv[a]) + pad[a];
     t0 = near > t0 ? near : t0;
     t1 = far < t1 ? far : t1;
   }
@@ -173,8 +180,11 @@ bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
   const HitSlack slack(ray, kd.bounds);
   const float slack_tmin = slack.below(ray.tmin);
   float t0 = slack_tmin, t1 = slack.above(ray.tmax);
-  const BlockBoxRay boxes(kd, r);
-  if (!clip_to_root(kd.bounds, r, t0, t1)) return false;
+  // A plane crossing's t may be off by the lateral error over the direction's component across the
+  // plane: huge for a ray nearly parallel to it, whose reported hit can lie across it.
+  const float plane_pad[3] = {slack.lateral / std::fabs(ray.dir.x), slack.lateral / std::fabs(ray.dir.y), slack.lateral / std::fabs(ray.dir.z)};
+  const BlockBoxRay boxes(kd, r, plane_pad);
+  if (!clip_to_root(kd.bounds, r, plane_pad, t0, t1)) return false;
   const simd::BlockRay<kLeafWidth> tri_ray{WatertightRay(ray)};
   const Lanes tri_tmin = Lanes::broadcast(ray.tmin);
   Lanes tri_tmax = Lanes::broadcast(ray.tmax);
@@ -201,8 +211,9 @@ bool traverse(const KdLayout& kd, const Ray& ray, BestHit& best) {
       // widening off the node-to-node dependency chain. Written so that a NaN ts (origin in the
       // plane of a parallel ray) visits both children with the full interval, and so that the
       // choice compiles to conditional moves.
-      const bool visit_first = !(ts < t0), visit_second = !(ts > t1);
-      const float ts_lo = ts - std::fabs(ts) * kPlaneSlack, ts_hi = ts + std::fabs(ts) * kPlaneSlack;
+      const float pad = plane_pad[axis];
+      const bool visit_first = !(ts + pad < t0), visit_second = !(ts - pad > t1);
+      const float ts_lo = ts - std::fabs(ts) * kPlaneSlack - pad, ts_hi = ts + std::fabs(ts) * kPlaneSlack + pad;
       const float second_t0 = ts_lo > t0 ? ts_lo : t0;
       stack[sp] = {second, second_t0, t1};
       sp += visit_first && visit_second ? 1 : 0;
